@@ -1,0 +1,11 @@
+#pragma once
+// One registration function per subcommand; each lives in cmd_<name>.cpp and
+// attaches a CLI11 subcommand whose callback calls into the library.
+
+#include <CLI/CLI.hpp>
+
+namespace palpa::cli {
+
+void add_units_command(CLI::App& app);
+
+}  // namespace palpa::cli

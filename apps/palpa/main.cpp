@@ -1,0 +1,78 @@
+// palpa command line. Exit codes: 0 success, 2 bad input or usage, 3 solver
+// failure, 1 internal error, 130 interrupted.
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "commands.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/core/interrupt.hpp"
+#include "palpa/core/log.hpp"
+#include "palpa/core/version.hpp"
+
+namespace {
+
+int report(const palpa::Error& e) {
+  switch (e.kind()) {
+    case palpa::ErrorKind::Input:
+      fmt::print(stderr, "palpa: error: {}\n", e.what());
+      break;
+    case palpa::ErrorKind::Solver:
+      fmt::print(stderr, "palpa: solver failure: {}\n", e.what());
+      break;
+    case palpa::ErrorKind::Interrupted:
+      fmt::print(stderr, "palpa: interrupted; no partial output was written\n");
+      break;
+    case palpa::ErrorKind::Internal:
+      fmt::print(stderr, "palpa: internal error (please report): {}\n", e.what());
+      break;
+  }
+  return palpa::exit_code(e.kind());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "palpa: soft-tissue mechanics. Turns poking measurements into fitted nonlinear tissue\n"
+      "materials and uses them to shape supports (chairs, soles, mice) for even contact\n"
+      "pressure. Values inside are SI; options take units (\"2 mm\", \"12 kPa\").",
+      "palpa"};
+  app.set_version_flag("--version", std::string("palpa ") + palpa::kVersion);
+  app.require_subcommand(1);
+  app.fallthrough();
+
+  int verbose = 0;
+  bool quiet = false;
+  app.add_flag("-v,--verbose", verbose, "More output (repeat for more: -vv)");
+  app.add_flag("-q,--quiet", quiet, "Only warnings and errors; no progress bars");
+
+  palpa::cli::add_units_command(app);
+
+  palpa::install_interrupt_handlers();
+  try {
+    app.parse_complete_callback([&] {
+      palpa::Verbosity v = palpa::Verbosity::Normal;
+      if (quiet) v = palpa::Verbosity::Quiet;
+      if (verbose == 1) v = palpa::Verbosity::Verbose;
+      if (verbose >= 2) v = palpa::Verbosity::Trace;
+      palpa::configure_logging(v);
+    });
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? palpa::kExitOk : palpa::kExitInput;
+  } catch (const palpa::Error& e) {
+    return report(e);
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "palpa: error: out of memory\n");
+    return palpa::kExitInternal;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "palpa: internal error (please report): {}\n", e.what());
+    return palpa::kExitInternal;
+  }
+  return palpa::kExitOk;
+}

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Runs every benchmark binary of a build folder; each prints JSON lines.
+set -euo pipefail
+build=${1:-build/release}
+found=0
+for b in "$build"/bench/palpa_bench_*; do
+  [[ -x "$b" ]] || continue
+  found=1
+  "$b"
+done
+if (( found == 0 )); then
+  echo "bench: no benchmark binaries in $build/bench" >&2
+  exit 1
+fi

@@ -1,0 +1,15 @@
+# Every dependency comes from Debian's packages (scripts/setup.sh installs them).
+# A missing dependency is a configure error, never a silently reduced build.
+include(deps/Eigen)
+include(deps/CHOLMOD)
+include(deps/TBB)
+include(deps/Json)
+include(deps/Fmt)
+include(deps/Spdlog)
+include(deps/CLI11)
+if(PALPA_BUILD_TESTS)
+  include(deps/GTest)
+endif()
+if(PALPA_BUILD_BENCH)
+  include(deps/Benchmark)
+endif()

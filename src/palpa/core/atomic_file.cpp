@@ -1,0 +1,121 @@
+#include "palpa/core/atomic_file.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+#include "palpa/core/error.hpp"
+
+namespace palpa {
+
+namespace {
+std::filesystem::path temporary_name(const std::filesystem::path& target) {
+  static std::atomic<unsigned> counter{0};
+  const std::string name =
+      fmt::format(".{}.tmp-{}-{}", target.filename().string(), ::getpid(), counter.fetch_add(1));
+  return target.parent_path() / name;
+}
+}  // namespace
+
+AtomicFile::AtomicFile(std::filesystem::path target, bool binary) : target_(std::move(target)) {
+  ErrorContext ctx;
+  ctx.file = target_.string();
+  if (target_.filename().empty()) {
+    throw_input_error("output path names no file", ctx, "a file name");
+  }
+  const std::filesystem::path dir = target_.parent_path().empty() ? "." : target_.parent_path();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) {
+    throw_input_error(fmt::format("output folder '{}' does not exist", dir.string()), ctx,
+                      "an existing folder (create it first)");
+  }
+  if (std::filesystem::is_directory(target_, ec)) {
+    throw_input_error("output path is a folder", ctx, "a file name");
+  }
+  temp_ = temporary_name(target_);
+  auto mode = std::ios::out | std::ios::trunc;
+  if (binary) mode |= std::ios::binary;
+  stream_.open(temp_, mode);
+  if (!stream_) {
+    throw_input_error(fmt::format("cannot write in '{}': {}", dir.string(), std::strerror(errno)),
+                      ctx);
+  }
+  stream_.exceptions(std::ios::goodbit);
+}
+
+AtomicFile::~AtomicFile() { discard(); }
+
+void AtomicFile::commit() {
+  if (done_) return;
+  stream_.flush();
+  const bool ok = stream_.good();
+  stream_.close();
+  ErrorContext ctx;
+  ctx.file = target_.string();
+  if (!ok || stream_.fail()) {
+    discard();
+    throw_input_error("writing failed (disk full or the file system refused it)", ctx);
+  }
+  std::error_code ec;
+  std::filesystem::rename(temp_, target_, ec);
+  if (ec) {
+    discard();
+    throw_input_error(fmt::format("cannot replace the file: {}", ec.message()), ctx);
+  }
+  done_ = true;
+}
+
+void AtomicFile::discard() noexcept {
+  if (done_) return;
+  if (stream_.is_open()) stream_.close();
+  std::error_code ec;
+  std::filesystem::remove(temp_, ec);
+  done_ = true;
+}
+
+void write_file_atomic(const std::filesystem::path& target,
+                       const std::function<void(std::ostream&)>& write, bool binary) {
+  AtomicFile file(target, binary);
+  write(file.stream());
+  file.commit();
+}
+
+std::ostream& OutputBatch::add(const std::filesystem::path& target, bool binary) {
+  files_.push_back(std::make_unique<AtomicFile>(target, binary));
+  return files_.back()->stream();
+}
+
+void OutputBatch::commit() {
+  // Check every stream first, so a failure in the last one leaves no earlier
+  // file replaced.
+  for (auto& f : files_) {
+    f->stream().flush();
+    if (!f->stream().good()) {
+      ErrorContext ctx;
+      ctx.file = f->target().string();
+      throw_input_error("writing failed (disk full or the file system refused it)", ctx);
+    }
+  }
+  for (auto& f : files_) f->commit();
+  files_.clear();
+}
+
+void ensure_directory(const std::filesystem::path& dir) {
+  ErrorContext ctx;
+  ctx.file = dir.string();
+  std::error_code ec;
+  if (std::filesystem::exists(dir, ec)) {
+    if (!std::filesystem::is_directory(dir, ec)) {
+      throw_input_error("exists and is not a folder", ctx, "a folder for the outputs");
+    }
+    return;
+  }
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw_input_error(fmt::format("cannot create the folder: {}", ec.message()), ctx);
+}
+
+}  // namespace palpa

@@ -1,0 +1,61 @@
+#pragma once
+// Atomic output. Every file palpa writes goes to a temporary name in the same
+// folder and is renamed over the target only when complete, so a crash, an error
+// or Ctrl-C never leaves a half-written file. A command that writes several files
+// collects them in an OutputBatch and commits them together after all succeeded.
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace palpa {
+
+class AtomicFile {
+ public:
+  // Opens a temporary file beside `target`. Throws palpa::Error (Input) if the
+  // folder does not exist or is not writable.
+  explicit AtomicFile(std::filesystem::path target, bool binary = false);
+  ~AtomicFile();  // removes the temporary file unless committed
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ostream& stream() { return stream_; }
+  const std::filesystem::path& target() const noexcept { return target_; }
+  const std::filesystem::path& temporary() const noexcept { return temp_; }
+
+  // Flushes, checks that every write succeeded, and renames over the target.
+  void commit();
+  // Drops the temporary file (also what the destructor does).
+  void discard() noexcept;
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path temp_;
+  std::ofstream stream_;
+  bool done_ = false;
+};
+
+// Writes one file atomically: `write` fills the stream; the file appears only if
+// `write` returns normally.
+void write_file_atomic(const std::filesystem::path& target,
+                       const std::function<void(std::ostream&)>& write, bool binary = false);
+
+// Several outputs that appear together: add() each, fill their streams, then
+// commit(). If anything throws before commit(), none of the targets is touched.
+class OutputBatch {
+ public:
+  std::ostream& add(const std::filesystem::path& target, bool binary = false);
+  void commit();
+  std::size_t size() const noexcept { return files_.size(); }
+
+ private:
+  std::vector<std::unique_ptr<AtomicFile>> files_;
+};
+
+// Creates `dir` (and parents) if needed; throws palpa::Error (Input) naming it if
+// it exists as a file or cannot be created.
+void ensure_directory(const std::filesystem::path& dir);
+
+}  // namespace palpa

@@ -1,0 +1,162 @@
+#include "palpa/core/json.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "palpa/core/atomic_file.hpp"
+
+namespace palpa {
+
+namespace {
+std::string type_name(const Json& j) {
+  switch (j.type()) {
+    case Json::value_t::null: return "null";
+    case Json::value_t::object: return "an object";
+    case Json::value_t::array: return "an array";
+    case Json::value_t::string: return "a string";
+    case Json::value_t::boolean: return "a boolean";
+    case Json::value_t::number_integer:
+    case Json::value_t::number_unsigned:
+    case Json::value_t::number_float: return "a number";
+    default: return "an unsupported value";
+  }
+}
+}  // namespace
+
+Json read_json_file(const std::filesystem::path& path) {
+  ErrorContext ctx;
+  ctx.file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw_input_error("cannot open the file", ctx, "an existing, readable JSON file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
+    throw_input_error("the file is empty", ctx, "a JSON object");
+  }
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    // Turn the byte offset into line and column.
+    const std::size_t offset = std::min<std::size_t>(e.byte, text.size());
+    std::size_t line = 1;
+    std::size_t col = 1;
+    for (std::size_t i = 0; i + 1 < offset; ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    ctx.line = line;
+    ctx.column = col;
+    std::string what = e.what();
+    const auto pos = what.find("parse error");
+    throw_input_error(fmt::format("invalid JSON: {}", pos == std::string::npos ? what : what.substr(pos)),
+                      ctx);
+  }
+}
+
+void write_json_file(const std::filesystem::path& path, const Json& j) {
+  write_file_atomic(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+}
+
+ErrorContext JsonView::context() const {
+  ErrorContext ctx;
+  ctx.file = file_;
+  ctx.field = path_.empty() ? std::string() : fmt::format("field '{}'", path_);
+  return ctx;
+}
+
+void JsonView::fail(const std::string& problem, const std::string& expected) const {
+  throw_input_error(problem, context(), expected);
+}
+
+bool JsonView::has(const std::string& key) const { return j_->is_object() && j_->contains(key); }
+
+JsonView JsonView::at(const std::string& key) const {
+  if (!j_->is_object()) fail(fmt::format("is {}", type_name(*j_)), "an object");
+  const auto it = j_->find(key);
+  const std::string child = path_.empty() ? key : path_ + "." + key;
+  if (it == j_->end()) {
+    ErrorContext ctx;
+    ctx.file = file_;
+    ctx.field = fmt::format("field '{}'", child);
+    throw_input_error("is missing", ctx);
+  }
+  return JsonView(*it, file_, child);
+}
+
+std::optional<JsonView> JsonView::find(const std::string& key) const {
+  if (!has(key)) return std::nullopt;
+  return at(key);
+}
+
+JsonView JsonView::at(std::size_t i) const {
+  if (!j_->is_array()) fail(fmt::format("is {}", type_name(*j_)), "an array");
+  if (i >= j_->size()) fail(fmt::format("has {} elements, no element {}", j_->size(), i));
+  return JsonView((*j_)[i], file_, fmt::format("{}[{}]", path_, i));
+}
+
+std::size_t JsonView::size() const {
+  if (!j_->is_array()) fail(fmt::format("is {}", type_name(*j_)), "an array");
+  return j_->size();
+}
+
+std::string JsonView::as_string() const {
+  if (!j_->is_string()) fail(fmt::format("is {}", type_name(*j_)), "a string");
+  return j_->get<std::string>();
+}
+
+double JsonView::as_number() const {
+  if (!j_->is_number()) fail(fmt::format("is {}", type_name(*j_)), "a number");
+  const double v = j_->get<double>();
+  if (!std::isfinite(v)) fail("is not finite", "a finite number");
+  return v;
+}
+
+long long JsonView::as_integer() const {
+  if (!j_->is_number_integer()) fail(fmt::format("is {}", type_name(*j_)), "a whole number");
+  return j_->get<long long>();
+}
+
+bool JsonView::as_bool() const {
+  if (!j_->is_boolean()) fail(fmt::format("is {}", type_name(*j_)), "true or false");
+  return j_->get<bool>();
+}
+
+double JsonView::as_quantity(Dimension d) const {
+  if (j_->is_number()) {
+    if (d == Dimension::Dimensionless) return as_number();
+    fail(fmt::format("the number {} has no unit", j_->dump()), dimension_example(d));
+  }
+  if (!j_->is_string()) fail(fmt::format("is {}", type_name(*j_)), dimension_example(d));
+  return parse_quantity(j_->get<std::string>(), d, context());
+}
+
+std::vector<double> JsonView::as_number_array() const {
+  const std::size_t n = size();
+  std::vector<double> out;
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) out.push_back(at(i).as_number());
+  return out;
+}
+
+void JsonView::expect_only(const std::vector<std::string>& allowed) const {
+  if (!j_->is_object()) fail(fmt::format("is {}", type_name(*j_)), "an object");
+  for (const auto& [key, value] : j_->items()) {
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    ErrorContext ctx;
+    ctx.file = file_;
+    ctx.field = fmt::format("field '{}'", path_.empty() ? key : path_ + "." + key);
+    throw_input_error("is not a known field", ctx, fmt::format("one of: {}", list));
+  }
+}
+
+}  // namespace palpa

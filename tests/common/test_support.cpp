@@ -1,0 +1,100 @@
+#include "common/test_support.hpp"
+
+#include <fmt/format.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace palpa::test {
+
+std::uint64_t test_seed() {
+  static const std::uint64_t seed = [] {
+    std::uint64_t s = 20261123;
+    if (const char* env = std::getenv("PALPA_TEST_SEED")) s = std::strtoull(env, nullptr, 10);
+    std::cout << "[palpa] test seed " << s << " (override with PALPA_TEST_SEED)\n";
+    return s;
+  }();
+  return seed;
+}
+
+std::mt19937_64 make_rng(std::uint64_t salt) { return std::mt19937_64(test_seed() ^ (salt * 0x9E3779B97F4A7C15ull)); }
+
+ScratchDir::ScratchDir() {
+  std::string templ = (std::filesystem::temp_directory_path() / "palpa-test-XXXXXX").string();
+  if (mkdtemp(templ.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+  path_ = templ;
+}
+
+ScratchDir::~ScratchDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+std::filesystem::path ScratchDir::write(const std::string& name, const std::string& content) const {
+  const auto p = path_ / name;
+  std::ofstream out(p, std::ios::binary);
+  out << content;
+  return p;
+}
+
+std::size_t ScratchDir::entry_count() const {
+  std::size_t n = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(path_)) ++n;
+  return n;
+}
+
+::testing::AssertionResult throws_error(const std::function<void()>& f, ErrorKind kind,
+                                        const std::vector<std::string>& fragments) {
+  try {
+    f();
+  } catch (const Error& e) {
+    if (e.kind() != kind) {
+      return ::testing::AssertionFailure()
+             << "palpa::Error of another kind (" << static_cast<int>(e.kind()) << "): " << e.what();
+    }
+    const std::string msg = e.what();
+    for (const auto& frag : fragments) {
+      if (msg.find(frag) == std::string::npos) {
+        return ::testing::AssertionFailure() << "message '" << msg << "' lacks '" << frag << "'";
+      }
+    }
+    return ::testing::AssertionSuccess() << msg;
+  } catch (const std::exception& e) {
+    return ::testing::AssertionFailure() << "not a palpa::Error: " << e.what();
+  }
+  return ::testing::AssertionFailure() << "no exception was thrown";
+}
+
+std::filesystem::path source_path(const std::string& relative) {
+  return std::filesystem::path(PALPA_SOURCE_DIR) / relative;
+}
+
+namespace {
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+}  // namespace
+
+CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd) {
+  ScratchDir capture;
+  const auto out = capture / "stdout";
+  const auto err = capture / "stderr";
+  std::string cmd;
+  if (!cwd.empty()) cmd += fmt::format("cd '{}' && ", cwd.string());
+  cmd += fmt::format("'{}' {} >'{}' 2>'{}' </dev/null", PALPA_BINARY, args, out.string(), err.string());
+  const int status = std::system(cmd.c_str());
+  CommandResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+}  // namespace palpa::test

@@ -1,0 +1,58 @@
+#pragma once
+// Shared test support: a seeded random generator (the seed is printed and can be
+// overridden with PALPA_TEST_SEED), scratch folders, and helpers to assert that
+// a call fails with a palpa::Error naming the right place.
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <string>
+
+#include "palpa/core/error.hpp"
+
+namespace palpa::test {
+
+// The seed for this test run: PALPA_TEST_SEED if set, else a fixed default.
+// Printed once per test program so a failure can be replayed.
+std::uint64_t test_seed();
+std::mt19937_64 make_rng(std::uint64_t salt = 0);
+
+// A fresh, empty folder under the system temp dir, removed by the destructor.
+class ScratchDir {
+ public:
+  ScratchDir();
+  ~ScratchDir();
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const std::filesystem::path& path() const noexcept { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+  // Writes `content` to a file in the folder and returns its path.
+  std::filesystem::path write(const std::string& name, const std::string& content) const;
+  // Number of entries (files and folders, hidden ones included).
+  std::size_t entry_count() const;
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Runs `f` and checks it throws palpa::Error of `kind` whose message contains
+// every string in `fragments`.
+::testing::AssertionResult throws_error(const std::function<void()>& f, ErrorKind kind,
+                                        const std::vector<std::string>& fragments);
+
+// Path of a file in the source tree (examples, test data).
+std::filesystem::path source_path(const std::string& relative);
+
+// Result of running the palpa binary.
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+// Runs `palpa <args>` (args are passed to /bin/sh, quote as needed) in `cwd`.
+CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd = {});
+
+}  // namespace palpa::test

@@ -1,0 +1,82 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "common/test_support.hpp"
+#include "palpa/core/atomic_file.hpp"
+
+namespace palpa {
+namespace {
+
+std::string read_all(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(AtomicFile, AppearsOnlyOnCommit) {
+  test::ScratchDir dir;
+  const auto target = dir / "out.csv";
+  {
+    AtomicFile f(target);
+    f.stream() << "a,b\n1,2\n";
+    EXPECT_FALSE(std::filesystem::exists(target));
+    EXPECT_EQ(dir.entry_count(), 1u);  // only the temporary
+    f.commit();
+  }
+  EXPECT_EQ(read_all(target), "a,b\n1,2\n");
+  EXPECT_EQ(dir.entry_count(), 1u);
+}
+
+TEST(AtomicFile, ExceptionLeavesNoFileAndKeepsTheOldOne) {
+  test::ScratchDir dir;
+  const auto target = dir.write("out.csv", "old\n");
+  EXPECT_THROW(write_file_atomic(target,
+                                 [](std::ostream& out) {
+                                   out << "half";
+                                   throw std::runtime_error("crash while writing");
+                                 }),
+               std::runtime_error);
+  EXPECT_EQ(read_all(target), "old\n");
+  EXPECT_EQ(dir.entry_count(), 1u);
+}
+
+TEST(AtomicFile, MissingFolderIsAnInputError) {
+  test::ScratchDir dir;
+  EXPECT_TRUE(test::throws_error([&] { AtomicFile f(dir / "nope" / "out.csv"); },
+                                 ErrorKind::Input, {"out.csv", "does not exist"}));
+}
+
+TEST(OutputBatch, AllOrNothing) {
+  test::ScratchDir dir;
+  try {
+    OutputBatch batch;
+    batch.add(dir / "a.txt") << "a";
+    batch.add(dir / "b.txt") << "b";
+    throw std::runtime_error("failure before commit");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(dir.entry_count(), 0u);
+
+  OutputBatch batch;
+  batch.add(dir / "a.txt") << "a";
+  batch.add(dir / "b.txt") << "b";
+  batch.commit();
+  EXPECT_EQ(read_all(dir / "a.txt"), "a");
+  EXPECT_EQ(read_all(dir / "b.txt"), "b");
+  EXPECT_EQ(dir.entry_count(), 2u);
+}
+
+TEST(EnsureDirectory, CreatesAndRejectsFiles) {
+  test::ScratchDir dir;
+  ensure_directory(dir / "x" / "y");
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "x" / "y"));
+  const auto file = dir.write("f", "");
+  EXPECT_TRUE(test::throws_error([&] { ensure_directory(file); }, ErrorKind::Input,
+                                 {"not a folder"}));
+}
+
+}  // namespace
+}  // namespace palpa

@@ -1,0 +1,51 @@
+#include <gtest/gtest.h>
+
+#include "common/test_support.hpp"
+#include "palpa/core/json.hpp"
+
+namespace palpa {
+namespace {
+
+TEST(Json, SyntaxErrorNamesLineAndColumn) {
+  test::ScratchDir dir;
+  const auto p = dir.write("m.json", "{\n  \"E\": \"10 kPa\",\n  \"nu\": ,\n}\n");
+  EXPECT_TRUE(test::throws_error([&] { read_json_file(p); }, ErrorKind::Input,
+                                 {"m.json:3:", "invalid JSON"}));
+}
+
+TEST(Json, EmptyAndMissingFilesAreErrors) {
+  test::ScratchDir dir;
+  const auto p = dir.write("empty.json", "  \n");
+  EXPECT_TRUE(test::throws_error([&] { read_json_file(p); }, ErrorKind::Input, {"empty"}));
+  EXPECT_TRUE(test::throws_error([&] { read_json_file(dir / "none.json"); }, ErrorKind::Input,
+                                 {"none.json", "cannot open"}));
+}
+
+TEST(Json, ViewReportsFieldPaths) {
+  const Json j = Json::parse(R"({"parameters": {"E": "12 kPa", "nu": 0.45, "bad": "12", "n": [1, 2]}})");
+  const JsonView root(j, "m.json");
+  EXPECT_DOUBLE_EQ(root.at("parameters").at("E").as_quantity(Dimension::Pressure), 12000.0);
+  EXPECT_DOUBLE_EQ(root.at("parameters").at("nu").as_quantity(Dimension::Dimensionless), 0.45);
+  EXPECT_TRUE(test::throws_error(
+      [&] { root.at("parameters").at("bad").as_quantity(Dimension::Pressure); }, ErrorKind::Input,
+      {"m.json", "field 'parameters.bad'", "no unit"}));
+  EXPECT_TRUE(test::throws_error([&] { root.at("parameters").at("mu"); }, ErrorKind::Input,
+                                 {"field 'parameters.mu'", "missing"}));
+  EXPECT_TRUE(test::throws_error([&] { root.at("parameters").at("n").at(5); }, ErrorKind::Input,
+                                 {"parameters.n"}));
+  EXPECT_TRUE(test::throws_error([&] { root.at("parameters").at("nu").as_string(); },
+                                 ErrorKind::Input, {"parameters.nu", "a string"}));
+  EXPECT_TRUE(test::throws_error([&] { root.at("parameters").expect_only({"E", "nu"}); },
+                                 ErrorKind::Input, {"parameters.bad", "not a known field"}));
+}
+
+TEST(Json, WriteIsAtomicAndRoundTrips) {
+  test::ScratchDir dir;
+  const Json j = {{"model", "neo-hookean"}, {"E", "10 kPa"}};
+  write_json_file(dir / "m.json", j);
+  EXPECT_EQ(read_json_file(dir / "m.json"), j);
+  EXPECT_EQ(dir.entry_count(), 1u);
+}
+
+}  // namespace
+}  // namespace palpa
