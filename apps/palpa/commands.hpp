@@ -7,5 +7,7 @@
 namespace palpa::cli {
 
 void add_units_command(CLI::App& app);
+void add_convert_command(CLI::App& app);
+void add_material_command(CLI::App& app);
 
 }  // namespace palpa::cli
