@@ -4,7 +4,7 @@
 add_library(palpa_warnings INTERFACE)
 target_compile_options(palpa_warnings INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast
-  -Wcast-align -Woverloaded-virtual -Wnull-dereference -Wimplicit-fallthrough)
+  -Wcast-align -Woverloaded-virtual -Wimplicit-fallthrough)
 if(PALPA_WERROR)
   target_compile_options(palpa_warnings INTERFACE -Werror)
 endif()

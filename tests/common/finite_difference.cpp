@@ -42,7 +42,7 @@ Eigen::MatrixXd fd_jacobian(const VectorFunction& g, const Eigen::VectorXd& x, d
 
 ::testing::AssertionResult derivatives_match(const Eigen::MatrixXd& analytic,
                                              const Eigen::MatrixXd& numeric, double rel_tol,
-                                             ZeroPolicy zero) {
+                                             ZeroPolicy zero, double reference) {
   if (analytic.rows() != numeric.rows() || analytic.cols() != numeric.cols()) {
     return ::testing::AssertionFailure() << "shape " << analytic.rows() << "x" << analytic.cols()
                                          << " vs finite differences " << numeric.rows() << "x"
@@ -50,8 +50,9 @@ Eigen::MatrixXd fd_jacobian(const VectorFunction& g, const Eigen::VectorXd& x, d
   }
   if (!analytic.allFinite()) return ::testing::AssertionFailure() << "analytic value not finite";
   if (!numeric.allFinite()) return ::testing::AssertionFailure() << "finite differences not finite";
-  const double scale = std::max(analytic.cwiseAbs().maxCoeff(), numeric.cwiseAbs().maxCoeff());
-  if (scale == 0.0) {
+  const double magnitude = std::max(analytic.cwiseAbs().maxCoeff(), numeric.cwiseAbs().maxCoeff());
+  const double scale = std::max(magnitude, reference);
+  if (magnitude == 0.0) {
     if (zero == ZeroPolicy::MayBeZero) return ::testing::AssertionSuccess();
     return ::testing::AssertionFailure() << "derivative is exactly zero: the test would not catch errors";
   }

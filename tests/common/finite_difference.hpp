@@ -26,9 +26,12 @@ Eigen::MatrixXd fd_jacobian(const VectorFunction& g, const Eigen::VectorXd& x, d
 
 enum class ZeroPolicy { MustBeNonZero, MayBeZero };
 
-// max|analytic - numeric| <= rel_tol * max(max|analytic|, max|numeric|).
+// max|analytic - numeric| <= rel_tol * max(max|analytic|, max|numeric|, reference).
+// `reference` is the magnitude the derivative is judged against where it may be
+// (nearly) zero: e.g. the shear modulus for stresses of a material.
 ::testing::AssertionResult derivatives_match(const Eigen::MatrixXd& analytic,
                                              const Eigen::MatrixXd& numeric, double rel_tol,
-                                             ZeroPolicy zero = ZeroPolicy::MustBeNonZero);
+                                             ZeroPolicy zero = ZeroPolicy::MustBeNonZero,
+                                             double reference = 0.0);
 
 }  // namespace palpa::test

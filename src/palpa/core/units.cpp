@@ -81,6 +81,10 @@ constexpr std::array kUnits = {
     Unit{"Nmm", Dimension::Torque, 1e-3},
     Unit{"m/s^2", Dimension::Acceleration, 1.0},
     Unit{"m/s2", Dimension::Acceleration, 1.0},
+    Unit{"1/Pa", Dimension::Compliance, 1.0},
+    Unit{"1/kPa", Dimension::Compliance, 1e-3},
+    Unit{"1/MPa", Dimension::Compliance, 1e-6},
+    Unit{"1/GPa", Dimension::Compliance, 1e-9},
 };
 
 struct DisplayUnits {
@@ -102,6 +106,7 @@ constexpr std::array kDisplay = {
     DisplayUnits{Dimension::Stiffness, {"kN/m", "N/m", "", ""}},
     DisplayUnits{Dimension::Torque, {"N*m", "N*mm", "", ""}},
     DisplayUnits{Dimension::Acceleration, {"m/s^2", "", "", ""}},
+    DisplayUnits{Dimension::Compliance, {"1/Pa", "1/kPa", "1/MPa", ""}},
 };
 
 }  // namespace
@@ -122,6 +127,7 @@ std::string_view dimension_name(Dimension d) noexcept {
     case Dimension::Stiffness: return "stiffness (force per length)";
     case Dimension::Torque: return "torque";
     case Dimension::Acceleration: return "acceleration";
+    case Dimension::Compliance: return "compliance (inverse pressure)";
   }
   return "quantity";
 }
@@ -142,6 +148,7 @@ std::string_view si_unit(Dimension d) noexcept {
     case Dimension::Stiffness: return "N/m";
     case Dimension::Torque: return "N*m";
     case Dimension::Acceleration: return "m/s^2";
+    case Dimension::Compliance: return "1/Pa";
   }
   return "";
 }
@@ -162,6 +169,7 @@ std::string dimension_example(Dimension d) {
     case Dimension::Stiffness: return "a stiffness with its unit, such as 300 N/m";
     case Dimension::Torque: return "a torque with its unit, such as 2 N*m";
     case Dimension::Acceleration: return "an acceleration with its unit, such as 9.81 m/s^2";
+    case Dimension::Compliance: return "a compliance with its unit, such as 2e-6 1/Pa or 0.002 1/kPa";
   }
   return "a quantity with its unit";
 }

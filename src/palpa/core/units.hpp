@@ -27,6 +27,7 @@ enum class Dimension {
   Stiffness,      // N/m (force per length: contact penalty, F/d)
   Torque,         // N m
   Acceleration,   // m/s^2
+  Compliance,     // 1/Pa (volumetric compliance D1 of Abaqus-style models)
 };
 
 // "length", "pressure", ... for messages.
