@@ -1,0 +1,304 @@
+#include "palpa/solve/newton.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "palpa/core/error.hpp"
+#include "palpa/core/interrupt.hpp"
+#include "palpa/core/log.hpp"
+#include "palpa/solve/line_search.hpp"
+#include "palpa/solve/sparse_ldlt.hpp"
+
+namespace palpa {
+
+std::string_view to_string(NewtonStatus status) noexcept {
+  switch (status) {
+    case NewtonStatus::Converged:
+      return "converged";
+    case NewtonStatus::MaxIterations:
+      return "maximum iterations reached";
+    case NewtonStatus::LineSearchFailed:
+      return "line search failed";
+    case NewtonStatus::NonFiniteEnergy:
+      return "non-finite energy or gradient";
+    case NewtonStatus::FactorizationFailed:
+      return "Hessian factorization failed";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// Diagonal entries of D below this fraction of the largest |H_ii| are raised
+// to it, so that DOFs with (near) zero stiffness still get shifted.
+constexpr double kShiftDiagonalFloor = 1e-8;
+// Absolute part of the interval searches' tolerance on s.
+constexpr double kIntervalAbsoluteTolerance = 1e-12;
+
+std::unique_ptr<SymmetricFactorization> make_factorization(const NewtonOptions& options) {
+  if (options.linear_solver == LinearSolverKind::EigenLdlt) {
+    return std::make_unique<SparseLdlt>(SparseLdlt::Definiteness::RequirePositive);
+  }
+  return std::make_unique<SparseCholesky>(options.cholmod_method);
+}
+
+double inf_norm(const Eigen::VectorXd& v) {
+  return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>();
+}
+
+// D = diag(max(|H_ii|, floor·max_j |H_jj|)), or the identity if H has no
+// non-zero diagonal entry.
+Eigen::VectorXd shift_diagonal(const Eigen::SparseMatrix<double>& H) {
+  Eigen::VectorXd d = H.diagonal().cwiseAbs();
+  const double largest = d.size() == 0 ? 0.0 : d.maxCoeff();
+  if (!(largest > 0.0) || !std::isfinite(largest)) return Eigen::VectorXd::Ones(d.size());
+  return d.cwiseMax(kShiftDiagonalFloor * largest);
+}
+
+struct Direction {
+  bool ok = false;
+  double shift = 0.0;
+  int factorizations = 0;
+  FactorStatus status = FactorStatus::NotFactored;
+};
+
+// d = −(H + σD)⁻¹ g with the smallest σ of the sequence 0, σ0, σ0·growth, ...
+// that factors and gives a descent direction (g·d < 0).
+Direction newton_direction(SymmetricFactorization& factor, const Eigen::SparseMatrix<double>& H,
+                           const Eigen::VectorXd& g, Eigen::VectorXd& d, double& last_shift,
+                           const NewtonOptions& options) {
+  Direction r;
+  auto attempt = [&](double sigma, const Eigen::VectorXd& D) {
+    ++r.factorizations;
+    r.status = factor.factorize(H, sigma, D);
+    if (r.status != FactorStatus::Ok) return false;
+    d = factor.solve(-g);
+    return d.allFinite() && g.dot(d) < 0.0;
+  };
+  auto hopeless = [](FactorStatus s) {
+    return s == FactorStatus::NonFiniteInput || s == FactorStatus::OutOfMemory;
+  };
+  if (attempt(0.0, Eigen::VectorXd())) {
+    r.ok = true;
+    return r;
+  }
+  if (hopeless(r.status)) return r;
+  const Eigen::VectorXd D = shift_diagonal(H);
+  double sigma = last_shift > 0.0
+                     ? std::max(options.shift_initial, last_shift / options.shift_growth)
+                     : options.shift_initial;
+  for (int k = 0; k < options.max_shift_attempts; ++k, sigma *= options.shift_growth) {
+    if (attempt(sigma, D)) {
+      r.ok = true;
+      r.shift = sigma;
+      last_shift = sigma;
+      return r;
+    }
+    if (hopeless(r.status)) return r;
+  }
+  return r;
+}
+
+// Runs the configured line search on φ. The result is usable when `success`:
+// a finite φ(step) below phi0 (Armijo's condition is preferred where it applies).
+LineSearchResult search_line(const NewtonOptions& o, const LineFunction& phi, double phi0,
+                             double slope) {
+  const BacktrackingOptions backtracking{1.0, o.armijo_c1, o.backtracking_shrink,
+                                         o.max_backtracking_evaluations};
+  const IntervalOptions interval{o.interval_relative_tolerance, kIntervalAbsoluteTolerance,
+                                 o.max_interval_evaluations};
+  auto lowers = [&](LineSearchResult r) {
+    r.success = std::isfinite(r.value) && r.value < phi0 && r.step > 0.0;
+    return r;
+  };
+  switch (o.line_search) {
+    case LineSearchKind::Backtracking:
+      return lowers(backtracking_armijo(phi, phi0, slope, backtracking));
+    case LineSearchKind::Brent:
+      return lowers(brent_minimize(phi, 0.0, o.max_step, interval));
+    case LineSearchKind::GoldenSection:
+      return lowers(golden_section_minimize(phi, 0.0, o.max_step, interval));
+    case LineSearchKind::BacktrackingThenBrent: {
+      const LineSearchResult armijo = backtracking_armijo(phi, phi0, slope, backtracking);
+      if (armijo.success) return armijo;
+      LineSearchResult brent = lowers(brent_minimize(phi, 0.0, o.max_step, interval));
+      const LineSearchResult best_sampled = lowers(armijo);
+      if (best_sampled.success && (!brent.success || best_sampled.value < brent.value)) {
+        brent.step = best_sampled.step;
+        brent.value = best_sampled.value;
+        brent.success = true;
+      }
+      brent.evaluations += armijo.evaluations;
+      return brent;
+    }
+  }
+  return LineSearchResult{};
+}
+
+}  // namespace
+
+NewtonSolver::NewtonSolver(NewtonOptions options)
+    : options_(options), factor_(make_factorization(options_)) {}
+
+NewtonSolver::~NewtonSolver() = default;
+
+void NewtonSolver::set_options(const NewtonOptions& options) {
+  const bool same_factor = options.linear_solver == options_.linear_solver &&
+                           options.cholmod_method == options_.cholmod_method;
+  options_ = options;
+  if (!same_factor) factor_ = make_factorization(options_);
+}
+
+void NewtonSolver::reset_system() noexcept {
+  hessian_ = Eigen::SparseMatrix<double>();
+  bound_system_ = nullptr;
+  bound_dofs_ = -1;
+}
+
+void NewtonSolver::bind_system(const System& system) {
+  const Eigen::Index n = system.num_dofs();
+  if (&system != bound_system_ || n != bound_dofs_) {
+    // A new system builds its own pattern into an empty matrix.
+    hessian_ = Eigen::SparseMatrix<double>();
+    bound_system_ = &system;
+    bound_dofs_ = n;
+  }
+}
+
+FactorStatus NewtonSolver::factor_hessian(const System& system, const Eigen::VectorXd& x) {
+  bind_system(system);
+  system.hessian(x, hessian_);
+  return factor_->factorize(hessian_);
+}
+
+NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
+  const Eigen::Index n = system.num_dofs();
+  if (x.size() != n) {
+    throw Error(
+        ErrorKind::Internal,
+        fmt::format("NewtonSolver::solve: x has {} entries, the system {} DOFs", x.size(), n));
+  }
+  bind_system(system);
+  const FactorCounts counts_before = factor_->counts();
+  NewtonResult r;
+
+  system.prepare(x);
+  Eigen::VectorXd g(n);
+  double energy = system.energy_gradient(x, g);
+  ++r.energy_evaluations;
+  ++r.gradient_evaluations;
+  double gnorm = inf_norm(g);
+  r.initial_energy = energy;
+  r.initial_gradient_norm = gnorm;
+  r.gradient_tolerance = std::max(options_.gradient_abs_tol, options_.gradient_rel_tol * gnorm);
+
+  Eigen::VectorXd d(n);
+  Eigen::VectorXd trial(n);
+  Eigen::VectorXd g_trial(n);
+  double last_shift = 0.0;
+  NewtonStatus status = NewtonStatus::MaxIterations;
+  std::string message;
+
+  const LineFunction phi = [&](double s) {
+    trial.noalias() = x + s * d;
+    ++r.energy_evaluations;
+    return system.energy(trial);
+  };
+
+  if (!std::isfinite(energy) || !g.allFinite()) {
+    status = NewtonStatus::NonFiniteEnergy;
+    message = fmt::format("energy {} or its gradient is not finite at the starting point", energy);
+  }
+  while (status != NewtonStatus::NonFiniteEnergy) {
+    check_interrupt();
+    if (gnorm <= r.gradient_tolerance) {
+      status = NewtonStatus::Converged;
+      message = fmt::format("converged in {} iterations: |g| = {:.3e} <= {:.3e}", r.iterations,
+                            gnorm, r.gradient_tolerance);
+      break;
+    }
+    if (r.iterations >= options_.max_iterations) {
+      status = NewtonStatus::MaxIterations;
+      message = fmt::format("no convergence in {} iterations: |g| = {:.3e} > {:.3e}", r.iterations,
+                            gnorm, r.gradient_tolerance);
+      break;
+    }
+
+    system.hessian(x, hessian_);
+    ++r.hessian_evaluations;
+    const Direction dir = newton_direction(*factor_, hessian_, g, d, last_shift, options_);
+    r.last_factor_status = dir.status;
+    if (!dir.ok) {
+      status = NewtonStatus::FactorizationFailed;
+      message = fmt::format(
+          "iteration {}: no descent direction from the Hessian ({}) after {} factorizations",
+          r.iterations, to_string(dir.status), dir.factorizations);
+      break;
+    }
+
+    const double slope = g.dot(d);
+    LineSearchResult ls;
+    if (std::abs(slope) <= options_.energy_noise * std::abs(energy)) {
+      // The decrease the quadratic model predicts is below the rounding error
+      // of E, so no line search can see it: judge the full step by the gradient.
+      const double e1 = phi(1.0);
+      ls.evaluations = 1;
+      if (std::isfinite(e1)) {
+        system.gradient(trial, g_trial);
+        ++r.gradient_evaluations;
+        if (g_trial.allFinite() && inf_norm(g_trial) < gnorm) {
+          ls.step = 1.0;
+          ls.value = e1;
+          ls.success = true;
+        }
+      }
+    }
+    if (!ls.success) {
+      const int noise_evaluations = ls.evaluations;
+      ls = search_line(options_, phi, energy, slope);
+      ls.evaluations += noise_evaluations;
+    }
+    if (!ls.success) {
+      status = NewtonStatus::LineSearchFailed;
+      message = fmt::format(
+          "line search failed at iteration {}: no step along the Newton direction lowered "
+          "E = {:.10g} "
+          "(|g| = {:.3e}, g.d = {:.3e}, {} trials)",
+          r.iterations, energy, gnorm, slope, ls.evaluations);
+      break;
+    }
+
+    x += ls.step * d;
+    system.prepare(x);
+    energy = system.energy_gradient(x, g);
+    ++r.energy_evaluations;
+    ++r.gradient_evaluations;
+    gnorm = inf_norm(g);
+    ++r.iterations;
+    r.history.push_back(
+        NewtonIteration{energy, gnorm, ls.step, dir.shift, ls.evaluations, dir.factorizations});
+    spdlog::debug(
+        "newton {:3d}: E = {:.12g}  |g| = {:.3e}  step = {:.4g}  shift = {:.1e}  ({} trials)",
+        r.iterations, energy, gnorm, ls.step, dir.shift, ls.evaluations);
+    if (!std::isfinite(energy) || !g.allFinite()) {
+      status = NewtonStatus::NonFiniteEnergy;
+      message = fmt::format("iteration {}: energy {} or its gradient is not finite after the step",
+                            r.iterations, energy);
+      break;
+    }
+  }
+
+  r.status = status;
+  r.message = std::move(message);
+  r.energy = energy;
+  r.gradient_norm = gnorm;
+  const FactorCounts counts_after = factor_->counts();
+  r.analyses = counts_after.analyses - counts_before.analyses;
+  r.factorizations = counts_after.factorizations - counts_before.factorizations;
+  spdlog::debug("newton: {}", r.message);
+  return r;
+}
+
+}  // namespace palpa
