@@ -1,0 +1,24 @@
+#pragma once
+// Physical sanity of a material, for `palpa material show` and for fits:
+// stress-free rest state, a positive-definite rest Hessian (μ > 0, K > 0), and
+// stability along the homogeneous load paths (nominal stress strictly
+// increasing with the load, Drucker's condition) over a stretch range.
+
+#include <string>
+#include <vector>
+
+#include "palpa/material/material.hpp"
+
+namespace palpa::material {
+
+struct MaterialCheck {
+  double rest_stress = 0.0;        // max |∂Ψ/∂λ| at rest [Pa]
+  ElasticConstants small_strain;   // linearized constants
+  std::vector<std::string> problems;  // empty when every check passed
+};
+
+// Checks uniaxial and equibiaxial paths for stretches in [lo, hi] and simple
+// shear for |γ| <= hi − 1.
+MaterialCheck check_material(const Material& m, double lo = 0.5, double hi = 2.0);
+
+}  // namespace palpa::material

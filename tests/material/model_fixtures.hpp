@@ -1,0 +1,28 @@
+#pragma once
+// Every material model, with representative parameters and the small-strain
+// Lamé parameters it must reproduce, for the conformance suite.
+
+#include <functional>
+#include <ostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "palpa/material/material.hpp"
+
+namespace palpa::material::test {
+
+struct ModelCase {
+  std::string name;
+  std::function<std::unique_ptr<Material>()> make;
+  ElasticConstants expected;   // small-strain Lamé parameters
+  double lame_tolerance;       // relative tolerance on them
+  bool inversion_safe = true;  // energy restoring through J <= 0 (false: StVK)
+};
+
+std::vector<ModelCase> all_model_cases();
+
+// Test names and messages show the case name only.
+inline void PrintTo(const ModelCase& c, std::ostream* os) { *os << c.name; }
+
+}  // namespace palpa::material::test
