@@ -9,5 +9,6 @@ namespace palpa::cli {
 void add_units_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 void add_material_command(CLI::App& app);
+void add_demo_command(CLI::App& app);
 
 }  // namespace palpa::cli

@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose, "More output (repeat for more: -vv)");
   app.add_flag("-q,--quiet", quiet, "Only warnings and errors; no progress bars");
 
+  palpa::cli::add_demo_command(app);
   palpa::cli::add_material_command(app);
   palpa::cli::add_convert_command(app);
   palpa::cli::add_units_command(app);

@@ -1,0 +1,131 @@
+// palpa demo: runs the pipeline on the bundled example data. For now the
+// pipeline is the material stage: for each example material, its small-strain
+// constants and checks, its homogeneous stress-stretch curves, and the spline
+// material that reproduces it (the starting point of a fit) with its error.
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "commands.hpp"
+#include "palpa/core/atomic_file.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/core/progress.hpp"
+#include "palpa/io/csv.hpp"
+#include "palpa/material/checks.hpp"
+#include "palpa/material/homogeneous.hpp"
+#include "palpa/material/material_file.hpp"
+#include "palpa/material/spline_material.hpp"
+
+#ifndef PALPA_EXAMPLES_DIR
+#error "PALPA_EXAMPLES_DIR must name the bundled examples folder"
+#endif
+
+namespace palpa::cli {
+
+namespace {
+
+using namespace palpa::material;
+
+struct Case {
+  LoadCase load;
+  const char* name;
+  double from;
+  double to;
+};
+
+constexpr Case kCases[] = {
+    {LoadCase::Uniaxial, "uniaxial", 0.6, 1.6},
+    {LoadCase::Equibiaxial, "equibiaxial", 0.8, 1.3},
+    {LoadCase::SimpleShear, "shear", -0.6, 0.6},
+};
+
+std::string curve_csv(const std::vector<CurvePoint>& model, const std::vector<CurvePoint>& spline,
+                      const Case& c) {
+  CsvTable t;
+  std::vector<double> load, a, b;
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    load.push_back(model[i].load);
+    a.push_back(model[i].nominal);
+    b.push_back(spline[i].nominal);
+  }
+  t.add_column(c.load == LoadCase::SimpleShear ? "shear_strain" : "stretch", load);
+  t.add_quantity("nominal_stress_model", "Pa", Dimension::Pressure, a);
+  t.add_quantity("nominal_stress_spline", "Pa", Dimension::Pressure, b);
+  return format_csv(t);
+}
+
+void run_demo(const std::filesystem::path& examples, const std::filesystem::path& out) {
+  const std::filesystem::path dir = examples / "materials";
+  std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    if (e.path().extension() == ".json") files.push_back(e.path());
+  }
+  if (ec || files.empty()) {
+    throw_input_error("no example materials found", ErrorContext{dir.string(), 0, 0, ""},
+                      "the examples folder of the palpa source tree (--examples DIR)");
+  }
+  std::sort(files.begin(), files.end());
+  ensure_directory(out);
+
+  OutputBatch batch;
+  std::string summary = "palpa demo: material stage on the bundled examples\n\n";
+  Progress progress("demo materials", files.size());
+  for (const auto& file : files) {
+    const MaterialFile mf = read_material_file(file);
+    const Material& m = *mf.material;
+    const std::string stem = file.stem().string();
+    const MaterialCheck check = check_material(m);
+    SplineLayout layout;
+    layout.f = {0.5, 2.0, 12};
+    layout.g = {0.4, 2.5, 12};
+    layout.h = {0.6, 1.6, 12};
+    const SplineMaterial spline = SplineMaterial::from_model(m, layout);
+    summary += fmt::format("{} ({}): small-strain E = {}, nu = {:.3f}; {}\n", stem, m.model(),
+                           format_quantity(check.small_strain.young(), Dimension::Pressure),
+                           check.small_strain.poisson(),
+                           check.problems.empty() ? "stable in all checks" : check.problems.front());
+    for (const Case& c : kCases) {
+      const auto ref = homogeneous_curve(m, c.load, c.from, c.to, 41);
+      const auto spl = homogeneous_curve(spline, c.load, c.from, c.to, 41);
+      double peak = 0.0;
+      double err = 0.0;
+      for (std::size_t i = 0; i < ref.size(); ++i) {
+        peak = std::max(peak, std::abs(ref[i].nominal));
+        err = std::max(err, std::abs(spl[i].nominal - ref[i].nominal));
+      }
+      batch.add(out / fmt::format("{}_{}.csv", stem, c.name)) << curve_csv(ref, spl, c);
+      summary += fmt::format("  {:<12} {} from {} to {}: peak nominal stress {}, spline error {:.2f}%\n",
+                             c.name, c.load == LoadCase::SimpleShear ? "shear" : "stretch", c.from, c.to,
+                             format_quantity(peak, Dimension::Pressure), 100.0 * err / peak);
+    }
+    batch.add(out / fmt::format("{}_spline.json", stem))
+        << material_to_json(spline).dump(2) << "\n";
+    progress.advance();
+  }
+  progress.finish();
+  batch.add(out / "summary.txt") << summary;
+  const std::size_t written = batch.size();
+  batch.commit();
+  fmt::print("{}\nwrote {} files to {}\n", summary, written, out.string());
+}
+
+}  // namespace
+
+void add_demo_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "demo",
+      "Run palpa on the bundled example data and write the results to a folder.\n"
+      "  palpa demo --out demo-out");
+  auto out = std::make_shared<std::string>("demo-out");
+  auto examples = std::make_shared<std::string>(PALPA_EXAMPLES_DIR);
+  cmd->add_option("--out", *out, "Output folder (created if missing; default demo-out)");
+  cmd->add_option("--examples", *examples, "Folder of the bundled examples");
+  cmd->callback([out, examples] { run_demo(*examples, *out); });
+}
+
+}  // namespace palpa::cli

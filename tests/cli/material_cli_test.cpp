@@ -1,0 +1,120 @@
+// `palpa material` and `palpa demo` end to end: results on good input, and for
+// bad input a clear message, exit code 2 and nothing written.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "common/test_support.hpp"
+
+namespace palpa {
+namespace {
+
+using test::run_palpa;
+using test::ScratchDir;
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(MaterialCli, WritesShowsAndPlotsAMaterial) {
+  ScratchDir dir;
+  auto r = run_palpa("material --model neo-hookean --E 12kPa --nu 0.45 -o m.json", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(slurp(dir / "m.json").find("\"E\": \"12 kPa\""), std::string::npos);
+
+  r = run_palpa("material show m.json", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("small strain: E = 12 kPa, nu = 0.45"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("volumetric term: logarithmic"), std::string::npos) << r.out;
+
+  r = run_palpa("material curve m.json --test uniaxial --stretch 0.8:1.2 --points 3 -o c.csv",
+                dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = slurp(dir / "c.csv");
+  EXPECT_NE(
+      csv.find("stretch,lateral_stretch,nominal_stress_Pa,cauchy_stress_Pa,energy_density_Pa"),
+      std::string::npos);
+  // The rest state (stretch 1) is stress-free up to round-off.
+  const auto rest = csv.find("\n1,");
+  ASSERT_NE(rest, std::string::npos) << csv;
+  std::stringstream row(csv.substr(rest + 1, csv.find('\n', rest + 1) - rest - 1));
+  std::string field;
+  std::vector<double> values;
+  while (std::getline(row, field, ',')) values.push_back(std::stod(field));
+  ASSERT_EQ(values.size(), 5u);
+  EXPECT_NEAR(values[1], 1.0, 1e-12);
+  EXPECT_NEAR(values[2], 0.0, 1e-6);  // Pa, against E = 12 kPa
+
+  r = run_palpa("material --model spline --from m.json --knots 6 -o s.json", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_palpa("material show s.json", dir.path());
+  EXPECT_NE(r.out.find("f: 6 knots from 0.5 to 2"), std::string::npos) << r.out;
+}
+
+struct BadCall {
+  const char* args;
+  const char* message;
+};
+
+TEST(MaterialCli, BadInputIsRefusedAndNothingIsWritten) {
+  const BadCall calls[] = {
+      {"material --model neo-hookean --E 10 --nu 0.45 -o out.json", "'10' has no unit"},
+      {"material --model neo-hookean --E 5kg --nu 0.45 -o out.json", "is a mass, not a pressure"},
+      {"material --model neo-hookean --E 10kPa --nu 0.5 -o out.json", "outside (-1, 0.5)"},
+      {"material --model neo-hookean --E -3kPa --nu 0.3 -o out.json", "must be positive"},
+      {"material --model rubber -o out.json", "unknown model 'rubber'"},
+      {"material --model neo-hookean --E 10kPa -o out.json", "needs --nu"},
+      {"material --model neo-hookean-isochoric --C10 1kPa --D1 1/Pa -o out.json", "unknown unit"},
+      {"material --model stvk --E 10kPa --nu 0.3 --C10 1kPa -o out.json", "--C10 does not apply"},
+      {"material --model spline -o out.json", "--from"},
+      {"material --model spline --from missing.json -o out.json", "missing.json: cannot open"},
+      {"material show broken.json", "broken.json:2:"},
+      {"material curve good.json --stretch 1.5:1.0 -o out.json", "not an increasing range"},
+      {"material curve good.json --test torsion -o out.json", "unknown test 'torsion'"},
+      {"material --model neo-hookean --E 10kPa --nu 0.3", "no output file"},
+  };
+  for (const BadCall& c : calls) {
+    ScratchDir dir;
+    dir.write("broken.json", "{\n  \"model\": \"neo-hookean\" \"parameters\": {}\n}\n");
+    dir.write("good.json", R"({"model": "neo-hookean", "parameters": {"E": "1 kPa", "nu": 0.3}})");
+    const auto r = run_palpa(c.args, dir.path());
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\nstderr: " << r.err;
+    EXPECT_EQ(dir.entry_count(), 2u) << c.args << ": something was written";
+  }
+}
+
+TEST(DemoCli, RunsOnTheBundledExamples) {
+  ScratchDir dir;
+  const auto r = run_palpa("demo --out result", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "result" / "summary.txt"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "result" / "tissue_uniaxial.csv"));
+  EXPECT_NE(r.out.find("tissue (neo-hookean-volume): small-strain E = 10 kPa"), std::string::npos)
+      << r.out;
+}
+
+TEST(Cli, VersionHelpAndUsageErrors) {
+  auto r = run_palpa("--version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("palpa 0."), std::string::npos);
+  r = run_palpa("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("material"), std::string::npos);
+  r = run_palpa("material --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("--E"), std::string::npos);
+  EXPECT_NE(r.out.find("such as 12 kPa"), std::string::npos);  // units explained
+  r = run_palpa("material --bogus-option");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bogus-option"), std::string::npos) << r.err;
+  r = run_palpa("");
+  EXPECT_EQ(r.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace palpa
