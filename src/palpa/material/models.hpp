@@ -99,46 +99,45 @@ class Ogden final : public ValanisLandelMaterial {
   double lambda_ = 0.0;  // 2 μ0 ν / (1 − 2ν)
 };
 
+// Base of the models written directly in λ and parametrized by (E, ν): holds
+// and validates the parameters; the model supplies the energy.
+class YoungPoissonMaterial : public Material {
+ public:
+  Eigen::Index num_params() const noexcept final { return 2; }
+  ParamInfo param_info(Eigen::Index k) const final;
+  Eigen::VectorXd params() const final;
+  void set_params(const Eigen::VectorXd& theta) final;
+
+ protected:
+  YoungPoissonMaterial(double young, double poisson);
+  double young_;
+  double poisson_;
+};
+
 // Saint Venant–Kirchhoff (thesis 1.8), with II_C = C:C. Softens and collapses
 // under strong compression: a reference model, not a tissue model.
-class StVenantKirchhoff final : public Material {
+class StVenantKirchhoff final : public YoungPoissonMaterial {
  public:
-  StVenantKirchhoff(double young, double poisson);
+  StVenantKirchhoff(double young, double poisson) : YoungPoissonMaterial(young, poisson) {}
   std::string_view model() const noexcept override { return "stvk"; }
   std::string description() const override;
-  Eigen::Index num_params() const noexcept override { return 2; }
-  ParamInfo param_info(Eigen::Index k) const override;
-  Eigen::VectorXd params() const override;
-  void set_params(const Eigen::VectorXd& theta) override;
   void evaluate(const Vec3& lambda, EvalOrder order, StretchEnergy& out) const override;
   void d2psi_dlambda_dparam(const Vec3& lambda, Eigen::Ref<Eigen::MatrixXd> out) const override;
   std::unique_ptr<Material> clone() const override;
-
- private:
-  double young_;
-  double poisson_;
 };
 
 // Linear corotational: μ Σ(λi − 1)² + λ/2 (Σλi − 3)², linear elasticity in the
 // rotated frame. (The thesis's 1.13 splits this into f and g with a sign slip
 // in the μ terms that would make the rest state unstable; this is the standard
 // form.)
-class Corotational final : public Material {
+class Corotational final : public YoungPoissonMaterial {
  public:
-  Corotational(double young, double poisson);
+  Corotational(double young, double poisson) : YoungPoissonMaterial(young, poisson) {}
   std::string_view model() const noexcept override { return "corotational"; }
   std::string description() const override;
-  Eigen::Index num_params() const noexcept override { return 2; }
-  ParamInfo param_info(Eigen::Index k) const override;
-  Eigen::VectorXd params() const override;
-  void set_params(const Eigen::VectorXd& theta) override;
   void evaluate(const Vec3& lambda, EvalOrder order, StretchEnergy& out) const override;
   void d2psi_dlambda_dparam(const Vec3& lambda, Eigen::Ref<Eigen::MatrixXd> out) const override;
   std::unique_ptr<Material> clone() const override;
-
- private:
-  double young_;
-  double poisson_;
 };
 
 // The isochoric-invariant family of Abaqus, CalculiX and FEBio:

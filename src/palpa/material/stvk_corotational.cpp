@@ -3,11 +3,25 @@
 
 namespace palpa::material {
 
-namespace {
-ParamInfo young_poisson_info(Eigen::Index k) {
+YoungPoissonMaterial::YoungPoissonMaterial(double young, double poisson)
+    : young_(young), poisson_(poisson) {
+  lame_from_young(young_, poisson_);  // validates
+}
+
+ParamInfo YoungPoissonMaterial::param_info(Eigen::Index k) const {
   if (k == 0) return {"E", Dimension::Pressure, "Young's modulus (small strain)"};
   return {"nu", Dimension::Dimensionless, "Poisson's ratio (small strain)"};
 }
+
+Eigen::VectorXd YoungPoissonMaterial::params() const { return Eigen::Vector2d(young_, poisson_); }
+
+void YoungPoissonMaterial::set_params(const Eigen::VectorXd& theta) {
+  lame_from_young(theta[0], theta[1]);
+  young_ = theta[0];
+  poisson_ = theta[1];
+}
+
+namespace {
 
 // Writes ∂grad/∂(E, ν) from ∂grad/∂μ and ∂grad/∂λ.
 void chain_to_young_poisson(const LameWithDerivatives& l, const Vec3& dg_dmu, const Vec3& dg_dlam,
@@ -19,24 +33,9 @@ void chain_to_young_poisson(const LameWithDerivatives& l, const Vec3& dg_dmu, co
 
 // ---------------------------------------------------------------- StVK
 
-StVenantKirchhoff::StVenantKirchhoff(double young, double poisson)
-    : young_(young), poisson_(poisson) {
-  lame_from_young(young_, poisson_);  // validates
-}
-
 std::string StVenantKirchhoff::description() const {
   return "Saint Venant-Kirchhoff: lambda/8 (I_C - 3)^2 + mu/4 (II_C - 2 I_C + 3), II_C = C:C; "
          "volumetric term: none separate (lambda/8 (I_C - 3)^2; softens under strong compression)";
-}
-
-ParamInfo StVenantKirchhoff::param_info(Eigen::Index k) const { return young_poisson_info(k); }
-
-Eigen::VectorXd StVenantKirchhoff::params() const { return Eigen::Vector2d(young_, poisson_); }
-
-void StVenantKirchhoff::set_params(const Eigen::VectorXd& theta) {
-  lame_from_young(theta[0], theta[1]);
-  young_ = theta[0];
-  poisson_ = theta[1];
 }
 
 std::unique_ptr<Material> StVenantKirchhoff::clone() const {
@@ -70,23 +69,9 @@ void StVenantKirchhoff::d2psi_dlambda_dparam(const Vec3& l, Eigen::Ref<Eigen::Ma
 
 // ---------------------------------------------------------------- corotational
 
-Corotational::Corotational(double young, double poisson) : young_(young), poisson_(poisson) {
-  lame_from_young(young_, poisson_);
-}
-
 std::string Corotational::description() const {
   return "linear corotational: mu sum_i (lambda_i - 1)^2 + lambda/2 (sum_i lambda_i - 3)^2; "
          "volumetric term: linearized, lambda/2 (tr(S) - 3)^2";
-}
-
-ParamInfo Corotational::param_info(Eigen::Index k) const { return young_poisson_info(k); }
-
-Eigen::VectorXd Corotational::params() const { return Eigen::Vector2d(young_, poisson_); }
-
-void Corotational::set_params(const Eigen::VectorXd& theta) {
-  lame_from_young(theta[0], theta[1]);
-  young_ = theta[0];
-  poisson_ = theta[1];
 }
 
 std::unique_ptr<Material> Corotational::clone() const {
