@@ -240,7 +240,7 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
 
     const double slope = g.dot(d);
     LineSearchResult ls;
-    if (std::abs(slope) <= options_.energy_noise * std::abs(energy)) {
+    if (std::abs(slope) <= std::max(options_.energy_noise * std::abs(energy), options_.energy_noise_abs)) {
       // The decrease the quadratic model predicts is below the rounding error
       // of E, so no line search can see it: judge the full step by the gradient.
       const double e1 = phi(1.0);
@@ -259,6 +259,14 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
       const int noise_evaluations = ls.evaluations;
       ls = search_line(options_, phi, energy, slope);
       ls.evaluations += noise_evaluations;
+    }
+    if (!ls.success && gnorm <= options_.gradient_accept_tol) {
+      status = NewtonStatus::Converged;
+      message = fmt::format(
+          "converged to rounding in {} iterations: |g| = {:.3e} <= {:.3e} (acceptable), no "
+          "lower energy along the Newton direction",
+          r.iterations, gnorm, options_.gradient_accept_tol);
+      break;
     }
     if (!ls.success) {
       status = NewtonStatus::LineSearchFailed;

@@ -64,6 +64,11 @@ enum class LinearSolverKind {
 struct NewtonOptions {
   // Convergence (see above): ‖g‖∞ ≤ max(abs, rel·‖g(x0)‖∞).
   double gradient_abs_tol = 0.0;   // [gradient units, N for positions]
+  // Where rounding stops progress first (the line search finds no lower energy
+  // along a descent direction), a gradient this small still counts as
+  // converged; 0 = no such allowance. Set it to what the caller can accept
+  // (e.g. 1e-7 of its force scale) and gradient_abs_tol to what it aims for.
+  double gradient_accept_tol = 0.0;
   double gradient_rel_tol = 1e-8;  // [-]
   int max_iterations = 100;
 
@@ -88,6 +93,10 @@ struct NewtonOptions {
   // energy_noise·|E|, the full step is taken (without a line search) if its
   // energy is finite and it lowers ‖g‖∞; otherwise the line search runs as usual.
   double energy_noise = 1e-10;
+  // An absolute floor for the same test [J]: a system whose energy sums many
+  // near-rest terms knows E only to about (terms) × ε·|term|, which a relative
+  // bound cannot express. The test is |g·d| ≤ max(energy_noise·|E|, energy_noise_abs).
+  double energy_noise_abs = 0.0;
 
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
   SparseCholesky::Method cholmod_method = SparseCholesky::Method::Auto;
