@@ -1,0 +1,208 @@
+// palpa poke: force–indentation curve of a flat cylindrical punch pressed into a
+// layer on a rigid base (axisymmetric FEM).
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "palpa/axisym/poke.hpp"
+#include "palpa/core/atomic_file.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/core/progress.hpp"
+#include "palpa/io/csv.hpp"
+#include "palpa/io/vtu.hpp"
+#include "palpa/material/material_file.hpp"
+
+namespace palpa::cli {
+
+namespace {
+
+struct PokeArgs {
+  std::string material;
+  std::string output;
+  std::string contact = "stick";
+  std::string element = "fbar";
+  std::string vtu_dir;
+  std::string sensitivities;
+  double thickness = 0.0;
+  double radius = 0.0;
+  double depth = 0.0;
+  double fillet = 0.0;
+  double outer_radius = 0.0;
+  int steps = 20;
+  int level = 2;
+  int vtu_every = 1;
+};
+
+UnstructuredGrid deformed_grid(const axisym::PokeModel& m, const Eigen::VectorXd& x) {
+  const axisym::AxisymMesh& mesh = m.mesh();
+  const Eigen::MatrixX2d u = m.displacements(x);
+  UnstructuredGrid grid;
+  grid.points = embed_planar(mesh.nodes + u);
+  grid.cells.push_back(CellBlock{VtkCellType::Quad, mesh.quads});
+  Eigen::MatrixXd disp = Eigen::MatrixXd::Zero(mesh.num_nodes(), 3);
+  disp.leftCols<2>() = u;
+  grid.point_data.push_back(DataArray{"displacement_m", disp});
+  grid.point_data.push_back(DataArray{"contact_pressure_Pa", m.contact_pressure(x)});
+  const auto states = m.element_states(x);
+  const auto n = static_cast<Eigen::Index>(states.size());
+  Eigen::MatrixXd stretch(n, 3), jac(n, 1), cauchy(n, 4), mises(n, 1);
+  for (Eigen::Index e = 0; e < n; ++e) {
+    const auto& s = states[static_cast<std::size_t>(e)];
+    stretch.row(e) = s.stretches.transpose();
+    jac(e, 0) = s.jacobian;
+    const Eigen::Vector4d c = s.cauchy;  // rr, zz, rz, θθ
+    mises(e, 0) = std::sqrt(0.5 * ((c[0] - c[1]) * (c[0] - c[1]) + (c[1] - c[3]) * (c[1] - c[3]) +
+                                   (c[3] - c[0]) * (c[3] - c[0])) +
+                            3.0 * c[2] * c[2]);
+    cauchy.row(e) = c.transpose();
+  }
+  grid.cell_data.push_back(DataArray{"principal_stretches", stretch});
+  grid.cell_data.push_back(DataArray{"det_F", jac});
+  grid.cell_data.push_back(DataArray{"cauchy_stress_rr_zz_rz_thth_Pa", cauchy});
+  grid.cell_data.push_back(DataArray{"von_mises_stress_Pa", mises});
+  return grid;
+}
+
+void run_poke(const PokeArgs& a) {
+  const material::MaterialFile mf = material::read_material_file(a.material);
+  axisym::PokeSetup setup;
+  setup.geometry.punch_radius = a.radius;
+  setup.geometry.thickness = a.thickness;
+  setup.geometry.outer_radius = a.outer_radius;
+  setup.mesh_level = a.level;
+  setup.contact = axisym::parse_punch_contact(a.contact);
+  if (a.element == "fbar") {
+    setup.element = axisym::ElementFormulation::FBar;
+  } else if (a.element == "standard") {
+    setup.element = axisym::ElementFormulation::Standard;
+  } else {
+    throw_input_error(fmt::format("unknown element '{}'", a.element),
+                      ErrorContext{"", 0, 0, "option --element"}, "fbar or standard");
+  }
+  setup.fillet_radius = a.fillet;
+  axisym::PokeOptions options;
+  options.max_depth = a.depth;
+  options.steps = a.steps;
+  options.sensitivities = !a.sensitivities.empty();
+
+  // Check every output location before the (long) simulation.
+  if (!a.vtu_dir.empty()) ensure_directory(a.vtu_dir);
+  OutputBatch outputs;
+  std::ostream& curve_out = outputs.add(a.output);
+  std::ostream* sens_out = options.sensitivities ? &outputs.add(a.sensitivities) : nullptr;
+
+  const auto start = std::chrono::steady_clock::now();
+  axisym::PokeSimulator sim(*mf.material, setup);
+  spdlog::info("poke: {} ({}), punch radius {}, layer {}, {} contact, mesh level {} ({} nodes)",
+               a.material, mf.material->model(), format_quantity(a.radius, Dimension::Length),
+               format_quantity(a.thickness, Dimension::Length), a.contact, a.level,
+               sim.model().mesh().num_nodes());
+  Progress progress("poke", static_cast<std::size_t>(a.steps));
+  // VTU files go to a temporary series and are kept only if the run succeeds.
+  std::vector<std::pair<double, UnstructuredGrid>> frames;
+  int index = 0;
+  const auto curve = sim.run(options, [&](const axisym::PokeModel& m, const Eigen::VectorXd& x,
+                                          const axisym::PokeSample& s) {
+    ++index;
+    if (!a.vtu_dir.empty() && (index % a.vtu_every == 0 || index == a.steps)) {
+      frames.emplace_back(s.depth, deformed_grid(m, x));
+    }
+    progress.set_note(fmt::format("d = {:.4g} mm, F = {:.4g} N, {} Newton it.", s.depth * 1e3,
+                                  s.force, s.newton_iterations));
+    progress.advance();
+  });
+  progress.finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  CsvTable t;
+  t.add_comment(fmt::format("palpa poke: {} ({}), a = {} m, D = {} m, {} contact, {} element, level {}, fillet {} m",
+                            a.material, mf.material->model(), a.radius, a.thickness, a.contact,
+                            a.element, a.level, a.fillet));
+  std::vector<double> depth, force, iters, subs, resid, pen, minj;
+  for (const auto& s : curve.samples) {
+    depth.push_back(s.depth);
+    force.push_back(s.force);
+    iters.push_back(s.newton_iterations);
+    subs.push_back(s.substeps);
+    resid.push_back(s.residual);
+    pen.push_back(s.max_penetration);
+    minj.push_back(s.min_jacobian);
+  }
+  t.add_quantity("indentation", "m", Dimension::Length, depth);
+  t.add_quantity("force", "N", Dimension::Force, force);
+  t.add_column("newton_iterations", iters);
+  t.add_column("substeps", subs);
+  t.add_quantity("residual", "N", Dimension::Force, resid);
+  t.add_quantity("max_penetration", "m", Dimension::Length, pen);
+  t.add_column("min_det_F", minj);
+  curve_out << format_csv(t);
+  if (sens_out != nullptr) {
+    CsvTable st;
+    st.add_comment("dF/dtheta per material parameter: newtons per unit of the parameter (SI)");
+    st.add_quantity("indentation", "m", Dimension::Length, depth);
+    const auto& mat = sim.model().material();
+    for (Eigen::Index k = 0; k < mat.num_params(); ++k) {
+      std::string name = mat.param_info(k).name;
+      for (char& c : name) {
+        if (c == '_') c = '-';
+      }
+      std::vector<double> col;
+      for (const auto& s : curve.samples) col.push_back(s.dforce_dparams[k]);
+      st.add_column("dF/d" + name, col);
+    }
+    *sens_out << format_csv(st);
+  }
+  if (!frames.empty()) {
+    // Written after the simulation succeeded; each file atomically.
+    PvdSeries series(std::filesystem::path(a.vtu_dir) / "poke.pvd");
+    for (const auto& [d, grid] : frames) series.add(d, grid);
+  }
+  outputs.commit();
+  const auto& last = curve.samples.back();
+  spdlog::info("poke: depth {} -> force {:.6g} N; {} Newton iterations, {} factorizations, {:.2f} s",
+               format_quantity(last.depth, Dimension::Length), last.force, curve.newton_iterations,
+               curve.factorizations, seconds);
+}
+
+}  // namespace
+
+void add_poke_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "poke",
+      "Simulate a rigid flat cylindrical punch pressed into a layer on a rigid base and write "
+      "the force-indentation curve.\n"
+      "  palpa poke --material m.json --thickness 10mm --radius 3.01mm --depth 2mm --steps 20 "
+      "-o curve.csv");
+  auto a = std::make_shared<PokeArgs>();
+  cmd->add_option("--material", a->material, "Material file (palpa material)")->required();
+  add_quantity_option(*cmd, "--thickness", a->thickness, Dimension::Length, "Layer thickness D")->required();
+  add_quantity_option(*cmd, "--radius", a->radius, Dimension::Length, "Punch radius a")->required();
+  add_quantity_option(*cmd, "--depth", a->depth, Dimension::Length, "Maximum indentation")->required();
+  cmd->add_option("--steps", a->steps, "Equal depth increments up to --depth (default 20)")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--contact", a->contact,
+                  "stick: punch-face nodes fully held; frictionless: only pushed down (default stick)");
+  cmd->add_option("--mesh-level", a->level, "Mesh refinement 0..7, each level halves the cells (default 2)")
+      ->check(CLI::Range(0, 7));
+  cmd->add_option("--element", a->element,
+                  "fbar (locking-free for nearly incompressible tissue) or standard (default fbar)");
+  add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length,
+                      "Radius rounding the punch rim (default 0: sharp)");
+  add_quantity_option(*cmd, "--outer-radius", a->outer_radius, Dimension::Length,
+                      "Radius of the simulated layer (default 8 max(a, D))");
+  cmd->add_option("--vtu", a->vtu_dir, "Folder for VTU files of the deformed mesh and a PVD series");
+  cmd->add_option("--vtu-every", a->vtu_every, "Write every k-th depth to --vtu (default 1)")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--sensitivities", a->sensitivities,
+                  "Also write dF/dtheta for every material parameter to this CSV");
+  cmd->add_option("-o,--output", a->output, "CSV to write: indentation_m,force_N,...")->required();
+  cmd->callback([a] { run_poke(*a); });
+}
+
+}  // namespace palpa::cli

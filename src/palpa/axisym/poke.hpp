@@ -1,0 +1,210 @@
+#pragma once
+// Indentation of a layer on a rigid base by a rigid flat-ended cylindrical
+// punch, in axisymmetry (thesis ch. 4–5): the force–indentation curve, and the
+// sensitivity of every force sample to every material parameter (thesis §6.2).
+//
+// Boundary conditions (rest coordinates): base z = −D bonded (u = 0); axis r = 0
+// has u_r = 0; the top-surface nodes under the flat face of the punch
+// (r <= a − ρ) have u_z = −d and, for Stick contact, u_r = 0 (thesis §5.3); for
+// Frictionless contact u_r is free (§5.2). The outer rim r = R is free.
+// The punch is also a rigid solid (punch.hpp): every other top-surface node is
+// kept out of it by a penalty on its penetration depth, detected at every
+// energy evaluation (so at every Newton iterate and line-search trial), acting
+// along the punch's normal (no friction). The penalty stiffness per unit area is
+// penalty_factor · μ0 / h_rim (μ0: small-strain shear modulus, h_rim: the rim
+// cell size), so penetrations stay ~1/penalty_factor of the local strain times
+// h_rim; the largest is reported per depth.
+//
+// Force: the total downward force of the punch on the layer [N], full circle:
+// minus the reactions of the prescribed u_z plus the penalty forces' vertical
+// components (thesis 5.5).
+//
+// Sensitivities: at the equilibrium u*(θ), dF/dθ = ∂F/∂θ − λᵀ ∂g_F/∂θ with
+// K_FF λ = ∂F/∂u_F (the true Hessian): one back-solve per depth for all
+// parameters.
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "palpa/axisym/element.hpp"
+#include "palpa/axisym/mesh.hpp"
+#include "palpa/axisym/punch.hpp"
+#include "palpa/material/material.hpp"
+#include "palpa/solve/newton.hpp"
+#include "palpa/solve/parametric_system.hpp"
+#include "palpa/solve/system.hpp"
+
+namespace palpa::axisym {
+
+enum class PunchContact { Stick, Frictionless };
+std::string_view to_string(PunchContact c) noexcept;
+// "stick" | "frictionless"; throws palpa::Error (Input) otherwise.
+PunchContact parse_punch_contact(std::string_view name);
+
+struct PokeSetup {
+  LayerGeometry geometry;          // a, D, R (0 = default)
+  int mesh_level = 2;              // 0 coarse … 7 very fine
+  PunchContact contact = PunchContact::Stick;
+  ElementFormulation element = ElementFormulation::FBar;  // see element.hpp
+  // F-bar stabilization modulus as a multiple of the material's small-strain
+  // shear modulus μ0 at construction. Like the contact penalty it is a
+  // property of the discretization, fixed for the model's lifetime (a fit that
+  // changes the parameters keeps it), so sensitivities stay exact.
+  double fbar_stabilization = 1.0;
+  double fillet_radius = 0.0;      // ρ [m], rounds the punch rim; 0 <= ρ < a
+  double penalty_factor = 1e3;     // contact stiffness, see above
+};
+
+// The layer and punch at one depth, over the free DOFs (x: #free [m]).
+// Energy: elastic [J] + contact penalty [J].
+class PokeModel final : public System, public ParametricSystem {
+ public:
+  PokeModel(const material::Material& material, const PokeSetup& setup);
+  ~PokeModel() override;
+
+  const AxisymMesh& mesh() const noexcept { return mesh_; }
+  const PokeSetup& setup() const noexcept { return setup_; }
+  const material::Material& material() const noexcept { return *material_; }
+  // Replaces the material parameters (same model). Validated by the material.
+  void set_material_params(const Eigen::VectorXd& theta);
+
+  // The punch depth d [m] (prescribed u_z = −d on the face nodes).
+  void set_depth(double depth);
+  double depth() const noexcept { return punch_.depth; }
+
+  // Newton uses PSD-projected element Hessians; sensitivities need the true one.
+  void set_true_hessian(bool on) noexcept { true_hessian_ = on; }
+
+  // System
+  Eigen::Index num_dofs() const override { return static_cast<Eigen::Index>(free_dofs_.size()); }
+  double energy(const Eigen::VectorXd& x) const override;
+  void gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
+  double energy_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
+  void hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const override;
+
+  // ParametricSystem: ∂g/∂θ over the free DOFs (#free × p).
+  Eigen::Index num_params() const override;
+  void gradient_param_jacobian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& J) const override;
+
+  // All nodal displacements (#N × 2, (u_r, u_z) [m]) for free DOFs x at the
+  // current depth.
+  Eigen::MatrixX2d displacements(const Eigen::VectorXd& x) const;
+
+  // F(x): downward punch force [N] (see above).
+  double punch_force(const Eigen::VectorXd& x) const;
+  // ∂F/∂x (#free) and ∂F/∂θ (p) at x, with the true Hessian terms.
+  void punch_force_derivatives(const Eigen::VectorXd& x, Eigen::VectorXd& dfdx,
+                               Eigen::VectorXd& dfdtheta) const;
+
+  struct Diagnostics {
+    double max_penetration = 0.0;  // largest penetration into the punch [m]
+    double min_jacobian = 0.0;     // smallest det F over all Gauss points
+    int contact_nodes = 0;         // free surface nodes touching the punch
+  };
+  Diagnostics diagnostics(const Eigen::VectorXd& x) const;
+
+  // Per-node contact pressure on the top surface [Pa]: punch force on the node
+  // (reaction or penalty) over its ring area 2π r ℓ; #N (0 away from the top).
+  Eigen::VectorXd contact_pressure(const Eigen::VectorXd& x) const;
+
+  // Per-element output fields (element.hpp), in element order.
+  std::vector<ElementState> element_states(const Eigen::VectorXd& x) const;
+
+  // Top-surface nodes whose u_z is prescribed (under the flat face).
+  const std::vector<int>& face_nodes() const noexcept { return face_nodes_; }
+
+  // Rounding floors of the energy [J] and of a gradient entry [N]: Ψ near rest
+  // is a sum of O(μδ) terms cancelling to O(μδ²), so each Gauss point carries an
+  // error of about μ·ε whatever the strain; summed over a cell of volume V and
+  // size h that is μ·ε·V (energy) and μ·ε·V/h (force). Newton's tolerances
+  // must stay above these.
+  double energy_noise_floor() const noexcept { return energy_noise_floor_; }
+  double gradient_noise_floor() const noexcept { return gradient_noise_floor_; }
+
+ private:
+  double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* g) const;
+  Eigen::VectorXd full_displacement(const Eigen::VectorXd& x) const;
+  // Elastic gradient over all DOFs (2 per node) at the full displacement u.
+  Eigen::VectorXd full_elastic_gradient(const Eigen::VectorXd& u) const;
+  Vec8 element_dofs(const Eigen::VectorXd& u, Eigen::Index e) const;
+
+  std::unique_ptr<material::Material> material_;
+  PokeSetup setup_;
+  AxisymMesh mesh_;
+  PunchShape punch_;
+  std::vector<QuadGeometry> geometry_;
+  std::vector<int> free_dofs_;        // free index -> full DOF
+  std::vector<int> full_to_free_;     // full DOF -> free index or −1
+  std::vector<int> face_nodes_;       // prescribed u_z = −d
+  std::vector<int> contact_nodes_;    // top nodes checked against the punch
+  std::vector<double> ring_area_;     // per node: its share of the top surface, 2π r ℓ [m^2]
+  double penalty_per_area_ = 0.0;     // [Pa/m]
+  ElementOptions element_;            // formulation and stabilization modulus
+  double energy_noise_floor_ = 0.0;
+  double gradient_noise_floor_ = 0.0;
+  bool true_hessian_ = false;
+  // Hessian pattern over free DOFs (lower triangle) and, per element, the slot
+  // of each of its 64 entries in the value array (−1: not assembled).
+  Eigen::SparseMatrix<double> pattern_;
+  std::vector<std::array<int, 64>> element_slots_;
+  std::vector<std::array<int, 3>> contact_slots_;  // per contact node: (rr, zr, zz) slots
+};
+
+struct PokeOptions {
+  double max_depth = 0.0;        // [m]
+  int steps = 20;                // equal depth increments up to max_depth
+  bool sensitivities = false;    // dF/dθ per depth
+  int max_step_cuts = 10;        // halvings of a depth increment that fails
+  NewtonOptions newton;          // tolerances default to the problem's scale
+};
+
+struct PokeSample {
+  double depth = 0.0;           // [m]
+  double force = 0.0;           // [N]
+  int newton_iterations = 0;    // over all sub-steps to this depth
+  int substeps = 1;             // 1 unless the increment had to be cut
+  double residual = 0.0;        // final ‖g‖∞ [N]
+  double max_penetration = 0.0; // [m]
+  double min_jacobian = 0.0;    // smallest det F
+  int contact_nodes = 0;        // free surface nodes on the punch
+  Eigen::VectorXd dforce_dparams;  // p entries [N per unit θ] if requested
+};
+
+struct PokeCurve {
+  std::vector<PokeSample> samples;  // depth 0 first (force 0), then each step
+  int newton_iterations = 0;
+  std::int64_t factorizations = 0;
+  std::int64_t analyses = 0;
+};
+
+// Runs depth continuation on one model, reusing its Hessian pattern and the
+// symbolic factorization across depths and across run() calls (a fit calls
+// run() once per parameter update).
+class PokeSimulator {
+ public:
+  PokeSimulator(const material::Material& material, const PokeSetup& setup);
+  ~PokeSimulator();
+
+  PokeModel& model() noexcept { return *model_; }
+  const PokeModel& model() const noexcept { return *model_; }
+
+  // Called after each depth converged with the model, its free DOFs and the sample.
+  using DepthCallback = std::function<void(const PokeModel&, const Eigen::VectorXd&, const PokeSample&)>;
+
+  // Throws palpa::Error (Input) for bad options, (Solver) with diagnostics when a
+  // depth does not converge even after max_step_cuts halvings, (Interrupted)
+  // on Ctrl-C.
+  PokeCurve run(const PokeOptions& options, const DepthCallback& on_depth = {});
+
+ private:
+  std::unique_ptr<PokeModel> model_;
+  NewtonSolver solver_;
+};
+
+}  // namespace palpa::axisym

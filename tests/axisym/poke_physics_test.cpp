@@ -1,0 +1,151 @@
+// The indentation simulator against its analytic limits, its far-field and
+// mesh convergence, and deep indentation (label "physics": Release only).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "axisym/layer_reference.hpp"
+#include "common/finite_difference.hpp"
+#include "common/test_support.hpp"
+#include "palpa/axisym/poke.hpp"
+#include "palpa/core/interrupt.hpp"
+#include "palpa/material/models.hpp"
+#include "palpa/material/spline_material.hpp"
+
+namespace palpa::axisym {
+namespace {
+
+using palpa::test::derivatives_match;
+
+constexpr double kE = 10e3;   // Young's modulus [Pa]
+constexpr double kA = 2e-3;   // punch radius [m]
+
+PokeSetup setup_for(double thickness, int level, PunchContact contact) {
+  PokeSetup s;
+  s.geometry.punch_radius = kA;
+  s.geometry.thickness = thickness;
+  s.mesh_level = level;
+  s.contact = contact;
+  return s;
+}
+
+double force_at(const material::Material& m, const PokeSetup& s, double depth, int steps = 1) {
+  PokeSimulator sim(m, s);
+  PokeOptions o;
+  o.max_depth = depth;
+  o.steps = steps;
+  return sim.run(o).samples.back().force;
+}
+
+// ---------------------------------------------------------------- analytic limits
+
+TEST(PokePhysics, SmallDepthOnADeepLayerMatchesTheHalfSpace) {
+  // Boussinesq/Sneddon: F/d = 2aE/(1 − ν²) for a frictionless punch on a
+  // half-space. With D = 100 a the layer adds < 1% (κ(0.01) − 1).
+  for (double nu : {0.3, 0.45}) {
+    const material::NeoHookean m(kE, nu);
+    const double d = 1e-4 * kA;
+    const double f = force_at(m, setup_for(100 * kA, 3, PunchContact::Frictionless), d);
+    const double half_space = 2 * kA * kE / (1 - nu * nu);
+    RecordProperty("ratio_nu" + std::to_string(nu), std::to_string(f / d / half_space));
+    EXPECT_NEAR(f / d / half_space, 1.0, 0.02) << "nu " << nu;
+    // And more tightly against the layer result itself.
+    EXPECT_NEAR(f / d / test::layer_stiffness(kA, 100 * kA, kE, nu), 1.0, 0.01) << "nu " << nu;
+  }
+}
+
+TEST(PokePhysics, BondedLayerMatchesHayesEtAl1972) {
+  // Hayes, Keer, Herrmann & Mockros, J. Biomech. 5 (1972) 541–551: frictionless
+  // punch on a layer bonded to a rigid base, P = 4aGwκ(a/h, ν)/(1 − ν); κ from
+  // tests/axisym/layer_reference (checked against their Table 1 there).
+  for (double nu : {0.3, 0.45, 0.49}) {
+    for (double a_over_h : {0.3, 1.0, 2.0}) {
+      const material::NeoHookean m(kE, nu);
+      const double thickness = kA / a_over_h;
+      const double d = 1e-4 * kA;
+      const double f = force_at(m, setup_for(thickness, 2, PunchContact::Frictionless), d);
+      const double ref = test::layer_stiffness(kA, thickness, kE, nu);
+      EXPECT_NEAR(f / d / ref, 1.0, 0.03) << "nu " << nu << ", a/h " << a_over_h;
+    }
+  }
+}
+
+TEST(PokePhysics, DefaultOuterRadiusIsFarEnough) {
+  // Doubling the simulated radius changes the force by less than 0.5%.
+  const material::NeoHookean m(kE, 0.45);
+  for (double thickness : {kA / 2.0, 3 * kA, 10 * kA}) {
+    PokeSetup s = setup_for(thickness, 1, PunchContact::Stick);
+    const double f = force_at(m, s, 0.1 * kA, 2);
+    s.geometry.outer_radius = 2.0 * default_outer_radius(kA, thickness);
+    const double f2 = force_at(m, s, 0.1 * kA, 2);
+    EXPECT_NEAR(f / f2, 1.0, 0.005) << "thickness " << thickness;
+  }
+}
+
+TEST(PokePhysics, SmallStrainForceIsTheSameForEveryModelWithTheSameEAndNu) {
+  const double nu = 0.45;
+  const material::ElasticConstants l = material::lame_from_young(kE, nu);
+  const double d1 = 2.0 / l.bulk();
+  const material::NeoHookean nh(kE, nu);
+  const material::NeoHookean vol = material::NeoHookean::with_volume_term(kE, nu, 0.5);
+  const auto iso = material::IsochoricInvariant::neo_hookean(l.mu / 2, d1);
+  const auto mr = material::IsochoricInvariant::mooney_rivlin(0.3 * l.mu, 0.2 * l.mu, d1);
+  const auto yeoh = material::IsochoricInvariant::yeoh(l.mu / 2, 0.1 * l.mu, 0.05 * l.mu, d1);
+  const material::Ogden og({0.8 * l.mu, 0.4 * l.mu}, {3.0, -1.0}, nu);  // μ0 = ½(2.4 − 0.4) μ = μ
+  const material::StVenantKirchhoff stvk(kE, nu);
+  const material::Corotational corot(kE, nu);
+  const PokeSetup s = setup_for(3 * kA, 1, PunchContact::Stick);
+  const double d = 1e-3 * kA;
+  const double ref = force_at(nh, s, d);
+  EXPECT_GT(ref, 0.0);
+  for (const material::Material* m : std::initializer_list<const material::Material*>{
+           &vol, &iso, &mr, &yeoh, &og, &stvk, &corot}) {
+    EXPECT_NEAR(force_at(*m, s, d) / ref, 1.0, 3e-3) << m->model();
+  }
+}
+
+// Forces at levels 1..3 for one deep case: every level reaches the depth with
+// no inverted element and no surface node inside the punch, and the force
+// differences between levels shrink.
+void expect_deep_convergence(const material::Material& m, PunchContact contact, double fillet) {
+  const double thickness = kA / 0.3;  // d = a is also 0.3 D
+  std::vector<double> forces;
+  for (int level : {1, 2, 3}) {
+    PokeSetup s = setup_for(thickness, level, contact);
+    s.fillet_radius = fillet;
+    PokeSimulator sim(m, s);
+    PokeOptions o;
+    o.max_depth = kA;
+    o.steps = 20;
+    const PokeCurve c = sim.run(o);
+    const PokeSample& last = c.samples.back();
+    EXPECT_NEAR(last.depth, kA, 1e-15);
+    EXPECT_GT(last.min_jacobian, 0.0) << "level " << level;
+    // Penetration into the punch: a small fraction of the rim cell.
+    EXPECT_LT(last.max_penetration, 0.05 * sim.model().mesh().rim_cell_size) << "level " << level;
+    forces.push_back(last.force);
+  }
+  const double d12 = std::abs(forces[1] - forces[0]);
+  const double d23 = std::abs(forces[2] - forces[1]);
+  ::testing::Test::RecordProperty("forces", std::to_string(forces[0]) + " " + std::to_string(forces[1]) + " " +
+                               std::to_string(forces[2]));
+  ::testing::Test::RecordProperty("observed_order", std::to_string(std::log2(d12 / d23)));
+  EXPECT_LT(d23, 0.7 * d12) << forces[0] << " " << forces[1] << " " << forces[2];
+  EXPECT_LT(d23, 0.03 * forces[2]);
+}
+
+TEST(PokePhysicsDeep, StickToDepthEqualToRadiusAndThirtyPercentOfTheLayerNu045) {
+  expect_deep_convergence(material::NeoHookean(kE, 0.45), PunchContact::Stick, 0.0);
+}
+
+TEST(PokePhysicsDeep, StickToDepthEqualToRadiusAndThirtyPercentOfTheLayerNu049) {
+  expect_deep_convergence(material::NeoHookean(kE, 0.49), PunchContact::Stick, 0.0);
+}
+
+TEST(PokePhysicsDeep, FrictionlessWithARoundedRimNu045) {
+  expect_deep_convergence(material::NeoHookean(kE, 0.45), PunchContact::Frictionless, 0.1 * kA);
+}
+
+}  // namespace
+}  // namespace palpa::axisym

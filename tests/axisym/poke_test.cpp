@@ -1,0 +1,209 @@
+// The indentation simulator: punch geometry, derivatives of the system and of
+// the force, the curve's start, bad input. Physics: poke_physics_test.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "common/finite_difference.hpp"
+#include "common/test_support.hpp"
+#include "palpa/axisym/poke.hpp"
+#include "palpa/core/interrupt.hpp"
+#include "palpa/material/models.hpp"
+#include "palpa/material/spline_material.hpp"
+
+namespace palpa::axisym {
+namespace {
+
+using palpa::test::derivatives_match;
+
+constexpr double kE = 10e3;   // Young's modulus [Pa]
+constexpr double kA = 2e-3;   // punch radius [m]
+
+PokeSetup setup_for(double thickness, int level, PunchContact contact) {
+  PokeSetup s;
+  s.geometry.punch_radius = kA;
+  s.geometry.thickness = thickness;
+  s.mesh_level = level;
+  s.contact = contact;
+  return s;
+}
+
+
+// ---------------------------------------------------------------- punch shape
+
+TEST(PunchDistance, SignedDistanceAndItsDerivatives) {
+  const PunchShape sharp{kA, 0.0, 1e-3};
+  EXPECT_NEAR(punch_distance(sharp, {0.5 * kA, -1.5e-3}).phi, 0.5e-3, 1e-15);    // below the face
+  EXPECT_NEAR(punch_distance(sharp, {1.25 * kA, 0.0}).phi, 0.25 * kA, 1e-15);    // beside the wall
+  EXPECT_NEAR(punch_distance(sharp, {kA + 3e-4, -1.4e-3}).phi, 5e-4, 1e-15);     // off the corner
+  EXPECT_NEAR(punch_distance(sharp, {0.9 * kA, 0.0}).phi, -0.1 * kA, 1e-15);     // inside, wall nearer
+  EXPECT_NEAR(punch_distance(sharp, {0.2 * kA, -0.9e-3}).phi, -0.1e-3, 1e-15);   // inside, face nearer
+  const PunchShape round{kA, 0.2 * kA, 1e-3};
+  // On the arc: centre (a − ρ, −d + ρ).
+  const Eigen::Vector2d c(0.8 * kA, -1e-3 + 0.2 * kA);
+  const Eigen::Vector2d on_arc = c + 0.2 * kA * Eigen::Vector2d(1.0, -1.0).normalized();
+  EXPECT_NEAR(punch_distance(round, on_arc).phi, 0.0, 1e-15);
+  // Gradient and Hessian against finite differences, outside and inside the arc.
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(c + Eigen::Vector2d(0.3 * kA, -0.1 * kA)),
+                                   Eigen::Vector2d(c + Eigen::Vector2d(0.1 * kA, -0.05 * kA))}) {
+    const auto phi = [&](const Eigen::VectorXd& x) { return punch_distance(round, Eigen::Vector2d(x)).phi; };
+    const auto grad = [&](const Eigen::VectorXd& x) {
+      return Eigen::VectorXd(punch_distance(round, Eigen::Vector2d(x)).normal);
+    };
+    const PunchDistance d = punch_distance(round, p);
+    EXPECT_TRUE(derivatives_match(d.normal, palpa::test::fd_gradient(phi, p, 1e-7), 1e-8));
+    EXPECT_TRUE(derivatives_match(d.hessian, palpa::test::fd_jacobian(grad, p, 1e-7), 1e-6));
+  }
+}
+
+// ---------------------------------------------------------------- system derivatives
+
+TEST(PokeModel, GradientAndHessianMatchFiniteDifferencesWithContactActive) {
+  const material::NeoHookean m(kE, 0.45);
+  for (PunchContact contact : {PunchContact::Stick, PunchContact::Frictionless}) {
+    PokeSetup s = setup_for(3 * kA, 0, contact);
+    s.fillet_radius = 0.1 * kA;
+    PokeSimulator sim(m, s);
+    PokeOptions o;
+    o.max_depth = 0.6 * kA;
+    o.steps = 6;
+    Eigen::VectorXd x_star;
+    sim.run(o, [&](const PokeModel&, const Eigen::VectorXd& x, const PokeSample&) { x_star = x; });
+    PokeModel& model = sim.model();
+    ASSERT_GT(model.diagnostics(x_star).contact_nodes, 0) << "the test needs nodes on the punch";
+    // Directional derivatives along seeded random directions.
+    auto rng = palpa::test::make_rng(21);
+    std::normal_distribution<double> n01;
+    Eigen::VectorXd v(model.num_dofs());
+    for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = n01(rng);
+    v *= 1e-3 * kA / v.norm();
+    // Off the equilibrium (where g would vanish), with the contact set unchanged.
+    Eigen::VectorXd w(model.num_dofs());
+    for (Eigen::Index i = 0; i < w.size(); ++i) w[i] = n01(rng);
+    x_star += (0.02 * sim.model().mesh().rim_cell_size / w.cwiseAbs().maxCoeff()) * w;
+    ASSERT_GT(model.diagnostics(x_star).contact_nodes, 0);
+    const auto e_of = [&](const Eigen::VectorXd& t) { return model.energy(x_star + t[0] * v); };
+    const auto g_of = [&](const Eigen::VectorXd& t) {
+      Eigen::VectorXd g;
+      model.gradient(x_star + t[0] * v, g);
+      return g;
+    };
+    Eigen::VectorXd g;
+    model.gradient(x_star, g);
+    Eigen::SparseMatrix<double> h;
+    model.set_true_hessian(true);
+    model.hessian(x_star, h);
+    const Eigen::SparseMatrix<double> full = h.selfadjointView<Eigen::Lower>();
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(1);
+    EXPECT_TRUE(derivatives_match(Eigen::VectorXd::Constant(1, g.dot(v)),
+                                  palpa::test::fd_gradient(e_of, zero, 1.0), 1e-6));
+    EXPECT_TRUE(derivatives_match(full * v, palpa::test::fd_jacobian(g_of, zero, 1.0), 1e-5));
+  }
+}
+
+TEST(PokeCurve, ZeroDepthHasZeroForceAndTheCurveStartsThere) {
+  const material::NeoHookean m(kE, 0.45);
+  PokeSimulator sim(m, setup_for(3 * kA, 0, PunchContact::Stick));
+  PokeOptions o;
+  o.max_depth = 0.05 * kA;
+  o.steps = 3;
+  const PokeCurve c = sim.run(o);
+  ASSERT_EQ(c.samples.size(), 4u);
+  EXPECT_EQ(c.samples[0].depth, 0.0);
+  EXPECT_EQ(c.samples[0].force, 0.0);
+  for (std::size_t i = 1; i < c.samples.size(); ++i) {
+    EXPECT_NEAR(c.samples[i].depth, i * 0.05 * kA / 3, 1e-15);
+    EXPECT_GT(c.samples[i].force, c.samples[i - 1].force);
+  }
+}
+
+// ---------------------------------------------------------------- sensitivities
+
+TEST(PokeSensitivities, MatchFiniteDifferencesOfWholeCurves) {
+  const material::NeoHookean nh(kE, 0.45);
+  const material::SplineMaterial spline = material::SplineMaterial::from_model(nh);
+  for (const material::Material* m : {static_cast<const material::Material*>(&nh),
+                                      static_cast<const material::Material*>(&spline)}) {
+    PokeSetup s = setup_for(3 * kA, 0, PunchContact::Stick);
+    PokeOptions o;
+    o.max_depth = 0.5 * kA;  // deep enough for surface nodes to touch the rim
+    o.steps = 5;
+    o.sensitivities = true;
+    PokeSimulator sim(*m, s);
+    const PokeCurve c = sim.run(o);
+    o.sensitivities = false;
+    const Eigen::VectorXd theta = m->params();
+    // A few parameters: all of neo-Hookean's, and spread over f, g, h for the spline.
+    std::vector<Eigen::Index> which;
+    for (Eigen::Index k = 0; k < theta.size(); k += std::max<Eigen::Index>(1, theta.size() / 6)) which.push_back(k);
+    for (Eigen::Index k : which) {
+      const double h = 1e-5 * std::max(std::abs(theta[k]), m->param_info(k).dimension == Dimension::Pressure ? kE : 1.0);
+      std::vector<double> fp;
+      std::vector<double> fm;
+      for (double sign : {1.0, -1.0}) {
+        Eigen::VectorXd t = theta;
+        t[k] += sign * h;
+        sim.model().set_material_params(t);
+        const PokeCurve cc = sim.run(o);
+        for (const auto& sample : cc.samples) (sign > 0 ? fp : fm).push_back(sample.force);
+      }
+      sim.model().set_material_params(theta);
+      Eigen::VectorXd analytic(static_cast<Eigen::Index>(c.samples.size()));
+      Eigen::VectorXd numeric(analytic.size());
+      for (std::size_t i = 0; i < c.samples.size(); ++i) {
+        analytic[static_cast<Eigen::Index>(i)] = c.samples[i].dforce_dparams[k];
+        numeric[static_cast<Eigen::Index>(i)] = (fp[i] - fm[i]) / (2 * h);
+      }
+      const double scale = std::abs(theta[k]) > 0 ? std::abs(theta[k]) : 1.0;
+      EXPECT_TRUE(derivatives_match(analytic * scale, numeric * scale, 1e-4,
+                                    palpa::test::ZeroPolicy::MayBeZero,
+                                    1e-3 * c.samples.back().force))
+          << m->model() << " parameter " << m->param_info(k).name;
+    }
+  }
+}
+
+// ---------------------------------------------------------------- bad input
+
+TEST(PokeInput, RefusesImpossibleSetups) {
+  const material::NeoHookean m(kE, 0.45);
+  using palpa::test::throws_error;
+  EXPECT_TRUE(throws_error([&] { PokeSimulator(m, setup_for(-1.0, 1, PunchContact::Stick)); },
+                           ErrorKind::Input, {"thickness", "not a positive length"}));
+  PokeSetup s = setup_for(3 * kA, 1, PunchContact::Stick);
+  s.fillet_radius = kA;
+  EXPECT_TRUE(throws_error([&] { PokeSimulator sim(m, s); }, ErrorKind::Input, {"fillet"}));
+  s.fillet_radius = 0.0;
+  s.geometry.outer_radius = kA;
+  EXPECT_TRUE(throws_error([&] { PokeSimulator sim(m, s); }, ErrorKind::Input, {"outer radius"}));
+  PokeSimulator sim(m, setup_for(3 * kA, 0, PunchContact::Stick));
+  PokeOptions o;
+  o.max_depth = 3 * kA;
+  EXPECT_TRUE(throws_error([&] { sim.run(o); }, ErrorKind::Input, {"below 90% of the layer thickness"}));
+  o.max_depth = -1e-3;
+  EXPECT_TRUE(throws_error([&] { sim.run(o); }, ErrorKind::Input, {"not positive"}));
+  EXPECT_TRUE(throws_error([] { parse_punch_contact("glue"); }, ErrorKind::Input, {"unknown contact 'glue'"}));
+}
+
+TEST(PokeInput, InterruptStopsTheRun) {
+  const material::NeoHookean m(kE, 0.45);
+  PokeSimulator sim(m, setup_for(3 * kA, 0, PunchContact::Stick));
+  PokeOptions o;
+  o.max_depth = 0.2 * kA;
+  o.steps = 4;
+  int depths = 0;
+  EXPECT_TRUE(palpa::test::throws_error(
+      [&] {
+        sim.run(o, [&](const PokeModel&, const Eigen::VectorXd&, const PokeSample&) {
+          if (++depths == 2) request_interrupt();
+        });
+      },
+      ErrorKind::Interrupted, {}));
+  clear_interrupt();
+  EXPECT_EQ(depths, 2);
+  EXPECT_NO_THROW(sim.run(o));  // usable afterwards
+}
+
+}  // namespace
+}  // namespace palpa::axisym
