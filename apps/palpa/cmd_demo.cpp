@@ -1,7 +1,9 @@
-// palpa demo: runs the pipeline on the bundled example data. For now the
-// pipeline is the material stage: for each example material, its small-strain
-// constants and checks, its homogeneous stress-stretch curves, and the spline
-// material that reproduces it (the starting point of a fit) with its error.
+// palpa demo: runs the pipeline on the bundled example data. For now: the
+// material stage (for each example material its small-strain constants and
+// checks, its homogeneous stress-stretch curves, and the spline material that
+// reproduces it, the starting point of a fit) and the indentation stage (each
+// material poked by a 3 mm punch into a 10 mm layer, with the force's
+// sensitivity to every material parameter).
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -11,6 +13,7 @@
 #include <filesystem>
 
 #include "commands.hpp"
+#include "palpa/axisym/poke.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/progress.hpp"
@@ -73,7 +76,7 @@ void run_demo(const std::filesystem::path& examples, const std::filesystem::path
   ensure_directory(out);
 
   OutputBatch batch;
-  std::string summary = "palpa demo: material stage on the bundled examples\n\n";
+  std::string summary = "palpa demo: material and indentation stages on the bundled examples\n\n";
   Progress progress("demo materials", files.size());
   for (const auto& file : files) {
     const MaterialFile mf = read_material_file(file);
@@ -105,6 +108,38 @@ void run_demo(const std::filesystem::path& examples, const std::filesystem::path
     }
     batch.add(out / fmt::format("{}_spline.json", stem))
         << material_to_json(spline).dump(2) << "\n";
+
+    // Indentation: a 3 mm punch into a 10 mm layer, 2 mm deep.
+    axisym::PokeSetup setup;
+    setup.geometry.punch_radius = 3e-3;
+    setup.geometry.thickness = 10e-3;
+    axisym::PokeOptions options;
+    options.max_depth = 2e-3;
+    options.steps = 10;
+    options.sensitivities = true;
+    axisym::PokeSimulator sim(m, setup);
+    const auto curve = sim.run(options);
+    CsvTable poke;
+    poke.add_comment(fmt::format("{}: punch radius 3 mm, layer 10 mm, stick contact, mesh level 2", stem));
+    std::vector<double> depth, force, dfde;
+    for (const auto& p : curve.samples) {
+      depth.push_back(p.depth);
+      force.push_back(p.force);
+    }
+    poke.add_quantity("indentation", "m", Dimension::Length, depth);
+    poke.add_quantity("force", "N", Dimension::Force, force);
+    batch.add(out / fmt::format("{}_poke.csv", stem)) << format_csv(poke);
+    const auto& last = curve.samples.back();
+    std::string sens;
+    for (Eigen::Index k = 0; k < m.num_params(); ++k) {
+      const ParamInfo info = m.param_info(k);
+      // Relative sensitivity: % force change per % parameter change.
+      const double rel = last.dforce_dparams[k] * m.params()[k] / last.force;
+      sens += fmt::format("{}{} {:+.3f}", sens.empty() ? "" : ", ", info.name, rel);
+    }
+    summary += fmt::format("  poke         3 mm punch, 10 mm layer: {} at 2 mm ({} Newton iterations); "
+                           "d ln F / d ln theta: {}\n",
+                           format_quantity(last.force, Dimension::Force), curve.newton_iterations, sens);
     progress.advance();
   }
   progress.finish();

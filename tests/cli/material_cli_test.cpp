@@ -94,6 +94,8 @@ TEST(DemoCli, RunsOnTheBundledExamples) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir / "result" / "summary.txt"));
   EXPECT_TRUE(std::filesystem::exists(dir / "result" / "tissue_uniaxial.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "result" / "tissue_poke.csv"));
+  EXPECT_NE(r.out.find("poke         3 mm punch, 10 mm layer"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("tissue (neo-hookean-volume): small-strain E = 10 kPa"), std::string::npos)
       << r.out;
 }

@@ -1,0 +1,75 @@
+// `palpa poke` end to end.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "common/test_support.hpp"
+
+namespace palpa {
+namespace {
+
+using test::run_palpa;
+using test::ScratchDir;
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+constexpr const char* kMaterial =
+    R"({"model": "neo-hookean-volume", "parameters": {"E": "10 kPa", "nu": 0.45}})";
+
+TEST(PokeCli, WritesTheCurveSensitivitiesAndVtuSeries) {
+  ScratchDir dir;
+  dir.write("m.json", kMaterial);
+  const auto r = run_palpa(
+      "poke --material m.json --thickness 10mm --radius 3mm --depth 1mm --steps 4 --mesh-level 0 "
+      "--vtu frames --vtu-every 2 --sensitivities sens.csv -o curve.csv",
+      dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string curve = slurp(dir / "curve.csv");
+  EXPECT_NE(curve.find("indentation_m,force_N,newton_iterations"), std::string::npos) << curve;
+  EXPECT_NE(curve.find("\n0.001,"), std::string::npos) << curve;  // the full depth, in metres
+  EXPECT_NE(slurp(dir / "sens.csv").find("indentation_m,dF/dE,dF/dnu,dF/dvolume-share"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "poke.pvd"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "poke_0001.vtu"));  // two frames
+  EXPECT_NE(r.err.find("poke: depth 1 mm -> force"), std::string::npos) << r.err;
+}
+
+TEST(PokeCli, BadInputIsRefusedAndNothingIsWritten) {
+  struct Bad {
+    const char* args;
+    const char* message;
+  };
+  const Bad calls[] = {
+      {"--thickness 10 --radius 3mm --depth 1mm", "--thickness: '10' has no unit"},
+      {"--thickness 10mm --radius 3kPa --depth 1mm", "is a pressure, not a length"},
+      {"--thickness 10mm --radius 3mm --depth 9.5mm", "below 90% of the layer thickness"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --contact glue", "unknown contact 'glue'"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --element q9", "unknown element 'q9'"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --fillet 3mm", "fillet radius"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --outer-radius 2mm", "outer radius"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --vtu m.json", "not a folder"},
+  };
+  for (const Bad& b : calls) {
+    ScratchDir dir;
+    dir.write("m.json", kMaterial);
+    const auto r = run_palpa(std::string("poke --material m.json --mesh-level 0 -o out.csv ") + b.args,
+                             dir.path());
+    EXPECT_EQ(r.exit_code, 2) << b.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(b.message), std::string::npos) << b.args << "\nstderr: " << r.err;
+    EXPECT_EQ(dir.entry_count(), 1u) << b.args << ": something was written";
+  }
+  ScratchDir dir;
+  const auto r = run_palpa("poke --material none.json --thickness 10mm --radius 3mm --depth 1mm -o out.csv",
+                           dir.path());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("none.json: cannot open"), std::string::npos) << r.err;
+  EXPECT_EQ(dir.entry_count(), 0u);
+}
+
+}  // namespace
+}  // namespace palpa
