@@ -9,6 +9,7 @@
 #include "common/finite_difference.hpp"
 #include "common/test_support.hpp"
 #include "palpa/axisym/poke.hpp"
+#include "axisym/poke_fixtures.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/material/spline_material.hpp"
@@ -17,26 +18,9 @@ namespace palpa::axisym {
 namespace {
 
 using palpa::test::derivatives_match;
+using namespace palpa::axisym::test;
 
-constexpr double kE = 10e3;   // Young's modulus [Pa]
-constexpr double kA = 2e-3;   // punch radius [m]
 
-PokeSetup setup_for(double thickness, int level, PunchContact contact) {
-  PokeSetup s;
-  s.geometry.punch_radius = kA;
-  s.geometry.thickness = thickness;
-  s.mesh_level = level;
-  s.contact = contact;
-  return s;
-}
-
-double force_at(const material::Material& m, const PokeSetup& s, double depth, int steps = 1) {
-  PokeSimulator sim(m, s);
-  PokeOptions o;
-  o.max_depth = depth;
-  o.steps = steps;
-  return sim.run(o).samples.back().force;
-}
 
 // ---------------------------------------------------------------- analytic limits
 
@@ -51,7 +35,7 @@ TEST(PokePhysics, SmallDepthOnADeepLayerMatchesTheHalfSpace) {
     RecordProperty("ratio_nu" + std::to_string(nu), std::to_string(f / d / half_space));
     EXPECT_NEAR(f / d / half_space, 1.0, 0.02) << "nu " << nu;
     // And more tightly against the layer result itself.
-    EXPECT_NEAR(f / d / test::layer_stiffness(kA, 100 * kA, kE, nu), 1.0, 0.01) << "nu " << nu;
+    EXPECT_NEAR(f / d / palpa::test::layer_stiffness(kA, 100 * kA, kE, nu), 1.0, 0.01) << "nu " << nu;
   }
 }
 
@@ -65,7 +49,7 @@ TEST(PokePhysics, BondedLayerMatchesHayesEtAl1972) {
       const double thickness = kA / a_over_h;
       const double d = 1e-4 * kA;
       const double f = force_at(m, setup_for(thickness, 2, PunchContact::Frictionless), d);
-      const double ref = test::layer_stiffness(kA, thickness, kE, nu);
+      const double ref = palpa::test::layer_stiffness(kA, thickness, kE, nu);
       EXPECT_NEAR(f / d / ref, 1.0, 0.03) << "nu " << nu << ", a/h " << a_over_h;
     }
   }

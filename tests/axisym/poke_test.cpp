@@ -8,6 +8,7 @@
 #include "common/finite_difference.hpp"
 #include "common/test_support.hpp"
 #include "palpa/axisym/poke.hpp"
+#include "axisym/poke_fixtures.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/material/spline_material.hpp"
@@ -16,18 +17,8 @@ namespace palpa::axisym {
 namespace {
 
 using palpa::test::derivatives_match;
+using namespace palpa::axisym::test;
 
-constexpr double kE = 10e3;   // Young's modulus [Pa]
-constexpr double kA = 2e-3;   // punch radius [m]
-
-PokeSetup setup_for(double thickness, int level, PunchContact contact) {
-  PokeSetup s;
-  s.geometry.punch_radius = kA;
-  s.geometry.thickness = thickness;
-  s.mesh_level = level;
-  s.contact = contact;
-  return s;
-}
 
 
 // ---------------------------------------------------------------- punch shape

@@ -16,12 +16,7 @@
 namespace palpa {
 namespace {
 
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_text;
 
 // The path quoted for the shell.
 std::string q(const std::filesystem::path& p) {

@@ -13,18 +13,12 @@ namespace {
 using test::run_palpa;
 using test::ScratchDir;
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 TEST(MaterialCli, WritesShowsAndPlotsAMaterial) {
   ScratchDir dir;
   auto r = run_palpa("material --model neo-hookean --E 12kPa --nu 0.45 -o m.json", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(slurp(dir / "m.json").find("\"E\": \"12 kPa\""), std::string::npos);
+  EXPECT_NE(test::read_text(dir / "m.json").find("\"E\": \"12 kPa\""), std::string::npos);
 
   r = run_palpa("material show m.json", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -34,7 +28,7 @@ TEST(MaterialCli, WritesShowsAndPlotsAMaterial) {
   r = run_palpa("material curve m.json --test uniaxial --stretch 0.8:1.2 --points 3 -o c.csv",
                 dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string csv = slurp(dir / "c.csv");
+  const std::string csv = test::read_text(dir / "c.csv");
   EXPECT_NE(
       csv.find("stretch,lateral_stretch,nominal_stress_Pa,cauchy_stress_Pa,energy_density_Pa"),
       std::string::npos);

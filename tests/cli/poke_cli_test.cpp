@@ -12,12 +12,6 @@ namespace {
 using test::run_palpa;
 using test::ScratchDir;
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 constexpr const char* kMaterial =
     R"({"model": "neo-hookean-volume", "parameters": {"E": "10 kPa", "nu": 0.45}})";
@@ -30,10 +24,10 @@ TEST(PokeCli, WritesTheCurveSensitivitiesAndVtuSeries) {
       "--vtu frames --vtu-every 2 --sensitivities sens.csv -o curve.csv",
       dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string curve = slurp(dir / "curve.csv");
+  const std::string curve = test::read_text(dir / "curve.csv");
   EXPECT_NE(curve.find("indentation_m,force_N,newton_iterations"), std::string::npos) << curve;
   EXPECT_NE(curve.find("\n0.001,"), std::string::npos) << curve;  // the full depth, in metres
-  EXPECT_NE(slurp(dir / "sens.csv").find("indentation_m,dF/dE,dF/dnu,dF/dvolume-share"), std::string::npos);
+  EXPECT_NE(test::read_text(dir / "sens.csv").find("indentation_m,dF/dE,dF/dnu,dF/dvolume-share"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "poke.pvd"));
   EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "poke_0001.vtu"));  // two frames
   EXPECT_NE(r.err.find("poke: depth 1 mm -> force"), std::string::npos) << r.err;

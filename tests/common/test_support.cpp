@@ -73,14 +73,12 @@ std::filesystem::path source_path(const std::string& relative) {
   return std::filesystem::path(PALPA_SOURCE_DIR) / relative;
 }
 
-namespace {
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
 }
-}  // namespace
 
 CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd) {
   ScratchDir capture;
@@ -92,8 +90,8 @@ CommandResult run_palpa(const std::string& args, const std::filesystem::path& cw
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
+  r.out = read_text(out);
+  r.err = read_text(err);
   return r;
 }
 

@@ -43,6 +43,9 @@ class ScratchDir {
 ::testing::AssertionResult throws_error(const std::function<void()>& f, ErrorKind kind,
                                         const std::vector<std::string>& fragments);
 
+// The whole content of a file ("" if it cannot be read).
+std::string read_text(const std::filesystem::path& path);
+
 // Path of a file in the source tree (examples, test data).
 std::filesystem::path source_path(const std::string& relative);
 
