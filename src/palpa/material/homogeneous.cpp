@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <limits>
+#include <numeric>
 
 #include "palpa/core/error.hpp"
 #include "palpa/material/kinematics.hpp"
@@ -47,6 +50,61 @@ double solve_lateral(const Material& m, LoadCase c, double s, double guess) {
     t = next;
   }
   return t;
+}
+
+// Scratch for the parameter derivatives of one point, sized once per curve.
+struct SensitivityWork {
+  explicit SensitivityWork(Eigen::Index p) : dgrad(3, p), dP(9, p) {}
+  Eigen::MatrixXd dgrad;  // 3 × p: ∂²Ψ/∂λ∂θ
+  Eigen::MatrixXd dP;     // 9 × p: ∂vec(P)/∂θ (shear)
+};
+
+// The point at `load` and its θ-derivatives, written to row `row` of the three
+// derivative matrices.
+CurvePoint point_with_sensitivity(const Material& m, LoadCase c, double load, double guess,
+                                  SensitivityWork& work, Eigen::Index row,
+                                  Eigen::Ref<Eigen::MatrixXd> dnominal,
+                                  Eigen::Ref<Eigen::MatrixXd> dcauchy,
+                                  Eigen::Ref<Eigen::MatrixXd> dlateral) {
+  const CurvePoint p = homogeneous_point(m, c, load, guess);
+  if (c == LoadCase::SimpleShear) {
+    // P = U diag(∂Ψ/∂λ) Vᵀ with U, V fixed by F alone; σ = P Fᵀ (J = 1), and
+    // row 1 of F is e2ᵀ, so σ12 = P12.
+    Mat3 F = Mat3::Identity();
+    F(0, 1) = load;
+    dP_dparam(m, F, work.dgrad, work.dP);
+    dnominal.row(row) = work.dP.row(0 + 3 * 1);
+    dcauchy.row(row).setZero();
+    for (int k = 0; k < 3; ++k) dcauchy.row(row) += F(1, k) * work.dP.row(0 + 3 * k);
+    dlateral.row(row).setZero();
+    return p;
+  }
+  const double s = load;
+  const double t = p.lateral;
+  const bool uniaxial = c == LoadCase::Uniaxial;
+  const Vec3 l = uniaxial ? Vec3(s, t, t) : Vec3(s, s, t);
+  StretchEnergy e;
+  m.evaluate(l, EvalOrder::Hessian, e);
+  m.d2psi_dlambda_dparam(l, work.dgrad);
+  // Lateral residual r = ∂Ψ/∂λ2 (uniaxial) or ∂Ψ/∂λ3 (equibiaxial); P = ∂Ψ/∂λ1.
+  const Eigen::Index free = uniaxial ? 1 : 2;
+  const double dr_dt = uniaxial ? e.hess(1, 1) + e.hess(1, 2) : e.hess(2, 2);
+  const double dP_dt = uniaxial ? e.hess(0, 1) + e.hess(0, 2) : e.hess(0, 2);
+  if (!(std::isfinite(dr_dt) && dr_dt != 0.0)) {
+    throw_solver_error(fmt::format(
+        "lateral equilibrium at load {} is singular: the lateral stretch has no parameter "
+        "derivative there",
+        load));
+  }
+  dlateral.row(row) = -work.dgrad.row(free) / dr_dt;
+  dnominal.row(row) = work.dgrad.row(0) + dP_dt * dlateral.row(row);
+  // σ = P s / J with J = s t² (uniaxial) or s² t (equibiaxial): dJ/dt / J = n/t
+  // with n lateral stretches equal to t.
+  const double jac = l.prod();
+  const double n_free = uniaxial ? 2.0 : 1.0;
+  dcauchy.row(row) =
+      (s / jac) * (dnominal.row(row) - (p.nominal * n_free / t) * dlateral.row(row));
+  return p;
 }
 
 }  // namespace
@@ -121,6 +179,61 @@ std::vector<CurvePoint> homogeneous_curve(const Material& m, LoadCase c, double 
     }
     out[static_cast<std::size_t>(i)] = homogeneous_point(m, c, load_at(i), guess);
     done[static_cast<std::size_t>(i)] = true;
+  }
+  return out;
+}
+
+CurvePointSensitivity homogeneous_point_sensitivity(const Material& m, LoadCase c, double load,
+                                                    double guess) {
+  const Eigen::Index np = m.num_params();
+  SensitivityWork work(np);
+  Eigen::MatrixXd dnominal(1, np);
+  Eigen::MatrixXd dcauchy(1, np);
+  Eigen::MatrixXd dlateral(1, np);
+  CurvePointSensitivity out;
+  out.point = point_with_sensitivity(m, c, load, guess, work, 0, dnominal, dcauchy, dlateral);
+  out.dnominal_dparams = dnominal.row(0).transpose();
+  out.dcauchy_dparams = dcauchy.row(0).transpose();
+  out.dlateral_dparams = dlateral.row(0).transpose();
+  return out;
+}
+
+CurveSensitivity homogeneous_curve_sensitivity(const Material& m, LoadCase c,
+                                               std::span<const double> loads) {
+  const auto n = static_cast<Eigen::Index>(loads.size());
+  const Eigen::Index np = m.num_params();
+  CurveSensitivity out;
+  out.points.resize(loads.size());
+  out.dnominal_dparams.resize(n, np);
+  out.dcauchy_dparams.resize(n, np);
+  out.dlateral_dparams.resize(n, np);
+  for (double load : loads) {
+    if (!std::isfinite(load)) {
+      throw_input_error(fmt::format("load {} is not finite", load), ErrorContext{},
+                        "finite stretches or shears");
+    }
+  }
+  SensitivityWork work(np);
+  // Continuation: walk outward from the rest state on each side, in order of
+  // load, carrying the lateral stretch of the previous point on that side.
+  const double rest = c == LoadCase::SimpleShear ? 0.0 : 1.0;
+  std::vector<std::size_t> order(loads.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return loads[a] < loads[b]; });
+  const auto first_above = std::partition_point(
+      order.begin(), order.end(), [&](std::size_t i) { return loads[i] < rest; });
+  const auto solve = [&](std::size_t i, double guess) {
+    const auto row = static_cast<Eigen::Index>(i);
+    out.points[i] = point_with_sensitivity(m, c, loads[i], guess, work, row, out.dnominal_dparams,
+                                           out.dcauchy_dparams, out.dlateral_dparams);
+    return out.points[i].lateral;
+  };
+  double guess = 1.0;
+  for (auto it = first_above; it != order.end(); ++it) guess = solve(*it, guess);
+  guess = 1.0;
+  for (auto it = std::make_reverse_iterator(first_above); it != order.rend(); ++it) {
+    guess = solve(*it, guess);
   }
   return out;
 }
