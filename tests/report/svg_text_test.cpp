@@ -1,0 +1,44 @@
+#include "palpa/report/svg_text.hpp"
+
+#include <gtest/gtest.h>
+
+namespace palpa::report {
+namespace {
+
+TEST(ReportSvgText, EscapesMarkupCharacters) {
+  EXPECT_EQ(escape_xml("a<b & \"c\" 'd' >"), "a&lt;b &amp; &quot;c&quot; &apos;d&apos; &gt;");
+  EXPECT_EQ(escape_xml("plain text 1.5 mm"), "plain text 1.5 mm");
+  EXPECT_EQ(escape_xml(""), "");
+}
+
+TEST(ReportSvgText, KeepsValidUtf8) {
+  const std::string s =
+      "force \xE2\x80\x93 indentation, 10\xE2\x81\xBB\xE2\x81\xB6, \xCE\xBC m, \xF0\x9F\x98\x80";
+  EXPECT_EQ(escape_xml(s), s);
+}
+
+TEST(ReportSvgText, ReplacesWhatXmlCannotHold) {
+  const std::string fffd = "\xEF\xBF\xBD";
+  EXPECT_EQ(escape_xml(std::string("a\x01"
+                                   "b")),
+            "a" + fffd + "b");
+  EXPECT_EQ(escape_xml(std::string("a\0b", 3)), "a" + fffd + "b");
+  EXPECT_EQ(escape_xml("tab\tand\nline"), "tab\tand\nline");
+  EXPECT_EQ(escape_xml("\xFF"
+                       "x"),
+            fffd + "x");                                      // not UTF-8
+  EXPECT_EQ(escape_xml("\xC3"), fffd);                        // truncated sequence
+  EXPECT_EQ(escape_xml("\xC0\xAF"), fffd + fffd);             // overlong '/'
+  EXPECT_EQ(escape_xml("\xED\xA0\x80"), fffd + fffd + fffd);  // surrogate
+  EXPECT_EQ(escape_xml("\xEF\xBF\xBF"), fffd);                // U+FFFF
+}
+
+TEST(ReportSvgText, CountsCodePoints) {
+  EXPECT_EQ(utf8_length(""), 0u);
+  EXPECT_EQ(utf8_length("abc"), 3u);
+  EXPECT_EQ(utf8_length("10\xE2\x81\xBB\xE2\x81\xB6"), 4u);  // 10⁻⁶
+  EXPECT_EQ(utf8_length("\xFF\xFE"), 2u);
+}
+
+}  // namespace
+}  // namespace palpa::report
