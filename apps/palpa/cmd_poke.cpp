@@ -1,5 +1,6 @@
 // palpa poke: force–indentation curve of a flat cylindrical punch pressed into a
-// layer on a rigid base (axisymmetric FEM).
+// layer on a rigid base, or force–compression curve of a cylindrical sample
+// between two plates (axisymmetric FEM).
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -25,7 +26,8 @@ namespace {
 struct PokeArgs {
   std::string material;
   std::string output;
-  std::string contact = "stick";
+  std::string test = "indentation";
+  std::string contact;  // default: stick (indentation), bonded (compression)
   std::string element = "fbar";
   std::string vtu_dir;
   std::string sensitivities;
@@ -69,14 +71,46 @@ UnstructuredGrid deformed_grid(const axisym::PokeModel& m, const Eigen::VectorXd
   return grid;
 }
 
+// Parses --test and --contact and refuses options that do not apply to the test.
+void set_test(const PokeArgs& a, axisym::PokeSetup& setup) {
+  setup.test = axisym::parse_poke_test(a.test);
+  if (setup.test == axisym::PokeTest::Indentation) {
+    if (a.contact == "bonded") {
+      throw_input_error("--contact bonded is for the platens of --test compression",
+                        ErrorContext{"", 0, 0, "option --contact"},
+                        "stick or frictionless for an indentation punch");
+    }
+    setup.contact = axisym::parse_punch_contact(a.contact.empty() ? "stick" : a.contact);
+    return;
+  }
+  if (a.contact == "stick") {
+    throw_input_error("--contact stick is for an indentation punch; compression platens are bonded or frictionless",
+                      ErrorContext{"", 0, 0, "option --contact"}, "bonded or frictionless");
+  }
+  setup.contact = axisym::parse_platen_contact(a.contact.empty() ? "bonded" : a.contact);
+  const auto refuse = [](const char* option, const char* why) {
+    throw_input_error(fmt::format("{} does not apply to --test compression: {}", option, why),
+                      ErrorContext{"", 0, 0, std::string("option ") + option},
+                      "--radius (sample radius) and --thickness (sample height) only");
+  };
+  if (a.fillet != 0.0) refuse("--fillet", "the platens cover the whole sample and have no rim");
+  if (a.outer_radius != 0.0) refuse("--outer-radius", "the sample radius is --radius");
+}
+
+std::string contact_name(const axisym::PokeSetup& s) {
+  return std::string(s.test == axisym::PokeTest::Compression ? axisym::platen_contact_name(s.contact)
+                                                             : axisym::to_string(s.contact));
+}
+
 void run_poke(const PokeArgs& a) {
-  const material::MaterialFile mf = material::read_material_file(a.material);
   axisym::PokeSetup setup;
+  set_test(a, setup);
+  const material::MaterialFile mf = material::read_material_file(a.material);
+  const bool compression = setup.test == axisym::PokeTest::Compression;
   setup.geometry.punch_radius = a.radius;
   setup.geometry.thickness = a.thickness;
   setup.geometry.outer_radius = a.outer_radius;
   setup.mesh_level = a.level;
-  setup.contact = axisym::parse_punch_contact(a.contact);
   if (a.element == "fbar") {
     setup.element = axisym::ElementFormulation::FBar;
   } else if (a.element == "standard") {
@@ -99,10 +133,19 @@ void run_poke(const PokeArgs& a) {
 
   const auto start = std::chrono::steady_clock::now();
   axisym::PokeSimulator sim(*mf.material, setup);
-  spdlog::info("poke: {} ({}), punch radius {}, layer {}, {} contact, mesh level {} ({} nodes)",
-               a.material, mf.material->model(), format_quantity(a.radius, Dimension::Length),
-               format_quantity(a.thickness, Dimension::Length), a.contact, a.level,
-               sim.model().mesh().num_nodes());
+  const std::string contact = contact_name(setup);
+  if (compression) {
+    spdlog::info("poke: {} ({}), compression of a cylinder of radius {} and height {} between {} platens, "
+                 "mesh level {} ({} nodes)",
+                 a.material, mf.material->model(), format_quantity(a.radius, Dimension::Length),
+                 format_quantity(a.thickness, Dimension::Length), contact, a.level,
+                 sim.model().mesh().num_nodes());
+  } else {
+    spdlog::info("poke: {} ({}), punch radius {}, layer {}, {} contact, mesh level {} ({} nodes)",
+                 a.material, mf.material->model(), format_quantity(a.radius, Dimension::Length),
+                 format_quantity(a.thickness, Dimension::Length), contact, a.level,
+                 sim.model().mesh().num_nodes());
+  }
   Progress progress("poke", static_cast<std::size_t>(a.steps));
   // VTU files go to a temporary series and are kept only if the run succeeds.
   std::vector<std::pair<double, UnstructuredGrid>> frames;
@@ -121,9 +164,16 @@ void run_poke(const PokeArgs& a) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   CsvTable t;
-  t.add_comment(fmt::format("palpa poke: {} ({}), a = {} m, D = {} m, {} contact, {} element, level {}, fillet {} m",
-                            a.material, mf.material->model(), a.radius, a.thickness, a.contact,
-                            a.element, a.level, a.fillet));
+  if (compression) {
+    // The platen travel is the curve's indentation (as the fit datasets read it).
+    t.add_comment(fmt::format("palpa poke: {} ({}), compression, R = {} m, H = {} m, {} platens, {} element, level {}",
+                              a.material, mf.material->model(), a.radius, a.thickness, contact, a.element,
+                              a.level));
+  } else {
+    t.add_comment(fmt::format("palpa poke: {} ({}), a = {} m, D = {} m, {} contact, {} element, level {}, fillet {} m",
+                              a.material, mf.material->model(), a.radius, a.thickness, contact,
+                              a.element, a.level, a.fillet));
+  }
   std::vector<double> depth, force, iters, subs, resid, pen, minj;
   for (const auto& s : curve.samples) {
     depth.push_back(s.depth);
@@ -165,9 +215,15 @@ void run_poke(const PokeArgs& a) {
   }
   outputs.commit();
   const auto& last = curve.samples.back();
-  spdlog::info("poke: depth {} -> force {:.6g} N; {} Newton iterations, {} factorizations, {:.2f} s",
-               format_quantity(last.depth, Dimension::Length), last.force, curve.newton_iterations,
-               curve.factorizations, seconds);
+  if (compression) {
+    spdlog::info("poke: compression {} ({:.4g}%) -> force {:.6g} N; {} Newton iterations, {} factorizations, {:.2f} s",
+                 format_quantity(last.depth, Dimension::Length), 100.0 * last.depth / a.thickness, last.force,
+                 curve.newton_iterations, curve.factorizations, seconds);
+  } else {
+    spdlog::info("poke: depth {} -> force {:.6g} N; {} Newton iterations, {} factorizations, {:.2f} s",
+                 format_quantity(last.depth, Dimension::Length), last.force, curve.newton_iterations,
+                 curve.factorizations, seconds);
+  }
 }
 
 }  // namespace
@@ -175,19 +231,31 @@ void run_poke(const PokeArgs& a) {
 void add_poke_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "poke",
-      "Simulate a rigid flat cylindrical punch pressed into a layer on a rigid base and write "
-      "the force-indentation curve.\n"
+      "Simulate a rigid flat cylindrical punch pressed into a layer on a rigid base (or, with "
+      "--test compression, a cylindrical sample compressed between two plates) and write the "
+      "force-indentation curve.\n"
       "  palpa poke --material m.json --thickness 10mm --radius 3.01mm --depth 2mm --steps 20 "
-      "-o curve.csv");
+      "-o curve.csv\n"
+      "  palpa poke --test compression --contact bonded --material m.json --radius 15mm "
+      "--thickness 30mm --depth 20mm --steps 40 -o curve.csv");
   auto a = std::make_shared<PokeArgs>();
   cmd->add_option("--material", a->material, "Material file (palpa material)")->required();
-  add_quantity_option(*cmd, "--thickness", a->thickness, Dimension::Length, "Layer thickness D")->required();
-  add_quantity_option(*cmd, "--radius", a->radius, Dimension::Length, "Punch radius a")->required();
-  add_quantity_option(*cmd, "--depth", a->depth, Dimension::Length, "Maximum indentation")->required();
+  cmd->add_option("--test", a->test,
+                  "indentation: a punch pressed into a layer; compression: a whole cylindrical sample "
+                  "between two plates (default indentation)");
+  add_quantity_option(*cmd, "--thickness", a->thickness, Dimension::Length,
+                      "Layer thickness D (compression: sample height H)")
+      ->required();
+  add_quantity_option(*cmd, "--radius", a->radius, Dimension::Length, "Punch radius a (compression: sample radius R)")
+      ->required();
+  add_quantity_option(*cmd, "--depth", a->depth, Dimension::Length,
+                      "Maximum indentation (compression: travel of the top plate)")
+      ->required();
   cmd->add_option("--steps", a->steps, "Equal depth increments up to --depth (default 20)")
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--contact", a->contact,
-                  "stick: punch-face nodes fully held; frictionless: only pushed down (default stick)");
+                  "Indentation: stick (punch-face nodes fully held, default) or frictionless (only pushed "
+                  "down). Compression: bonded (default) or frictionless platens");
   cmd->add_option("--mesh-level", a->level, "Mesh refinement 0..7, each level halves the cells (default 2)")
       ->check(CLI::Range(0, 7));
   cmd->add_option("--element", a->element,

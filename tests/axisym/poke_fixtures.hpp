@@ -27,3 +27,18 @@ inline double force_at(const material::Material& m, const PokeSetup& s, double d
 }
 
 }  // namespace palpa::axisym::test
+
+namespace palpa::axisym::test {
+
+// A cylindrical sample between two plates (radius, height [m]).
+inline PokeSetup compression_setup(double radius, double height, int level, PunchContact platens) {
+  PokeSetup s;
+  s.test = PokeTest::Compression;
+  s.geometry.punch_radius = radius;
+  s.geometry.thickness = height;
+  s.mesh_level = level;
+  s.contact = platens;
+  return s;
+}
+
+}  // namespace palpa::axisym::test

@@ -33,6 +33,28 @@ TEST(PokeCli, WritesTheCurveSensitivitiesAndVtuSeries) {
   EXPECT_NE(r.err.find("poke: depth 1 mm -> force"), std::string::npos) << r.err;
 }
 
+TEST(PokeCli, CompressesACylinderBetweenTwoPlates) {
+  for (const char* platens : {"bonded", "frictionless"}) {
+    ScratchDir dir;
+    dir.write("m.json", kMaterial);
+    const auto r = run_palpa(std::string("poke --test compression --contact ") + platens +
+                                 " --material m.json --radius 5mm --thickness 5mm --depth 2.5mm --steps 5 "
+                                 "--mesh-level 0 --vtu frames --sensitivities sens.csv -o curve.csv",
+                             dir.path());
+    ASSERT_EQ(r.exit_code, 0) << platens << "\n" << r.err;
+    const std::string curve = test::read_text(dir / "curve.csv");
+    EXPECT_NE(curve.find(std::string("compression, R = 0.005 m, H = 0.005 m, ") + platens + " platens"),
+              std::string::npos)
+        << curve;
+    EXPECT_NE(curve.find("indentation_m,force_N,newton_iterations"), std::string::npos) << curve;
+    EXPECT_NE(curve.find("\n0.0025,"), std::string::npos) << curve;  // 50% of the height
+    EXPECT_NE(test::read_text(dir / "sens.csv").find("indentation_m,dF/dE,dF/dnu"), std::string::npos);
+    EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "poke.pvd"));
+    EXPECT_NE(r.err.find("poke: compression 2.5 mm (50%) -> force"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(std::string("between ") + platens + " platens"), std::string::npos) << r.err;
+  }
+}
+
 TEST(PokeCli, BadInputIsRefusedAndNothingIsWritten) {
   struct Bad {
     const char* args;
@@ -47,6 +69,17 @@ TEST(PokeCli, BadInputIsRefusedAndNothingIsWritten) {
       {"--thickness 10mm --radius 3mm --depth 1mm --fillet 3mm", "fillet radius"},
       {"--thickness 10mm --radius 3mm --depth 1mm --outer-radius 2mm", "outer radius"},
       {"--thickness 10mm --radius 3mm --depth 1mm --vtu m.json", "not a folder"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --test shear", "unknown test 'shear'"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --contact bonded", "--contact bonded is for the platens"},
+      {"--test compression --thickness 10mm --radius 3mm --depth 1mm --contact stick",
+       "compression platens are bonded or frictionless"},
+      {"--test compression --thickness 10mm --radius 3mm --depth 1mm --contact glue",
+       "unknown platen contact 'glue'"},
+      {"--test compression --thickness 10mm --radius 3mm --depth 1mm --fillet 0.1mm",
+       "--fillet does not apply to --test compression"},
+      {"--test compression --thickness 10mm --radius 3mm --depth 1mm --outer-radius 20mm",
+       "--outer-radius does not apply to --test compression"},
+      {"--test compression --thickness 10mm --radius 3mm --depth 9.5mm", "below 90% of the sample height"},
   };
   for (const Bad& b : calls) {
     ScratchDir dir;

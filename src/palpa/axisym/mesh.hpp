@@ -46,6 +46,29 @@ struct AxisymMesh {
 // non-positive or non-finite sizes, R <= a, or a level above 7.
 AxisymMesh make_layer_mesh(const LayerGeometry& geometry, int level);
 
+// Structured quadrilateral mesh of a whole cylindrical sample compressed between
+// two plates: r ∈ [0, R], z ∈ [−H, 0], the top face z = 0 under the moving
+// platen, the base z = −H on the fixed one, the side wall r = R free. The
+// sample radius R is geometry.punch_radius (the platen covers the whole top) or,
+// if that is 0, geometry.outer_radius; if both are given they must agree. H is
+// geometry.thickness. The returned geometry has punch_radius = outer_radius = R.
+//
+// There is no rim inside the sample: a frictionless test is homogeneous (any
+// mesh is exact), and a bonded one concentrates its strain where the free side
+// wall meets the platens, and that is also where the bulging wall folds onto
+// them under large compression. So the columns shrink geometrically toward the
+// side wall and the rows toward both platens (largest to smallest cell
+// kCylinderGrading at level 0), with about kCylinderCells cells across the
+// shorter of R and H; levels refine as for the layer. top_nodes and base_nodes
+// run by increasing r; rim_cell_size is the smallest cell size at the corners.
+inline constexpr int kCylinderCells = 8;
+inline constexpr double kCylinderGrading = 3.0;
+AxisymMesh make_cylinder_mesh(const LayerGeometry& geometry, int level);
+
+// The nodes on the side wall r = R, from the base up, without the two corners
+// (those belong to the platens): #rows − 2 node indices.
+std::vector<int> side_wall_nodes(const AxisymMesh& mesh);
+
 // `n` + 1 coordinates from x0 to x1 whose interval lengths form a geometric
 // sequence with `ratio` between consecutive intervals (ratio < 1: shrinking
 // toward x1).

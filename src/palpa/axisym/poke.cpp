@@ -37,12 +37,43 @@ PunchContact parse_punch_contact(std::string_view name) {
                     "stick or frictionless");
 }
 
+std::string_view to_string(PokeTest t) noexcept {
+  return t == PokeTest::Indentation ? "indentation" : "compression";
+}
+
+PokeTest parse_poke_test(std::string_view name) {
+  if (name == "indentation") return PokeTest::Indentation;
+  if (name == "compression") return PokeTest::Compression;
+  throw_input_error(fmt::format("unknown test '{}'", name), ErrorContext{},
+                    "indentation or compression");
+}
+
+PunchContact parse_platen_contact(std::string_view name) {
+  if (name == "bonded") return PunchContact::Stick;
+  if (name == "frictionless") return PunchContact::Frictionless;
+  throw_input_error(fmt::format("unknown platen contact '{}'", name), ErrorContext{},
+                    "bonded or frictionless");
+}
+
+std::string_view platen_contact_name(PunchContact c) noexcept {
+  return c == PunchContact::Stick ? "bonded" : "frictionless";
+}
+
 // ---------------------------------------------------------------- PokeModel
 
 PokeModel::PokeModel(const material::Material& material, const PokeSetup& setup)
-    : material_(material.clone()), setup_(setup), mesh_(make_layer_mesh(setup.geometry, setup.mesh_level)) {
-  const double a = setup.geometry.punch_radius;
+    : material_(material.clone()),
+      setup_(setup),
+      mesh_(setup.test == PokeTest::Compression ? make_cylinder_mesh(setup.geometry, setup.mesh_level)
+                                                : make_layer_mesh(setup.geometry, setup.mesh_level)) {
+  const bool compression = setup.test == PokeTest::Compression;
+  if (compression) setup_.geometry = mesh_.geometry;  // the sample radius resolved
+  const double a = mesh_.geometry.punch_radius;
   const double rho = setup.fillet_radius;
+  if (compression && rho != 0.0) {
+    throw_input_error(fmt::format("fillet radius {} m given for a compression test", rho), ErrorContext{},
+                      "no fillet: it rounds the rim of an indentation punch, and the platens have none");
+  }
   if (!std::isfinite(rho) || rho < 0.0 || !(rho < a)) {
     throw_input_error(fmt::format("fillet radius {} m is outside [0, punch radius {} m)", rho, a),
                       ErrorContext{}, "0 <= fillet < punch radius");
@@ -65,17 +96,21 @@ PokeModel::PokeModel(const material::Material& material, const PokeSetup& setup)
   std::vector<bool> fixed(static_cast<std::size_t>(2 * n_nodes), false);
   for (int n : mesh_.axis_nodes) fixed[static_cast<std::size_t>(2 * n)] = true;
   for (int n : mesh_.base_nodes) {
-    fixed[static_cast<std::size_t>(2 * n)] = true;
+    // Indentation: the layer is bonded to its base; compression: the base
+    // platen holds u_z and, bonded, also u_r.
+    if (!compression || setup.contact == PunchContact::Stick) fixed[static_cast<std::size_t>(2 * n)] = true;
     fixed[static_cast<std::size_t>(2 * n + 1)] = true;
+    if (compression) platen_base_nodes_.push_back(n);
   }
   const double face_edge = a - rho + 1e-9 * a;
+  std::vector<int> outside_face;
   for (int n : mesh_.top_nodes) {
     if (mesh_.nodes(n, 0) <= face_edge) {
       face_nodes_.push_back(n);
       fixed[static_cast<std::size_t>(2 * n + 1)] = true;
       if (setup.contact == PunchContact::Stick) fixed[static_cast<std::size_t>(2 * n)] = true;
     } else {
-      contact_nodes_.push_back(n);
+      outside_face.push_back(n);
     }
   }
   full_to_free_.assign(static_cast<std::size_t>(2 * n_nodes), -1);
@@ -95,9 +130,26 @@ PokeModel::PokeModel(const material::Material& material, const PokeSetup& setup)
     const double lo = k == 0 ? r : 0.5 * (r + mesh_.nodes(top[k - 1], 0));
     const double hi = k + 1 == top.size() ? r : 0.5 * (r + mesh_.nodes(top[k + 1], 0));
     ring_area_[static_cast<std::size_t>(top[k])] = kPi * (hi * hi - lo * lo);
+    // The base has the same columns.
+    if (compression) ring_area_[static_cast<std::size_t>(mesh_.base_nodes[k])] = kPi * (hi * hi - lo * lo);
   }
   const double mu0 = material::small_strain_constants(*material_).mu;
   penalty_per_area_ = setup.penalty_factor * mu0 / mesh_.rim_cell_size;
+  // Contact checks. Indentation: the top nodes beside the punch face against
+  // the punch. Compression: the side-wall nodes against both platens, with
+  // their share 2π R ℓ of the wall (ℓ: half the rest heights of the rows on
+  // either side).
+  for (int n : outside_face) {
+    contacts_.push_back({n, Obstacle::Punch, penalty_per_area_ * ring_area_[static_cast<std::size_t>(n)]});
+  }
+  if (compression) {
+    for (int n : side_wall_nodes(mesh_)) {
+      const double ell = 0.5 * (mesh_.nodes(n + mesh_.columns, 1) - mesh_.nodes(n - mesh_.columns, 1));
+      const double k = penalty_per_area_ * 2.0 * kPi * a * ell;
+      contacts_.push_back({n, Obstacle::TopPlaten, k});
+      contacts_.push_back({n, Obstacle::BasePlaten, k});
+    }
+  }
   if (!(setup.fbar_stabilization >= 0.0) || !std::isfinite(setup.fbar_stabilization)) {
     throw_input_error(fmt::format("F-bar stabilization {} is negative", setup.fbar_stabilization),
                       ErrorContext{}, "a factor >= 0 (default 1)");
@@ -159,9 +211,9 @@ PokeModel::PokeModel(const material::Material& material, const PokeSetup& setup)
       }
     }
   }
-  for (int n : contact_nodes_) {
-    const int fr = full_to_free_[static_cast<std::size_t>(2 * n)];
-    const int fz = full_to_free_[static_cast<std::size_t>(2 * n + 1)];
+  for (const ContactCheck& c : contacts_) {
+    const int fr = full_to_free_[static_cast<std::size_t>(2 * c.node)];
+    const int fz = full_to_free_[static_cast<std::size_t>(2 * c.node + 1)];
     contact_slots_.push_back({slot(fr, fr), slot(fz, fr), slot(fz, fz)});
   }
 }
@@ -188,6 +240,16 @@ Vec8 PokeModel::element_dofs(const Eigen::VectorXd& u, Eigen::Index e) const {
   Vec8 ue;
   for (int k = 0; k < 4; ++k) ue.segment<2>(2 * k) = u.segment<2>(2 * mesh_.quads(e, k));
   return ue;
+}
+
+PunchDistance PokeModel::distance(const ContactCheck& c, const Eigen::VectorXd& u) const {
+  const Eigen::Vector2d p = mesh_.nodes.row(c.node).transpose() + u.segment<2>(2 * c.node);
+  switch (c.obstacle) {
+    case Obstacle::Punch: return punch_distance(punch_, p);
+    case Obstacle::TopPlaten: return platen_distance(-punch_.depth, PlatenSide::Above, p);
+    case Obstacle::BasePlaten: return platen_distance(-mesh_.geometry.thickness, PlatenSide::Below, p);
+  }
+  return {};
 }
 
 double PokeModel::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* g) const {
@@ -222,17 +284,16 @@ double PokeModel::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* g) const {
       }
     }
   }
-  // Contact: ½ k φ² for every surface node inside the punch.
-  for (int n : contact_nodes_) {
-    const Eigen::Vector2d p = mesh_.nodes.row(n).transpose() + u.segment<2>(2 * n);
-    const PunchDistance d = punch_distance(punch_, p);
+  // Contact: ½ k φ² for every surface node inside the punch (or a platen).
+  for (const ContactCheck& check : contacts_) {
+    const PunchDistance d = distance(check, u);
     if (d.phi >= 0.0) continue;
-    const double k = penalty_per_area_ * ring_area_[static_cast<std::size_t>(n)];
+    const double k = check.stiffness;
     total += 0.5 * k * d.phi * d.phi;
     if (g != nullptr) {
       const Eigen::Vector2d f = k * d.phi * d.normal;
       for (int c = 0; c < 2; ++c) {
-        const int fi = full_to_free_[static_cast<std::size_t>(2 * n + c)];
+        const int fi = full_to_free_[static_cast<std::size_t>(2 * check.node + c)];
         if (fi >= 0) (*g)[fi] += f[c];
       }
     }
@@ -275,12 +336,10 @@ void PokeModel::hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H
       if (slots[k] >= 0) values[slots[k]] += h[k];
     }
   }
-  for (std::size_t c = 0; c < contact_nodes_.size(); ++c) {
-    const int n = contact_nodes_[c];
-    const Eigen::Vector2d p = mesh_.nodes.row(n).transpose() + u.segment<2>(2 * n);
-    const PunchDistance d = punch_distance(punch_, p);
+  for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    const PunchDistance d = distance(contacts_[c], u);
     if (d.phi >= 0.0) continue;
-    const double k = penalty_per_area_ * ring_area_[static_cast<std::size_t>(n)];
+    const double k = contacts_[c].stiffness;
     // k (n nᵀ + φ ∇²φ); the curvature term is negative semi-definite inside a
     // convex punch, so the projected Hessian keeps only k n nᵀ.
     Eigen::Matrix2d hc = k * d.normal * d.normal.transpose();
@@ -335,11 +394,11 @@ double PokeModel::punch_force(const Eigen::VectorXd& x) const {
   const Eigen::VectorXd g = full_elastic_gradient(u);
   double force = 0.0;
   for (int n : face_nodes_) force -= g[2 * n + 1];
-  for (int n : contact_nodes_) {
-    const Eigen::Vector2d p = mesh_.nodes.row(n).transpose() + u.segment<2>(2 * n);
-    const PunchDistance d = punch_distance(punch_, p);
+  for (const ContactCheck& c : contacts_) {
+    if (!pushes_down(c.obstacle)) continue;
+    const PunchDistance d = distance(c, u);
     if (d.phi >= 0.0) continue;
-    force += penalty_per_area_ * ring_area_[static_cast<std::size_t>(n)] * d.phi * d.normal[1];
+    force += c.stiffness * d.phi * d.normal[1];
   }
   return force;
 }
@@ -374,15 +433,15 @@ void PokeModel::punch_force_derivatives(const Eigen::VectorXd& x, Eigen::VectorX
       }
     }
   }
-  for (int n : contact_nodes_) {
-    const Eigen::Vector2d pos = mesh_.nodes.row(n).transpose() + u.segment<2>(2 * n);
-    const PunchDistance d = punch_distance(punch_, pos);
+  for (const ContactCheck& check : contacts_) {
+    if (!pushes_down(check.obstacle)) continue;
+    const PunchDistance d = distance(check, u);
     if (d.phi >= 0.0) continue;
-    const double k = penalty_per_area_ * ring_area_[static_cast<std::size_t>(n)];
+    const double k = check.stiffness;
     // ∂(k φ n_z)/∂p = k (n_z n + φ ∇²φ row z)
     const Eigen::Vector2d row = k * (d.normal[1] * d.normal + d.phi * d.hessian.row(1).transpose());
     for (int c = 0; c < 2; ++c) {
-      const int f = full_to_free_[static_cast<std::size_t>(2 * n + c)];
+      const int f = full_to_free_[static_cast<std::size_t>(2 * check.node + c)];
       if (f >= 0) dfdx[f] += row[c];
     }
   }
@@ -395,9 +454,8 @@ PokeModel::Diagnostics PokeModel::diagnostics(const Eigen::VectorXd& x) const {
   for (Eigen::Index e = 0; e < mesh_.num_elements(); ++e) {
     d.min_jacobian = std::min(d.min_jacobian, element_min_jacobian(geometry_[static_cast<std::size_t>(e)], element_dofs(u, e)));
   }
-  for (int n : contact_nodes_) {
-    const Eigen::Vector2d p = mesh_.nodes.row(n).transpose() + u.segment<2>(2 * n);
-    const double phi = punch_distance(punch_, p).phi;
+  for (const ContactCheck& c : contacts_) {
+    const double phi = distance(c, u).phi;
     if (phi < 0.0) {
       ++d.contact_nodes;
       d.max_penetration = std::max(d.max_penetration, -phi);
@@ -424,10 +482,13 @@ Eigen::VectorXd PokeModel::contact_pressure(const Eigen::VectorXd& x) const {
     const double area = ring_area_[static_cast<std::size_t>(n)];
     if (area > 0.0) p[n] = -g[2 * n + 1] / area;
   }
-  for (int n : contact_nodes_) {
-    const Eigen::Vector2d pos = mesh_.nodes.row(n).transpose() + u.segment<2>(2 * n);
-    const double phi = punch_distance(punch_, pos).phi;
-    if (phi < 0.0) p[n] = -penalty_per_area_ * phi;
+  for (int n : platen_base_nodes_) {
+    const double area = ring_area_[static_cast<std::size_t>(n)];
+    if (area > 0.0) p[n] = g[2 * n + 1] / area;
+  }
+  for (const ContactCheck& c : contacts_) {
+    const double phi = distance(c, u).phi;
+    if (phi < 0.0) p[c.node] = -penalty_per_area_ * phi;
   }
   return p;
 }
@@ -442,13 +503,14 @@ PokeSimulator::~PokeSimulator() = default;
 PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on_depth) {
   PokeModel& m = *model_;
   const double thickness = m.setup().geometry.thickness;
+  const bool compression = m.setup().test == PokeTest::Compression;
   if (!std::isfinite(options.max_depth) || !(options.max_depth > 0.0)) {
     throw_input_error(fmt::format("maximum depth {} m is not positive", options.max_depth),
                       ErrorContext{"", 0, 0, "depth"}, "a positive indentation depth");
   }
   if (!(options.max_depth < 0.9 * thickness)) {
-    throw_input_error(fmt::format("maximum depth {} m is not below 90% of the layer thickness {} m",
-                                  options.max_depth, thickness),
+    throw_input_error(fmt::format("maximum depth {} m is not below 90% of the {} {} m", options.max_depth,
+                                  compression ? "sample height" : "layer thickness", thickness),
                       ErrorContext{"", 0, 0, "depth"}, "a depth well below the thickness");
   }
   if (options.steps < 1 || options.steps > 100000) {
@@ -463,9 +525,11 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
   m.set_true_hessian(true);
   const bool auto_tolerance = newton.gradient_abs_tol <= 0.0;
   // Tolerances: ‖g‖∞ (the largest out-of-balance nodal force) below 1e-9 of the
-  // force scale 4 μ0 a d at the depth, and never below the rounding floor.
+  // force scale at the depth, 4 μ0 a d (indentation) or 3 μ0 π R² d/H (uniaxial
+  // compression), and never below the rounding floor.
   const double mu0 = material::small_strain_constants(m.material()).mu;
-  const double force_scale_per_depth = 4.0 * mu0 * m.setup().geometry.punch_radius;
+  const double a = m.setup().geometry.punch_radius;
+  const double force_scale_per_depth = compression ? 3.0 * mu0 * kPi * a * a / thickness : 4.0 * mu0 * a;
   newton.gradient_rel_tol = std::min(newton.gradient_rel_tol, 1e-12);
   if (newton.energy_noise_abs <= 0.0) newton.energy_noise_abs = m.energy_noise_floor();
 
@@ -519,13 +583,16 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
       if (++cuts > options.max_step_cuts) {
         const auto diag = m.diagnostics(x);
         throw_solver_error(fmt::format(
-            "the equilibrium at depth {:.6g} mm was not found after {} halvings of the step "
+            "the equilibrium at depth {:.6g} mm{} was not found after {} halvings of the step "
             "(last attempt from {:.6g} mm: {}); at {:.6g} mm the smallest det F was {:.3g}, "
-            "{} surface nodes touched the punch, largest penetration {:.3g} um. Try a finer "
-            "--mesh-level, a fillet radius, or fewer extreme depths",
-            next * 1e3, options.max_step_cuts, depth * 1e3,
+            "{} surface nodes touched the {}, largest penetration {:.3g} um. Try a finer "
+            "--mesh-level, {}",
+            next * 1e3, compression ? fmt::format(" ({:.3g}% compression)", 100.0 * next / thickness) : "",
+            options.max_step_cuts, depth * 1e3,
             r.message.empty() ? std::string("the starting point was inadmissible") : r.message,
-            depth * 1e3, diag.min_jacobian, diag.contact_nodes, diag.max_penetration * 1e6));
+            depth * 1e3, diag.min_jacobian, diag.contact_nodes, compression ? "platens" : "punch",
+            diag.max_penetration * 1e6,
+            compression ? "or a smaller final compression" : "a fillet radius, or fewer extreme depths"));
       }
       increment *= 0.5;
       spdlog::debug("depth {:.6g} mm: step cut to {:.4g} um", next * 1e3, increment * 1e6);
@@ -543,8 +610,14 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
       const FactorStatus status = solver_.factor_hessian(m, x);
       if (status != FactorStatus::Ok) {
         throw_solver_error(fmt::format(
-            "the stiffness at depth {:.6g} mm could not be factored for the sensitivities ({})",
-            depth * 1e3, to_string(status)));
+            "the stiffness at depth {:.6g} mm could not be factored for the sensitivities ({}){}",
+            depth * 1e3, to_string(status),
+            compression && status == FactorStatus::NotPositiveDefinite
+                ? fmt::format(": the equilibrium at {:.3g}% compression is unstable (with frictionless platens "
+                              "the uniform state of a sample gives way to creases of its side wall beyond "
+                              "about 55%)",
+                              100.0 * depth / thickness)
+                : std::string()));
       }
       m.punch_force_derivatives(x, dfdx, dfdtheta);
       const Eigen::VectorXd lambda = solver_.factorization().solve(dfdx);

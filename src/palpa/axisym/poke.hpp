@@ -12,12 +12,25 @@
 // energy evaluation (so at every Newton iterate and line-search trial), acting
 // along the punch's normal (no friction). The penalty stiffness per unit area is
 // penalty_factor · μ0 / h_rim (μ0: small-strain shear modulus, h_rim: the rim
-// cell size), so penetrations stay ~1/penalty_factor of the local strain times
+// cell size, mesh.rim_cell_size; the corner cell size for compression), so penetrations stay ~1/penalty_factor of the local strain times
 // h_rim; the largest is reported per depth.
 //
 // Force: the total downward force of the punch on the layer [N], full circle:
 // minus the reactions of the prescribed u_z plus the penalty forces' vertical
 // components (thesis 5.5).
+//
+// Compression (PokeTest::Compression): a whole cylindrical sample of radius R
+// and height H (mesh.hpp, make_cylinder_mesh) between two rigid plates; the top
+// platen moves down by d. Stick (= bonded platens): top nodes u = (0, −d), base
+// nodes u = 0; Frictionless: top nodes u_z = −d and base nodes u_z = 0 with u_r
+// free. The side wall r = R is free, but kept out of both platens (the solid
+// half-spaces above the top platen and below the base, punch.hpp) by the same
+// penalty, so a bonded sample's bulging wall can fold onto them under large
+// compression. The force is the total downward force on the top platen, full
+// circle (reactions of the top nodes plus penalty forces of the wall nodes on
+// the top platen). Frictionless platens give homogeneous uniaxial compression
+// until that state turns unstable (Biot's surface instability of the side
+// wall, near 55% for neo-Hookean materials); past it the wall creases.
 //
 // Sensitivities: at the equilibrium u*(θ), dF/dθ = ∂F/∂θ − λᵀ ∂g_F/∂θ with
 // K_FF λ = ∂F/∂u_F (the true Hessian): one back-solve per depth for all
@@ -47,8 +60,25 @@ std::string_view to_string(PunchContact c) noexcept;
 // "stick" | "frictionless"; throws palpa::Error (Input) otherwise.
 PunchContact parse_punch_contact(std::string_view name);
 
+// Indentation: a punch of radius a pressed into a layer (thickness D) on a
+// rigid base. Compression: a whole cylinder (radius R, height H) between two
+// plates, the "punch" covering all of its top.
+enum class PokeTest { Indentation, Compression };
+std::string_view to_string(PokeTest t) noexcept;
+// "indentation" | "compression"; throws palpa::Error (Input) otherwise.
+PokeTest parse_poke_test(std::string_view name);
+
+// Platens of a compression test: "bonded" (PunchContact::Stick) |
+// "frictionless"; throws palpa::Error (Input) otherwise.
+PunchContact parse_platen_contact(std::string_view name);
+// "bonded" | "frictionless".
+std::string_view platen_contact_name(PunchContact c) noexcept;
+
 struct PokeSetup {
-  LayerGeometry geometry;          // a, D, R (0 = default)
+  // Indentation: a, D, R (0 = default). Compression: punch_radius = sample
+  // radius R (or outer_radius, see make_cylinder_mesh), thickness = height H.
+  LayerGeometry geometry;
+  PokeTest test = PokeTest::Indentation;
   int mesh_level = 2;              // 0 coarse … 7 very fine
   PunchContact contact = PunchContact::Stick;
   ElementFormulation element = ElementFormulation::FBar;  // see element.hpp
@@ -57,7 +87,7 @@ struct PokeSetup {
   // property of the discretization, fixed for the model's lifetime (a fit that
   // changes the parameters keeps it), so sensitivities stay exact.
   double fbar_stabilization = 1.0;
-  double fillet_radius = 0.0;      // ρ [m], rounds the punch rim; 0 <= ρ < a
+  double fillet_radius = 0.0;      // ρ [m], rounds the punch rim; 0 <= ρ < a (0 for compression)
   double penalty_factor = 1e3;     // contact stiffness, see above
 };
 
@@ -74,7 +104,8 @@ class PokeModel final : public System, public ParametricSystem {
   // Replaces the material parameters (same model). Validated by the material.
   void set_material_params(const Eigen::VectorXd& theta);
 
-  // The punch depth d [m] (prescribed u_z = −d on the face nodes).
+  // The punch depth d [m] (prescribed u_z = −d on the face nodes); for
+  // compression the travel of the top platen.
   void set_depth(double depth);
   double depth() const noexcept { return punch_.depth; }
 
@@ -96,21 +127,23 @@ class PokeModel final : public System, public ParametricSystem {
   // current depth.
   Eigen::MatrixX2d displacements(const Eigen::VectorXd& x) const;
 
-  // F(x): downward punch force [N] (see above).
+  // F(x): downward punch (top platen) force [N] (see above).
   double punch_force(const Eigen::VectorXd& x) const;
   // ∂F/∂x (#free) and ∂F/∂θ (p) at x, with the true Hessian terms.
   void punch_force_derivatives(const Eigen::VectorXd& x, Eigen::VectorXd& dfdx,
                                Eigen::VectorXd& dfdtheta) const;
 
   struct Diagnostics {
-    double max_penetration = 0.0;  // largest penetration into the punch [m]
+    double max_penetration = 0.0;  // largest penetration into the punch (platens) [m]
     double min_jacobian = 0.0;     // smallest det F over all Gauss points
-    int contact_nodes = 0;         // free surface nodes touching the punch
+    int contact_nodes = 0;         // free surface nodes touching the punch (platens)
   };
   Diagnostics diagnostics(const Eigen::VectorXd& x) const;
 
   // Per-node contact pressure on the top surface [Pa]: punch force on the node
   // (reaction or penalty) over its ring area 2π r ℓ; #N (0 away from the top).
+  // Compression: also the base platen's push on the base nodes, and the penalty
+  // pressure of side-wall nodes folded onto either platen.
   Eigen::VectorXd contact_pressure(const Eigen::VectorXd& x) const;
 
   // Per-element output fields (element.hpp), in element order.
@@ -134,6 +167,17 @@ class PokeModel final : public System, public ParametricSystem {
   Eigen::VectorXd full_elastic_gradient(const Eigen::VectorXd& u) const;
   Vec8 element_dofs(const Eigen::VectorXd& u, Eigen::Index e) const;
 
+  // A free node kept out of a rigid obstacle by the penalty ½ k φ².
+  enum class Obstacle { Punch, TopPlaten, BasePlaten };
+  struct ContactCheck {
+    int node = 0;
+    Obstacle obstacle = Obstacle::Punch;
+    double stiffness = 0.0;  // k = penalty per area × the node's surface share [N/m]
+  };
+  PunchDistance distance(const ContactCheck& c, const Eigen::VectorXd& u) const;
+  // Whether the obstacle is the body whose force F is (punch, top platen).
+  static bool pushes_down(Obstacle o) noexcept { return o != Obstacle::BasePlaten; }
+
   std::unique_ptr<material::Material> material_;
   PokeSetup setup_;
   AxisymMesh mesh_;
@@ -142,8 +186,9 @@ class PokeModel final : public System, public ParametricSystem {
   std::vector<int> free_dofs_;        // free index -> full DOF
   std::vector<int> full_to_free_;     // full DOF -> free index or −1
   std::vector<int> face_nodes_;       // prescribed u_z = −d
-  std::vector<int> contact_nodes_;    // top nodes checked against the punch
-  std::vector<double> ring_area_;     // per node: its share of the top surface, 2π r ℓ [m^2]
+  std::vector<int> platen_base_nodes_;  // compression: base nodes on the base platen
+  std::vector<ContactCheck> contacts_;  // nodes checked against the punch or platens
+  std::vector<double> ring_area_;     // per node: its share of the top (and base) surface, 2π r ℓ [m^2]
   double penalty_per_area_ = 0.0;     // [Pa/m]
   ElementOptions element_;            // formulation and stabilization modulus
   double energy_noise_floor_ = 0.0;
@@ -153,11 +198,11 @@ class PokeModel final : public System, public ParametricSystem {
   // of each of its 64 entries in the value array (−1: not assembled).
   Eigen::SparseMatrix<double> pattern_;
   std::vector<std::array<int, 64>> element_slots_;
-  std::vector<std::array<int, 3>> contact_slots_;  // per contact node: (rr, zr, zz) slots
+  std::vector<std::array<int, 3>> contact_slots_;  // per contact check: (rr, zr, zz) slots
 };
 
 struct PokeOptions {
-  double max_depth = 0.0;        // [m]
+  double max_depth = 0.0;        // [m], below 90% of the thickness (height)
   int steps = 20;                // equal depth increments up to max_depth
   bool sensitivities = false;    // dF/dθ per depth
   int max_step_cuts = 10;        // halvings of a depth increment that fails

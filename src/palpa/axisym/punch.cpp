@@ -55,4 +55,16 @@ PunchDistance punch_distance(const PunchShape& s, const Eigen::Vector2d& p) {
   return to_wall > to_face ? side_wall(to_wall) : face(to_face);
 }
 
+PunchDistance platen_distance(double z0, PlatenSide side, const Eigen::Vector2d& p) {
+  PunchDistance out;
+  if (side == PlatenSide::Above) {
+    out.phi = z0 - p[1];
+    out.normal = Eigen::Vector2d(0.0, -1.0);
+  } else {
+    out.phi = p[1] - z0;
+    out.normal = Eigen::Vector2d(0.0, 1.0);
+  }
+  return out;
+}
+
 }  // namespace palpa::axisym

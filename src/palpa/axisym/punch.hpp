@@ -29,3 +29,14 @@ struct PunchDistance {
 PunchDistance punch_distance(const PunchShape& punch, const Eigen::Vector2d& p);
 
 }  // namespace palpa::axisym
+
+namespace palpa::axisym {
+
+// A rigid platen in the deformed (r, z) plane: the solid half-space z >= z0
+// (Above: the top platen of a compression test) or z <= z0 (Below: the base).
+// Same conventions as punch_distance: φ > 0 outside the platen, the normal
+// points out of it, and the Hessian is zero (a flat face).
+enum class PlatenSide { Above, Below };
+PunchDistance platen_distance(double z0, PlatenSide side, const Eigen::Vector2d& p);
+
+}  // namespace palpa::axisym
