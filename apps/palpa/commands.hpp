@@ -11,5 +11,6 @@ void add_convert_command(CLI::App& app);
 void add_material_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_poke_command(CLI::App& app);
+void add_fit_command(CLI::App& app);
 
 }  // namespace palpa::cli

@@ -177,6 +177,13 @@ SplineMaterial SplineMaterial::from_model(const Material& model, const SplineLay
   SplineMaterial out(sampled(vl, Part::F, layout.f, "f"), sampled(vl, Part::G, layout.g, "g"),
                      sampled(vl, Part::H, layout.h, "h"));
   if (vl != nullptr) return out;
+  return fit_stresses(model, layout);
+}
+
+SplineMaterial SplineMaterial::fit_stresses(const Material& model, const SplineLayout& layout) {
+  using Part = ValanisLandelMaterial::Part;
+  SplineMaterial out(sampled(nullptr, Part::F, layout.f, "f"), sampled(nullptr, Part::G, layout.g, "g"),
+                     sampled(nullptr, Part::H, layout.h, "h"));
 
   // Least-squares projection of the model's stresses. ∂Ψ/∂λ of the spline
   // material is linear in θ with matrix ∂²Ψ/∂λ∂θ, so each sample gives three

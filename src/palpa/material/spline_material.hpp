@@ -39,6 +39,13 @@ class SplineMaterial final : public ValanisLandelMaterial {
   // sampled at the knots (its f, g, h); any other model is projected by linear
   // least squares on its stresses over the knot ranges.
   static SplineMaterial from_model(const Material& model, const SplineLayout& layout = {});
+  // The spline material whose stresses match `model`'s best (linear least
+  // squares over its traction-free uniaxial, equibiaxial and planar paths
+  // across the f range, each also compressed and dilated a little). For a
+  // Valanis–Landel model this beats sampling f, g, h at the knots where
+  // stresses count: the stress is the splines' slope, which knot sampling
+  // gets wrong by O(h²) and a natural spline's end intervals bend.
+  static SplineMaterial fit_stresses(const Material& model, const SplineLayout& layout = {});
 
   std::string_view model() const noexcept override { return "spline"; }
   std::string description() const override;

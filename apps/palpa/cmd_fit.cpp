@@ -1,0 +1,187 @@
+// palpa fit: a material (and, if asked, the layer depth) from measured
+// force–indentation, plate-compression or homogeneous stress–stretch curves.
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+#include <mutex>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "fit_output.hpp"
+#include "palpa/core/atomic_file.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/core/progress.hpp"
+#include "palpa/fit/fit.hpp"
+#include "palpa/material/material_file.hpp"
+
+namespace palpa::cli {
+
+namespace {
+
+struct FitArgs {
+  std::string dataset;
+  std::string output;
+  std::string model = "spline";
+  std::string optimizer = "lm";
+  std::string element = "fbar";
+  std::string initial;
+  std::vector<std::string> fix;
+  int max_iterations = 50;
+  double tolerance = 1e-5;
+  double smoothing = 0.1;
+  int level = 2;
+  int steps = 20;
+  int ogden_terms = 2;
+  double fillet = 0.0;
+  bool modulus_only = false;
+  bool resume = false;
+  bool overwrite = false;
+  std::string command_line;
+};
+
+bool folder_has_files(const std::filesystem::path& p) {
+  std::error_code ec;
+  return std::filesystem::is_directory(p, ec) && !std::filesystem::is_empty(p, ec);
+}
+
+}  // namespace
+
+fit::FitOptions fit_options_from(const std::string& model, const std::string& optimizer, const std::string& element) {
+  fit::FitOptions o;
+  o.model = model;
+  o.optimizer = fit::parse_optimizer(optimizer);
+  if (element == "fbar") {
+    o.simulation.element = axisym::ElementFormulation::FBar;
+  } else if (element == "standard") {
+    o.simulation.element = axisym::ElementFormulation::Standard;
+  } else {
+    throw_input_error(fmt::format("unknown element '{}'", element), ErrorContext{"", 0, 0, "option --element"},
+                      "fbar or standard");
+  }
+  return o;
+}
+
+FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
+                   const fit::FitOptions& o, bool resume, const std::string& command) {
+  const fit::Dataset d = fit::read_dataset(dataset_file);
+  const auto t0 = std::chrono::steady_clock::now();
+  ensure_directory(out);
+  fit::FitControl control;
+  control.checkpoint = out / "checkpoint.json";
+  control.resume = resume;
+  spdlog::info("fit: {} ({}), {} curves ({} train, {} validate), {} layer depth{}, model {}, optimizer {}",
+               dataset_file.string(), fit::to_string(d.test), d.curves.size(), d.count(fit::CurveRole::Train),
+               d.count(fit::CurveRole::Validate), d.layer_depths.size(), d.depth_search() ? " guesses" : "",
+               o.model, fit::to_string(o.optimizer));
+  Progress progress("fit iterations", static_cast<std::size_t>(std::max(1, o.max_iterations)) * d.layer_depths.size());
+  std::vector<int> seen(d.layer_depths.size(), 0);
+  control.on_iteration = [&](std::size_t g, const fit::GuessResult& r) {
+    const int n = static_cast<int>(r.history.size());
+    if (n > seen[g] + 1 || (n > seen[g] && seen[g] > 0)) progress.advance(static_cast<std::size_t>(n - std::max(seen[g], 1)));
+    seen[g] = std::max(seen[g], n);
+    progress.set_note(fmt::format("D = {:.3g} mm: eps {:.4g}", r.layer_depth * 1e3, r.objective_final));
+  };
+  const fit::FitResult result = fit::fit_dataset(d, o, control);
+  progress.finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const FitSummary s = write_fit_outputs(out, d, o, result, seconds, command);
+  const auto& best = result.guesses[result.best];
+  if (d.depth_search()) {
+    for (const auto& g : result.guesses) {
+      spdlog::info("fit: layer depth {:.4g} mm: eps {:.4g} after {} iterations{}", g.layer_depth * 1e3,
+                   g.objective_final, g.iterations, &g == &best ? "  <- best" : "");
+    }
+  }
+  const char* unit = d.test == fit::TestKind::Homogeneous ? "Pa" : "N";
+  spdlog::info("fit: sqrt(eps) {:.4g} -> {:.4g} {} ({} iterations, {} evaluations, {:.1f} s); RMS error train "
+               "{:.3g} {}, validate {:.3g} {}; E (small strain) = {}; wrote {}",
+               s.sqrt_objective_stage1, s.sqrt_objective_final, unit, best.iterations, best.evaluations, seconds,
+               s.rms_train, unit, s.rms_validate, unit,
+               format_quantity(material::small_strain_constants(*best.material).young(), Dimension::Pressure),
+               out.string());
+  return s;
+}
+
+namespace {
+
+void run_fit_command(const FitArgs& a) {
+  fit::FitOptions o = fit_options_from(a.model, a.optimizer, a.element);
+  o.max_iterations = a.max_iterations;
+  o.function_tolerance = a.tolerance;
+  o.smoothing = a.smoothing;
+  o.simulation.mesh_level = a.level;
+  o.simulation.steps = a.steps;
+  o.simulation.fillet_radius = a.fillet;
+  o.fixed = a.fix;
+  o.ogden_terms = a.ogden_terms;
+  o.modulus_only = a.modulus_only;
+  if (!a.initial.empty()) o.initial = material::read_material_file(a.initial).material;
+  const std::filesystem::path out = a.output;
+  if (!a.resume && !a.overwrite && folder_has_files(out)) {
+    throw_input_error(fmt::format("output folder '{}' is not empty", out.string()),
+                      ErrorContext{out.string(), 0, 0, "option -o"},
+                      "a new or empty folder, --resume to continue an interrupted fit there, or --overwrite");
+  }
+  if (a.resume && !std::filesystem::exists(out / "checkpoint.json")) {
+    throw_input_error(fmt::format("there is no checkpoint in '{}'", out.string()),
+                      ErrorContext{(out / "checkpoint.json").string(), 0, 0, "option --resume"},
+                      "the output folder of an interrupted fit");
+  }
+  run_fit(a.dataset, out, o, a.resume, a.command_line);
+}
+
+}  // namespace
+
+void add_fit_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "fit",
+      "Fit a material (and, for a range of layer depths, the depth) to measured curves: first the "
+      "modulus in closed form, then the model's shape.\n"
+      "  palpa fit examples/fit/foam/dataset.json -o fit-foam\n"
+      "  palpa fit examples/fit/silicone/dataset-depth.json --model neo-hookean -o fit-depth\n"
+      "  palpa fit DATASET -o OUT --resume    (continue an interrupted fit)");
+  auto a = std::make_shared<FitArgs>();
+  cmd->add_option("dataset", a->dataset, "Dataset file (JSON, see the README)")->required();
+  cmd->add_option("-o,--output", a->output, "Output folder (material.json, report.json, curves, plots)")
+      ->required();
+  cmd->add_option("--model", a->model,
+                  "spline (Valanis-Landel natural cubic splines, default), neo-hookean, neo-hookean-volume, "
+                  "neo-hookean-isochoric, mooney-rivlin, yeoh or ogden");
+  cmd->add_option("--optimizer", a->optimizer,
+                  "lm (Levenberg-Marquardt, default) or nlcg (nonlinear conjugate gradients)");
+  cmd->add_option("--max-iterations", a->max_iterations, "Iterations of the shape stage per layer depth (default 50)")
+      ->check(CLI::Range(0, 10000));
+  cmd->add_option("--tolerance", a->tolerance,
+                  "Stop when an iteration lowers the objective by less than this fraction (default 1e-5)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--smoothing", a->smoothing,
+                  "Spline curvature regularization: changing a spline's curvature by the shear modulus at one "
+                  "knot costs this many stage-1 RMS errors (default 0.1; 0 = none)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--fix", a->fix, "Parameters held at their start values, e.g. --fix nu")->delimiter(',');
+  cmd->add_option("--ogden-terms", a->ogden_terms, "Terms of the ogden model (default 2)")->check(CLI::Range(1, 6));
+  cmd->add_option("--initial", a->initial,
+                  "Material file to start from (its modulus is fitted first); default neo-Hookean "
+                  "E = 10 kPa with the dataset's nu");
+  cmd->add_flag("--modulus-only", a->modulus_only, "Stop after the modulus stage");
+  cmd->add_option("--mesh-level", a->level, "Mesh refinement 0..7 of the simulations (default 2)")
+      ->check(CLI::Range(0, 7));
+  cmd->add_option("--steps", a->steps, "Simulated depths per curve (default 20)")->check(CLI::Range(2, 1000));
+  cmd->add_option("--element", a->element, "fbar (default) or standard");
+  add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length, "Punch rim radius (default 0: sharp)");
+  cmd->add_flag("--resume", a->resume, "Continue the interrupted fit whose checkpoint is in the output folder");
+  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder");
+  cmd->callback([a] {
+    a->command_line = fmt::format("palpa fit {} --model {} --optimizer {} --mesh-level {} --steps {} --element {}",
+                                  a->dataset, a->model, a->optimizer, a->level, a->steps, a->element);
+    if (!a->fix.empty()) a->command_line += " --fix " + fmt::format("{}", fmt::join(a->fix, ","));
+    if (!a->initial.empty()) a->command_line += " --initial " + a->initial;
+    run_fit_command(*a);
+  });
+}
+
+}  // namespace palpa::cli

@@ -1,0 +1,254 @@
+#include "fit_output.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "palpa/core/atomic_file.hpp"
+#include "palpa/core/json.hpp"
+#include "palpa/core/version.hpp"
+#include "palpa/io/csv.hpp"
+#include "palpa/material/material_file.hpp"
+#include "palpa/report/plot.hpp"
+
+namespace palpa::cli {
+
+namespace {
+
+using fit::CurveRole;
+using fit::TestKind;
+
+// Display units of a dataset's curves.
+struct CurveUnits {
+  const char* x_label;
+  const char* y_label;
+  double x_factor;  // SI -> display
+  double y_factor;
+};
+
+CurveUnits units_of(const fit::Dataset& d) {
+  if (d.test == TestKind::Homogeneous) return {"stretch (shear: gamma)", "nominal stress [kPa]", 1.0, 1e-3};
+  if (d.test == TestKind::Compression) return {"platen travel [mm]", "force [N]", 1e3, 1.0};
+  return {"indentation [mm]", "force [N]", 1e3, 1.0};
+}
+
+std::string curve_label(const fit::Dataset& d, const fit::MeasuredCurve& c) {
+  if (d.test == TestKind::Indentation) return fmt::format("a = {:.3g} mm", c.radius * 1e3);
+  return c.name;
+}
+
+std::vector<double> times(const std::vector<double>& v, double f) {
+  std::vector<double> out(v.size());
+  std::transform(v.begin(), v.end(), out.begin(), [f](double x) { return x * f; });
+  return out;
+}
+
+report::Plot curves_plot(const fit::Dataset& d, const std::vector<fit::CurvePrediction>& pred,
+                         const std::string& title) {
+  const CurveUnits u = units_of(d);
+  report::Plot p;
+  p.title = title;
+  p.x.label = u.x_label;
+  p.y.label = u.y_label;
+  for (std::size_t i = 0; i < d.curves.size(); ++i) {
+    const auto& c = d.curves[i];
+    const int color = static_cast<int>(i);
+    const bool train = c.role == CurveRole::Train;
+    p.series.push_back(report::Series{fmt::format("{} ({})", curve_label(d, c), train ? "train" : "validate"),
+                                      times(c.x, u.x_factor), times(c.y, u.y_factor), report::Mark::Dots, color,
+                                      false});
+    p.series.push_back(report::Series{"", times(pred[i].grid_x, u.x_factor), times(pred[i].grid_y, u.y_factor),
+                                      report::Mark::Line, color, !train});
+  }
+  return p;
+}
+
+struct Errors {
+  double sq_train = 0.0, sq_validate = 0.0;
+  std::size_t n_train = 0, n_validate = 0;
+};
+
+}  // namespace
+
+FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Dataset& d, const fit::FitOptions& o,
+                             const fit::FitResult& r, double seconds, const std::string& command) {
+  const fit::GuessResult& best = r.guesses[r.best];
+  const auto before = fit::predict_curves(d, best.layer_depth, *best.stage1_material, o.simulation);
+  const auto after = fit::predict_curves(d, best.layer_depth, *best.material, o.simulation);
+
+  ensure_directory(out);
+  ensure_directory(out / "curves");
+  OutputBatch batch;
+
+  // Per-curve CSVs and errors.
+  Json curves = Json::array();
+  Errors err;
+  for (std::size_t i = 0; i < d.curves.size(); ++i) {
+    const auto& c = d.curves[i];
+    CsvTable t;
+    t.add_comment(fmt::format("palpa fit: {} curve '{}' of {} ({}), layer depth {} m", fit::to_string(c.role), c.name,
+                              d.file.filename().string(), d.sample, best.layer_depth));
+    if (d.test == TestKind::Homogeneous) {
+      t.add_column(c.load_case == material::LoadCase::SimpleShear ? "shear" : "stretch", c.x);
+      t.add_quantity("stress_measured", "Pa", Dimension::Pressure, c.y);
+      t.add_quantity("stress_stage1", "Pa", Dimension::Pressure, before[i].y);
+      t.add_quantity("stress_fitted", "Pa", Dimension::Pressure, after[i].y);
+    } else {
+      t.add_quantity("indentation", "m", Dimension::Length, c.x);
+      t.add_quantity("force_measured", "N", Dimension::Force, c.y);
+      t.add_quantity("force_stage1", "N", Dimension::Force, before[i].y);
+      t.add_quantity("force_fitted", "N", Dimension::Force, after[i].y);
+    }
+    batch.add(out / "curves" / (c.name + ".csv")) << format_csv(t);
+    const double ss = fit::sum_of_squares(c, after[i]);
+    double max_err = 0.0;
+    for (std::size_t j = 0; j < c.y.size(); ++j) max_err = std::max(max_err, std::abs(after[i].y[j] - c.y[j]));
+    if (c.role == CurveRole::Train) {
+      err.sq_train += ss;
+      err.n_train += c.y.size();
+    } else {
+      err.sq_validate += ss;
+      err.n_validate += c.y.size();
+    }
+    Json cj{{"name", c.name},
+            {"role", std::string(fit::to_string(c.role))},
+            {"file", c.file.string()},
+            {"points", c.y.size()},
+            {"rms_error_stage1", fit::rms_error(c, before[i])},
+            {"rms_error_fitted", fit::rms_error(c, after[i])},
+            {"max_abs_error_fitted", max_err},
+            {"largest_measured", *std::max_element(c.y.begin(), c.y.end())}};
+    if (d.test != TestKind::Homogeneous) cj["radius_m"] = c.radius;
+    curves.push_back(cj);
+  }
+
+  FitSummary s;
+  s.sqrt_objective_stage1 = std::sqrt(best.objective_stage1);
+  s.sqrt_objective_final = std::sqrt(best.objective_final);
+  s.rms_train = err.n_train ? std::sqrt(err.sq_train / static_cast<double>(err.n_train)) : 0.0;
+  s.rms_validate = err.n_validate ? std::sqrt(err.sq_validate / static_cast<double>(err.n_validate)) : 0.0;
+  s.seconds = seconds;
+
+  Json guesses = Json::array();
+  for (const auto& g : r.guesses) {
+    Json hist = Json::array();
+    for (const auto& h : g.history) {
+      hist.push_back({{"iteration", h.iteration}, {"objective", h.objective}, {"evaluations", h.evaluations},
+                      {"seconds", h.seconds}});
+    }
+    guesses.push_back({{"layer_depth_m", g.layer_depth},
+                       {"modulus_scale", g.modulus_scale},
+                       {"young_stage1_Pa", material::small_strain_constants(*g.stage1_material).young()},
+                       {"objective_initial", g.objective_initial},
+                       {"objective_stage1", g.objective_stage1},
+                       {"objective_final", g.objective_final},
+                       {"iterations", g.iterations},
+                       {"evaluations", g.evaluations},
+                       {"seconds", g.seconds},
+                       {"stop_reason", g.stop_reason},
+                       {"history", hist}});
+  }
+  const material::ElasticConstants ec = material::small_strain_constants(*best.material);
+  const char* unit = d.test == TestKind::Homogeneous ? "Pa" : "N";
+  Json report{
+      {"palpa_fit_report", 1},
+      {"palpa_version", std::string(kVersion)},
+      {"command", command},
+      {"dataset", d.file.string()},
+      {"sample", d.sample},
+      {"test", std::string(fit::to_string(d.test))},
+      {"model", o.model},
+      {"optimizer", std::string(fit::to_string(o.optimizer))},
+      {"mesh_level", o.simulation.mesh_level},
+      {"steps", o.simulation.steps},
+      {"residual_unit", unit},
+      {"layer_depth_m", best.layer_depth},
+      {"depth_search", d.depth_search()},
+      {"training_points", r.training_points},
+      {"objective", {{"initial", best.objective_initial},
+                     {"stage1", best.objective_stage1},
+                     {"final", best.objective_final},
+                     {"sqrt_stage1", s.sqrt_objective_stage1},
+                     {"sqrt_final", s.sqrt_objective_final}}},
+      {"rms_error", {{"train", s.rms_train}, {"validate", s.rms_validate}}},
+      {"small_strain", {{"young_Pa", ec.young()}, {"poisson", ec.poisson()}, {"shear_Pa", ec.mu}}},
+      {"iterations", best.iterations},
+      {"evaluations", best.evaluations},
+      {"seconds", seconds},
+      {"stop_reason", best.stop_reason},
+      {"curves", curves},
+      {"guesses", guesses}};
+  batch.add(out / "report.json") << report.dump(2) << '\n';
+
+  // Material with provenance.
+  material::Provenance prov = material::make_provenance(command);
+  prov.objective = best.objective_final;
+  prov.details = Json{{"dataset", d.file.string()},
+                      {"sample", d.sample},
+                      {"layer_depth_m", best.layer_depth},
+                      {"objective_unit", fmt::format("{}^2", unit)},
+                      {"rms_error_train", s.rms_train},
+                      {"rms_error_validate", s.rms_validate}};
+  // (written through the material module so the format stays in one place)
+  const std::filesystem::path material_path = out / "material.json";
+
+  // Plots.
+  report::Figure fc;
+  fc.title = fmt::format("{}: {} fit", d.sample.empty() ? d.file.stem().string() : d.sample, o.model);
+  if (d.test == TestKind::Indentation) fc.title += fmt::format(", layer depth {:.3g} mm", best.layer_depth * 1e3);
+  fc.columns = 2;
+  fc.plots.push_back(curves_plot(d, before, fmt::format("stage 1 (modulus): sqrt(eps) = {:.3g} {}",
+                                                        s.sqrt_objective_stage1, unit)));
+  fc.plots.push_back(curves_plot(d, after, fmt::format("fitted {}: sqrt(eps) = {:.3g} {}", o.model,
+                                                       s.sqrt_objective_final, unit)));
+  if (d.test != TestKind::Homogeneous) {
+    for (auto& p : fc.plots) p.y.min = 0.0;
+  }
+  batch.add(out / "curves.svg") << report::render_svg(fc);
+
+  report::Figure fo;
+  fo.title = "objective per iteration";
+  report::Plot po;
+  po.title = fmt::format("eps [{}^2] ({}, {})", unit, o.model, fit::to_string(o.optimizer));
+  po.x.label = "iteration";
+  po.y.label = fmt::format("eps [{}^2]", unit);
+  po.y.log = true;
+  for (std::size_t g = 0; g < r.guesses.size(); ++g) {
+    std::vector<double> it, e;
+    for (const auto& h : r.guesses[g].history) {
+      it.push_back(h.iteration);
+      e.push_back(h.objective);
+    }
+    po.series.push_back(report::Series{d.depth_search() ? fmt::format("D = {:.3g} mm", r.guesses[g].layer_depth * 1e3)
+                                                        : std::string("eps"),
+                                       it, e, report::Mark::LineDots, static_cast<int>(g), g != r.best});
+  }
+  fo.plots.push_back(po);
+  batch.add(out / "objective.svg") << report::render_svg(fo);
+
+  if (d.depth_search()) {
+    report::Figure fd;
+    fd.title = "layer-depth search";
+    report::Plot pd;
+    pd.title = fmt::format("best layer depth {:.3g} mm", best.layer_depth * 1e3);
+    pd.x.label = "layer depth guess [mm]";
+    pd.y.label = fmt::format("eps [{}^2]", unit);
+    pd.y.log = true;
+    std::vector<double> dd, e1, ef;
+    for (const auto& g : r.guesses) {
+      dd.push_back(g.layer_depth * 1e3);
+      e1.push_back(g.objective_stage1);
+      ef.push_back(g.objective_final);
+    }
+    pd.series.push_back(report::Series{"after stage 1 (modulus)", dd, e1, report::Mark::LineDots, 1, true});
+    pd.series.push_back(report::Series{fmt::format("fitted {}", o.model), dd, ef, report::Mark::LineDots, 0, false});
+    fd.plots.push_back(pd);
+    batch.add(out / "depth.svg") << report::render_svg(fd);
+  }
+  batch.commit();
+  material::write_material_file(material_path, *best.material, prov);
+  return s;
+}
+
+}  // namespace palpa::cli

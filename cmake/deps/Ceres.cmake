@@ -1,0 +1,1 @@
+find_package(Ceres 2.1 REQUIRED)

@@ -1,0 +1,37 @@
+#pragma once
+// The checkpoint file of a fit (JSON, written atomically after every
+// iteration): a fingerprint of the inputs (dataset and curve files, options,
+// initial material) and, per layer-depth guess, its results so far and the
+// optimizer state. Resuming refuses a checkpoint whose fingerprint differs.
+
+#include <filesystem>
+#include <string>
+
+#include "palpa/core/json.hpp"
+#include "palpa/fit/fit.hpp"
+#include "palpa/fit/optimize.hpp"
+
+namespace palpa::fit {
+
+class Checkpoint {
+ public:
+  // An empty path disables checkpoints.
+  Checkpoint(std::filesystem::path path, const Dataset& d, const FitOptions& o, const material::Material& initial);
+
+  // Reads the file. Throws palpa::Error (Input) if it is missing, malformed or
+  // belongs to another fit.
+  void load();
+  // Records guess g and writes the file.
+  void store(std::size_t g, const GuessResult& r, const GuessState& s);
+  // Fills r and s from the loaded file; false if guess g was not started.
+  bool restore(std::size_t g, GuessResult& r, GuessState& s) const;
+
+  const std::string& fingerprint() const noexcept { return fingerprint_; }
+
+ private:
+  std::filesystem::path path_;
+  std::string fingerprint_;
+  Json doc_;
+};
+
+}  // namespace palpa::fit

@@ -1,0 +1,514 @@
+#include "palpa/fit/fit.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+
+#include "palpa/core/error.hpp"
+#include "palpa/core/interrupt.hpp"
+#include "palpa/fit/checkpoint.hpp"
+#include "palpa/fit/optimize.hpp"
+#include "palpa/material/checks.hpp"
+#include "palpa/material/models.hpp"
+
+namespace palpa::fit {
+
+using material::Material;
+
+std::string_view to_string(Optimizer o) noexcept {
+  return o == Optimizer::LevenbergMarquardt ? "lm" : "nlcg";
+}
+
+Optimizer parse_optimizer(std::string_view name) {
+  if (name == "lm") return Optimizer::LevenbergMarquardt;
+  if (name == "nlcg") return Optimizer::Nlcg;
+  throw_input_error(fmt::format("unknown optimizer '{}'", name), ErrorContext{"", 0, 0, "optimizer"},
+                    "\"lm\" (Levenberg-Marquardt) or \"nlcg\" (nonlinear conjugate gradients)");
+}
+
+std::unique_ptr<Material> scaled_material(const Material& m, double s) {
+  auto out = m.clone();
+  Eigen::VectorXd theta = m.params();
+  for (Eigen::Index k = 0; k < theta.size(); ++k) {
+    const Dimension dim = m.param_info(k).dimension;
+    if (dim == Dimension::Pressure) theta[k] *= s;
+    if (dim == Dimension::Compliance) theta[k] /= s;
+  }
+  out->set_params(theta);
+  return out;
+}
+
+namespace {
+
+// The weighted `q` and 1 − q quantiles of (value, weight) pairs.
+std::pair<double, double> weighted_range(std::vector<std::pair<double, double>> v, double q) {
+  std::sort(v.begin(), v.end());
+  double total = 0.0;
+  for (const auto& [x, w] : v) total += w;
+  if (v.empty()) return {1.0, 1.0};
+  if (!(total > 0.0) || q <= 0.0) return {v.front().first, v.back().first};
+  double lo = v.front().first, hi = v.back().first, acc = 0.0;
+  bool lo_set = false;
+  for (const auto& [x, w] : v) {
+    acc += w;
+    if (!lo_set && acc >= q * total) {
+      lo = x;
+      lo_set = true;
+    }
+    if (acc <= (1.0 - q) * total) hi = x;
+  }
+  return {lo, hi};
+}
+
+}  // namespace
+
+material::SplineLayout layout_covering(const std::vector<CurvePrediction::StretchSample>& stretches,
+                                       const material::SplineLayout& base, double tail) {
+  if (stretches.empty()) return base;
+  std::vector<std::pair<double, double>> fv, gv, hv;
+  for (const auto& s : stretches) {
+    const Eigen::Vector3d& l = s.stretches;
+    if (!(l.minCoeff() > 0.0) || !l.allFinite()) continue;  // inverted or broken: not the material's range
+    const double w = std::max(s.weight, 0.0);
+    for (int i = 0; i < 3; ++i) {
+      fv.emplace_back(l[i], w);
+      gv.emplace_back(l[i] * l[(i + 1) % 3], w);
+    }
+    hv.emplace_back(l.prod(), w);
+  }
+  const auto [f0, f1] = weighted_range(fv, tail);
+  const auto [g0, g1] = weighted_range(gv, tail);
+  const auto [h0, h1] = weighted_range(hv, tail);
+  const double f_lo = std::min(0.9, f0), f_hi = std::max(1.1, f1);
+  const double g_lo = std::min(0.9, g0), g_hi = std::max(1.1, g1);
+  const double h_lo = std::min(0.9, h0), h_hi = std::max(1.1, h1);
+  // A natural spline has zero curvature at its end knots, which distorts the
+  // stress (its slope) in the end intervals: the knots reach one interval
+  // beyond the data on each side (log-uniform spacing over n − 3 intervals
+  // across the data).
+  const auto widen = [](double lo, double hi, int knots) {
+    const double step = std::log(hi / lo) / std::max(1, knots - 3);
+    return material::SplineRange{lo * std::exp(-step), hi * std::exp(step), knots};
+  };
+  material::SplineLayout out = base;
+  out.f = widen(f_lo, f_hi, base.f.knots);
+  out.g = widen(g_lo, g_hi, base.g.knots);
+  out.h = widen(h_lo, h_hi, base.h.knots);
+  return out;
+}
+
+std::unique_ptr<Material> stage2_start(const Material& stage1, const FitOptions& o,
+                                       const material::SplineLayout& layout) {
+  const material::ElasticConstants c = material::small_strain_constants(stage1);
+  const double mu = c.mu;
+  const double nu = std::clamp(c.poisson(), -0.9, 0.499);
+  const double bulk = c.bulk();
+  const std::string& m = o.model;
+  if (m == stage1.model()) return stage1.clone();
+  if (m == "spline") return std::make_unique<material::SplineMaterial>(
+      material::SplineMaterial::fit_stresses(stage1, layout));
+  if (m == "neo-hookean") return std::make_unique<material::NeoHookean>(c.young(), nu);
+  if (m == "neo-hookean-volume") {
+    return std::make_unique<material::NeoHookean>(material::NeoHookean::with_volume_term(c.young(), nu, 0.5));
+  }
+  if (m == "neo-hookean-isochoric") {
+    return std::make_unique<material::IsochoricInvariant>(material::IsochoricInvariant::neo_hookean(0.5 * mu, 2.0 / bulk));
+  }
+  if (m == "mooney-rivlin") {
+    return std::make_unique<material::IsochoricInvariant>(
+        material::IsochoricInvariant::mooney_rivlin(0.45 * mu, 0.05 * mu, 2.0 / bulk));
+  }
+  if (m == "yeoh") {
+    return std::make_unique<material::IsochoricInvariant>(
+        material::IsochoricInvariant::yeoh(0.5 * mu, 0.0, 0.0, 2.0 / bulk));
+  }
+  if (m == "ogden") {
+    if (o.ogden_terms < 1 || o.ogden_terms > 6) {
+      throw_input_error(fmt::format("{} Ogden terms", o.ogden_terms), ErrorContext{"", 0, 0, "ogden-terms"},
+                        "1 to 6 terms");
+    }
+    // Exponents 2, 5, −2, 8, −4, 10; shares of μ0 = ½ Σ μp αp equal.
+    static constexpr double kAlpha[] = {2.0, 5.0, -2.0, 8.0, -4.0, 10.0};
+    std::vector<double> mus, alphas;
+    for (int p = 0; p < o.ogden_terms; ++p) {
+      const double a = kAlpha[p];
+      alphas.push_back(a);
+      mus.push_back(2.0 * mu / o.ogden_terms / a);
+    }
+    return std::make_unique<material::Ogden>(mus, alphas, nu);
+  }
+  throw_input_error(fmt::format("unknown or unfittable model '{}'", m), ErrorContext{"", 0, 0, "model"},
+                    "spline, neo-hookean, neo-hookean-volume, neo-hookean-isochoric, mooney-rivlin, yeoh "
+                    "or ogden");
+}
+
+double sum_of_squares(const MeasuredCurve& c, const CurvePrediction& p) {
+  double s = 0.0;
+  for (std::size_t j = 0; j < c.y.size(); ++j) s += (p.y[j] - c.y[j]) * (p.y[j] - c.y[j]);
+  return s;
+}
+
+double rms_error(const MeasuredCurve& c, const CurvePrediction& p) {
+  return std::sqrt(sum_of_squares(c, p) / static_cast<double>(c.y.size()));
+}
+
+std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth, const Material& m,
+                                            const SimulationOptions& o) {
+  std::vector<CurvePrediction> out(d.curves.size());
+  tbb::parallel_for(std::size_t{0}, d.curves.size(), [&](std::size_t i) {
+    auto sim = make_curve_simulator(d, d.curves[i], layer_depth, o);
+    out[i] = sim->predict(m, false);
+  });
+  return out;
+}
+
+// ---------------------------------------------------------------------------
+// The training problem of one layer depth, in scaled free parameters x:
+// θ_free = scale ⊙ x, the other parameters held.
+
+TrainingProblem::TrainingProblem(const Dataset& d, double layer_depth, const SimulationOptions& so,
+                                 const Material& start, const std::vector<std::string>& fixed, double mu0)
+    : dataset_(&d), material_(start.clone()), theta0_(start.params()) {
+  for (const auto& c : d.curves) {
+    if (c.role != CurveRole::Train) continue;
+    curves_.push_back(&c);
+    sims_.push_back(make_curve_simulator(d, c, layer_depth, so, &start));
+    offsets_.push_back(residuals_);
+    residuals_ += static_cast<Eigen::Index>(c.y.size());
+  }
+  for (const auto& name : fixed) {
+    bool found = false;
+    for (Eigen::Index k = 0; k < start.num_params(); ++k) found |= start.param_info(k).name == name;
+    if (!found) {
+      std::string names;
+      for (Eigen::Index k = 0; k < start.num_params(); ++k) names += (k ? ", " : "") + start.param_info(k).name;
+      throw_input_error(fmt::format("model {} has no parameter '{}'", start.model(), name),
+                        ErrorContext{"", 0, 0, "fix"}, fmt::format("one of {}", names));
+    }
+  }
+  for (Eigen::Index k = 0; k < start.num_params(); ++k) {
+    const material::ParamInfo info = start.param_info(k);
+    if (std::find(fixed.begin(), fixed.end(), info.name) != fixed.end()) continue;
+    free_.push_back(k);
+    const double v = std::abs(theta0_[k]);
+    double s = 1.0;
+    switch (info.dimension) {
+      case Dimension::Pressure: s = std::max(v, mu0); break;
+      case Dimension::Compliance: s = v > 0.0 ? v : 1.0 / mu0; break;
+      default: s = std::max(v, 0.1); break;
+    }
+    scale_.push_back(s);
+    // Bounds of the ratios that have a closed range.
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    if (info.name == "nu") {
+      lo = -0.9;
+      hi = 0.4999;
+    } else if (info.name == "volume_share") {
+      lo = 0.0;
+      hi = 1.0;
+    } else if (info.dimension == Dimension::Compliance || info.name == "E" || info.name == "C10") {
+      lo = 1e-6 * v;
+    }
+    lower_.push_back(lo / s);
+    upper_.push_back(hi / s);
+  }
+  if (free_.empty()) {
+    throw_input_error("every parameter is fixed", ErrorContext{"", 0, 0, "fix"}, "at least one free parameter");
+  }
+}
+
+TrainingProblem::~TrainingProblem() = default;
+
+Eigen::VectorXd TrainingProblem::start() const {
+  Eigen::VectorXd x(num_free());
+  for (Eigen::Index i = 0; i < num_free(); ++i) x[i] = theta0_[free_[static_cast<std::size_t>(i)]] / scale_[static_cast<std::size_t>(i)];
+  return x;
+}
+
+Eigen::VectorXd TrainingProblem::theta(const Eigen::VectorXd& x) const {
+  Eigen::VectorXd t = theta0_;
+  for (Eigen::Index i = 0; i < num_free(); ++i) {
+    t[free_[static_cast<std::size_t>(i)]] = x[i] * scale_[static_cast<std::size_t>(i)];
+  }
+  return t;
+}
+
+std::unique_ptr<Material> TrainingProblem::material_at(const Eigen::VectorXd& x) const {
+  auto m = material_->clone();
+  m->set_params(theta(x));
+  return m;
+}
+
+bool TrainingProblem::evaluate(const Eigen::VectorXd& x, Evaluation& out) {
+  out = Evaluation{};
+  ++evaluations_;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i]) || x[i] < lower_[static_cast<std::size_t>(i)] ||
+        x[i] > upper_[static_cast<std::size_t>(i)]) {
+      out.reason = "a parameter left its range";
+      return false;
+    }
+  }
+  std::unique_ptr<Material> m;
+  try {
+    m = material_at(x);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Input) throw;
+    out.reason = e.problem();
+    return false;
+  }
+  const material::MaterialCheck check = material::check_material(*m);
+  if (!check.problems.empty()) {
+    out.reason = "not a physically valid material: " + check.problems.front();
+    return false;
+  }
+  std::vector<CurvePrediction> preds(curves_.size());
+  std::vector<std::string> failures(curves_.size());
+  tbb::parallel_for(std::size_t{0}, curves_.size(), [&](std::size_t i) {
+    try {
+      preds[i] = sims_[i]->predict(*m, true);
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::Solver) throw;
+      failures[i] = fmt::format("curve {}: {}", curves_[i]->name, e.problem());
+    }
+  });
+  for (const auto& f : failures) {
+    if (!f.empty()) {
+      out.reason = f;
+      return false;
+    }
+  }
+  out.residuals.resize(residuals_);
+  out.jacobian.resize(residuals_, num_free());
+  for (std::size_t i = 0; i < curves_.size(); ++i) {
+    const MeasuredCurve& c = *curves_[i];
+    for (std::size_t j = 0; j < c.y.size(); ++j) {
+      const Eigen::Index row = offsets_[i] + static_cast<Eigen::Index>(j);
+      out.residuals[row] = preds[i].y[j] - c.y[j];
+      for (Eigen::Index q = 0; q < num_free(); ++q) {
+        out.jacobian(row, q) = preds[i].dy_dparams(static_cast<Eigen::Index>(j), free_[static_cast<std::size_t>(q)]) *
+                               scale_[static_cast<std::size_t>(q)];
+      }
+    }
+    out.newton_iterations += preds[i].newton_iterations;
+  }
+  if (curvature_weight_ > 0.0 && curvature_.rows() > 0) {
+    const Eigen::Index n = curvature_.rows();
+    out.residuals.conservativeResize(residuals_ + n);
+    out.jacobian.conservativeResize(residuals_ + n, num_free());
+    out.residuals.tail(n) = curvature_weight_ * (curvature_ * (theta(x) - theta0_));
+    for (Eigen::Index q = 0; q < num_free(); ++q) {
+      out.jacobian.col(q).tail(n) = curvature_weight_ * scale_[static_cast<std::size_t>(q)] *
+                                    curvature_.col(free_[static_cast<std::size_t>(q)]);
+    }
+  }
+  out.objective = out.residuals.squaredNorm();
+  return true;
+}
+
+void TrainingProblem::set_curvature_regularization(double weight) {
+  curvature_weight_ = std::max(weight, 0.0);
+  curvature_.resize(0, 0);
+  const auto* spline = dynamic_cast<const material::SplineMaterial*>(material_.get());
+  if (spline == nullptr || curvature_weight_ == 0.0) {
+    curvature_weight_ = 0.0;
+    return;
+  }
+  using Part = material::ValanisLandelMaterial::Part;
+  std::vector<Eigen::RowVectorXd> rows;
+  Eigen::Index offset = 0;
+  for (const Part part : {Part::F, Part::G, Part::H}) {
+    const material::NaturalCubicSpline& sp = spline->spline(part);
+    const std::vector<double>& knots = sp.knots();
+    for (std::size_t k = 1; k + 1 < knots.size(); ++k) {
+      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(theta0_.size());
+      sp.accumulate_basis(knots[k], 0.0, 0.0, 1.0, row.data() + offset, 1);
+      rows.push_back(std::move(row));
+    }
+    offset += sp.size();
+  }
+  curvature_.resize(static_cast<Eigen::Index>(rows.size()), theta0_.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) curvature_.row(static_cast<Eigen::Index>(i)) = rows[i];
+}
+
+double TrainingProblem::regularization(const Eigen::VectorXd& x) const {
+  if (curvature_weight_ == 0.0) return 0.0;
+  return (curvature_weight_ * (curvature_ * (theta(x) - theta0_))).squaredNorm();
+}
+
+// ---------------------------------------------------------------------------
+
+namespace {
+
+// Stage 1 on one layer depth: ε of the initial material and the best scale.
+struct Stage1 {
+  std::vector<CurvePrediction::StretchSample> stretches;  // of the deepest states
+  bool homogeneous = false;
+  double scale = 1.0;
+  double objective_initial = 0.0;
+  double objective_scaled = 0.0;
+};
+
+Stage1 fit_modulus(const Dataset& d, double layer_depth, const Material& initial, const SimulationOptions& so) {
+  std::vector<const MeasuredCurve*> train;
+  for (const auto& c : d.curves) {
+    if (c.role == CurveRole::Train) train.push_back(&c);
+  }
+  std::vector<CurvePrediction> preds(train.size());
+  tbb::parallel_for(std::size_t{0}, train.size(), [&](std::size_t i) {
+    auto sim = make_curve_simulator(d, *train[i], layer_depth, so);
+    sim->record_stretches(true);
+    preds[i] = sim->predict(initial, false);
+  });
+  double sy = 0.0, yy = 0.0;
+  Stage1 s;
+  for (std::size_t i = 0; i < train.size(); ++i) {
+    for (std::size_t j = 0; j < train[i]->y.size(); ++j) {
+      sy += preds[i].y[j] * train[i]->y[j];
+      yy += preds[i].y[j] * preds[i].y[j];
+    }
+    s.objective_initial += sum_of_squares(*train[i], preds[i]);
+  }
+  if (!(yy > 0.0) || !(sy > 0.0)) {
+    throw_solver_error(fmt::format("the modulus cannot be fitted at layer depth {} mm: the simulated and measured "
+                                   "training curves do not correlate (Σ y_sim·y_meas = {:.3g})",
+                                   layer_depth * 1e3, sy));
+  }
+  s.scale = sy / yy;
+  for (std::size_t i = 0; i < train.size(); ++i) {
+    for (std::size_t j = 0; j < train[i]->y.size(); ++j) {
+      const double r = s.scale * preds[i].y[j] - train[i]->y[j];
+      s.objective_scaled += r * r;
+    }
+    s.stretches.insert(s.stretches.end(), preds[i].stretches.begin(), preds[i].stretches.end());
+  }
+  return s;
+}
+
+std::unique_ptr<Material> default_initial(const Dataset& d) {
+  return std::make_unique<material::NeoHookean>(10e3, d.poisson);
+}
+
+}  // namespace
+
+FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& control) {
+  if (o.max_iterations < 0 || o.max_iterations > 10000) {
+    throw_input_error(fmt::format("{} iterations", o.max_iterations), ErrorContext{"", 0, 0, "max-iterations"},
+                      "0 to 10000");
+  }
+  if (d.layer_depths.empty()) {
+    throw Error(ErrorKind::Internal, "fit_dataset: the dataset has no layer depth (read_dataset sets one)");
+  }
+  const std::shared_ptr<const Material> initial =
+      o.initial ? o.initial : std::shared_ptr<const Material>(default_initial(d));
+
+  FitResult result;
+  for (const auto& c : d.curves) {
+    if (c.role == CurveRole::Train) result.training_points += static_cast<int>(c.y.size());
+  }
+  result.guesses.resize(d.layer_depths.size());
+  Checkpoint checkpoint(control.checkpoint, d, o, *initial);
+  if (control.resume) checkpoint.load();
+
+  std::mutex mutex;  // guards checkpoint writes and the callback
+  auto publish = [&](std::size_t g, const GuessResult& r, const GuessState& state) {
+    std::lock_guard lock(mutex);
+    checkpoint.store(g, r, state);
+    if (control.on_iteration) control.on_iteration(g, r);
+  };
+
+  tbb::parallel_for(std::size_t{0}, d.layer_depths.size(), [&](std::size_t g) {
+    const auto t0 = std::chrono::steady_clock::now();
+    GuessResult& r = result.guesses[g];
+    GuessState state;
+    const bool resumed = checkpoint.restore(g, r, state);
+    const double elapsed0 = resumed ? r.seconds : 0.0;
+    auto seconds = [&] {
+      return elapsed0 + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    r.layer_depth = d.layer_depths[g];
+    if (resumed && r.done) return;
+    if (!resumed) {
+      const Stage1 s1 = fit_modulus(d, r.layer_depth, *initial, o.simulation);
+      r.modulus_scale = s1.scale;
+      r.objective_initial = s1.objective_initial;
+      r.objective_stage1 = s1.objective_scaled;
+      r.stage1_material = std::shared_ptr<Material>(scaled_material(*initial, s1.scale));
+      r.material = std::shared_ptr<Material>(r.stage1_material->clone());
+      const material::SplineLayout layout =
+          o.adapt_spline_ranges
+              ? layout_covering(s1.stretches, o.spline_layout, d.test == TestKind::Homogeneous ? 0.0 : 0.01)
+              : o.spline_layout;
+      r.stage2_start = std::shared_ptr<Material>(stage2_start(*r.stage1_material, o, layout));
+      r.objective_final = r.objective_stage1;
+      r.evaluations = 1;
+      r.seconds = seconds();
+      spdlog::info("layer depth {:.4g} mm: stage 1 (modulus) scale {:.5g}, eps {:.4g} -> {:.4g}",
+                   r.layer_depth * 1e3, s1.scale, s1.objective_initial, s1.objective_scaled);
+      if (o.modulus_only) {
+        r.done = true;
+        r.stop_reason = "modulus only";
+        publish(g, r, state);
+        return;
+      }
+    }
+    const int evaluations0 = r.evaluations;
+    const double mu0 = material::small_strain_constants(*r.stage1_material).mu;
+    if (!r.stage2_start) r.stage2_start = std::shared_ptr<Material>(stage2_start(*r.stage1_material, o));
+    const Material& start = *r.stage2_start;
+    TrainingProblem problem(d, r.layer_depth, o.simulation, start, o.fixed, mu0);
+    // Curvature regularization: a change of a spline's curvature by μ0 at one
+    // knot costs as much as `smoothing` × the stage-1 RMS error at one point.
+    const double rms1 = std::sqrt(r.objective_stage1 / std::max<Eigen::Index>(1, problem.num_data_residuals()));
+    problem.set_curvature_regularization(o.smoothing * rms1 / mu0);
+    if (!resumed || state.x.size() != problem.num_free()) {
+      state = GuessState{};
+      state.x = problem.start();
+    }
+
+    OptimizerCallbacks cb;
+    cb.on_iteration = [&](const Eigen::VectorXd& x, double eps, const GuessState& st) {
+      r.material = std::shared_ptr<Material>(problem.material_at(x));
+      const double data_eps = eps - problem.regularization(x);
+      r.objective_final = data_eps;
+      r.evaluations = evaluations0 + problem.evaluations();
+      r.seconds = seconds();
+      r.history.push_back(
+          IterationRecord{static_cast<int>(r.history.size()), data_eps, r.evaluations, r.seconds});
+      r.iterations = static_cast<int>(r.history.size()) - 1;
+      publish(g, r, st);
+    };
+    OptimizeOptions oo;
+    oo.max_iterations = o.max_iterations;
+    oo.function_tolerance = o.function_tolerance;
+    oo.done_iterations = std::max(0, static_cast<int>(r.history.size()) - 1);
+    oo.start_recorded = !r.history.empty();
+    const OptimizeOutcome out = o.optimizer == Optimizer::LevenbergMarquardt
+                                    ? levenberg_marquardt(problem, state, oo, cb)
+                                    : nonlinear_cg(problem, state, oo, cb);
+    r.material = std::shared_ptr<Material>(problem.material_at(out.x));
+    r.objective_final = out.objective - problem.regularization(out.x);
+    r.stop_reason = out.reason;
+    r.evaluations = evaluations0 + problem.evaluations();
+    r.seconds = seconds();
+    r.done = true;
+    spdlog::info("layer depth {:.4g} mm: stage 2 ({}, {}) eps {:.4g} -> {:.4g} after {} iterations ({})",
+                 r.layer_depth * 1e3, o.model, to_string(o.optimizer), r.objective_stage1, r.objective_final,
+                 r.iterations, out.reason);
+    GuessState final_state;
+    final_state.x = out.x;
+    publish(g, r, final_state);
+  });
+
+  for (std::size_t g = 1; g < result.guesses.size(); ++g) {
+    if (result.guesses[g].objective_final < result.guesses[result.best].objective_final) result.best = g;
+  }
+  return result;
+}
+
+}  // namespace palpa::fit

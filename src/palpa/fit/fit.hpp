@@ -1,0 +1,161 @@
+#pragma once
+// Material identification from measured curves, and layer-depth estimation
+// (thesis ch. 6; MODEL.md "Material fitting").
+//
+// Objective (6.14): ε(θ) = Σ_curves Σ_points (y_sim(θ) − y_meas)² over the
+// training curves (forces [N²] for indentation and compression, stresses [Pa²]
+// for homogeneous curves).
+//
+// Stage 1, the modulus: scaling every stress-like parameter of a material by s
+// scales Ψ, and so every simulated force, by s (moduli × s, compliances such as
+// D1 ÷ s, dimensionless parameters unchanged; the contact penalty and F-bar
+// stabilization of a fresh simulator scale with it). So one simulation of the
+// training curves with the initial material (default neo-Hookean, E = 10 kPa,
+// ν from the dataset) gives the least-squares s in closed form:
+// s = Σ y_sim y_meas / Σ y_sim².
+//
+// Stage 2, the shape: the chosen model (Valanis–Landel spline by default; or
+// neo-hookean, neo-hookean-volume, mooney-rivlin, yeoh, ogden), started from the
+// stage-1 material, minimizes ε over its free parameters with either
+//  - Levenberg–Marquardt (Ceres' trust-region LM on the residuals, Jacobian from
+//    the exact sensitivities), the default, or
+//  - nonlinear conjugate gradients (the thesis's method: Polak–Ribière+ with
+//    restarts, a line search by backtracking with cubic interpolation on ε and
+//    its gradient 2 Jᵀr).
+// Parameters are optimized in units of a per-parameter scale (moduli: the
+// stage-1 shear modulus or their own size; others: their own size), so
+// both optimizers see a well-scaled problem. Every trial material is checked
+// (material/checks.hpp: stress-free rest state, positive-definite rest
+// stiffness, stable homogeneous load paths); an invalid one, or one whose
+// simulation fails, is a rejected step, never the answer.
+//
+// Layer depth: with several guesses, each is fitted independently (in
+// parallel) and the one with the lowest final ε wins (§6.3.4).
+//
+// Checkpoints: after every iteration of every guess the whole state (stage-1
+// scale, parameters, history; NLCG's gradient and direction) goes atomically
+// into the checkpoint file; resuming continues each guess from its last
+// iteration (NLCG exactly; LM from its last accepted parameters with a fresh
+// trust region).
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "palpa/fit/dataset.hpp"
+#include "palpa/fit/simulate.hpp"
+#include "palpa/material/material.hpp"
+#include "palpa/material/spline_material.hpp"
+
+namespace palpa::fit {
+
+enum class Optimizer { LevenbergMarquardt, Nlcg };
+std::string_view to_string(Optimizer o) noexcept;
+// "lm" | "nlcg"; throws palpa::Error (Input) otherwise.
+Optimizer parse_optimizer(std::string_view name);
+
+struct FitOptions {
+  std::string model = "spline";   // stage-2 model (see above)
+  Optimizer optimizer = Optimizer::LevenbergMarquardt;
+  int max_iterations = 50;        // stage-2 iterations per guess
+  // Stop when an iteration lowers ε by less than this fraction of ε.
+  double function_tolerance = 1e-5;
+  SimulationOptions simulation;
+  std::vector<std::string> fixed;  // parameter names held at their start values
+  // Spline knots: the counts, and the ranges unless adapt_spline_ranges (then
+  // layout_covering() of the stretches the stage-1 simulations reached).
+  material::SplineLayout spline_layout;
+  bool adapt_spline_ranges = true;
+  // Spline curvature regularization strength α (optimize.hpp,
+  // TrainingProblem::set_curvature_regularization): a change of curvature by
+  // the shear modulus at one knot costs α × the stage-1 RMS error at one data
+  // point. 0 = none.
+  double smoothing = 0.1;
+  int ogden_terms = 2;
+  // Stage-1 starting material (its model is kept for stage 1 only); null: the
+  // neo-Hookean E = 10 kPa with the dataset's ν.
+  std::shared_ptr<const material::Material> initial;
+  bool modulus_only = false;       // stop after stage 1
+};
+
+struct IterationRecord {
+  int iteration = 0;       // 0: the start of stage 2
+  double objective = 0.0;  // ε
+  int evaluations = 0;     // simulations of the training curves so far (this guess)
+  double seconds = 0.0;    // since the guess started
+};
+
+struct GuessResult {
+  double layer_depth = 0.0;            // [m]
+  double modulus_scale = 1.0;          // stage-1 s
+  double objective_initial = 0.0;      // ε of the initial material
+  double objective_stage1 = 0.0;       // ε after stage 1 (start of stage 2)
+  double objective_final = 0.0;        // ε of `material`
+  std::shared_ptr<material::Material> stage1_material;
+  std::shared_ptr<material::Material> stage2_start;  // where stage 2 started
+  std::shared_ptr<material::Material> material;      // the fitted material
+  std::vector<IterationRecord> history;
+  int iterations = 0;
+  int evaluations = 0;
+  double seconds = 0.0;
+  std::string stop_reason;
+  bool done = false;
+};
+
+struct FitResult {
+  std::vector<GuessResult> guesses;  // in the dataset's order of layer depths
+  std::size_t best = 0;              // index of the lowest final ε
+  int training_points = 0;
+};
+
+struct FitControl {
+  std::filesystem::path checkpoint;  // empty: no checkpoints
+  bool resume = false;               // continue from `checkpoint`
+  // Called (serialized) after each iteration of a guess; for progress output.
+  std::function<void(std::size_t guess, const GuessResult&)> on_iteration;
+};
+
+// Runs the fit. Throws palpa::Error: (Input) bad options or a checkpoint of
+// another fit, (Solver) when the initial material cannot be simulated,
+// (Interrupted) on Ctrl-C (the checkpoint then holds the last iteration).
+FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& control = {});
+
+// The material that starts stage 2 for `model`, matching `stage1` at small
+// strain (spline: SplineMaterial::from_model with `layout`; ogden: N terms with
+// exponents 2, 5, −2, ...; mooney-rivlin: 90/10 split of C10/C01; yeoh:
+// C20 = C30 = 0).
+std::unique_ptr<material::Material> stage2_start(const material::Material& stage1, const FitOptions& o,
+                                                 const material::SplineLayout& layout);
+inline std::unique_ptr<material::Material> stage2_start(const material::Material& stage1, const FitOptions& o) {
+  return stage2_start(stage1, o, o.spline_layout);
+}
+
+// Knot ranges that cover the principal stretches a simulation reached (thesis
+// §6.1, Fig. 6.1: the knots span the λ distribution of the deepest poke): f
+// over every λi, g over every λiλj, h over J = λ1λ2λ3, each range at least
+// [0.9, 1.1] and widened by one knot interval on each side (a natural
+// spline's end intervals bend its slope toward zero); the knot counts are
+// `base`'s.
+// Quantiles are energy-weighted: the central 98% of the strain energy (the
+// few cells at a sharp punch rim reach extreme stretches but carry little of
+// it); homogeneous curves use every point (tail 0).
+material::SplineLayout layout_covering(const std::vector<CurvePrediction::StretchSample>& stretches,
+                                       const material::SplineLayout& base, double tail = 0.01);
+
+// Every stress-like parameter × s (compliances ÷ s): Ψ × s.
+std::unique_ptr<material::Material> scaled_material(const material::Material& m, double s);
+
+// Simulated curves of the dataset (all of them, train and validate) for a
+// material at one layer depth; with the fit's discretization.
+std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth, const material::Material& m,
+                                            const SimulationOptions& o);
+
+// ε contribution and root-mean-square error of one curve.
+double sum_of_squares(const MeasuredCurve& c, const CurvePrediction& p);
+double rms_error(const MeasuredCurve& c, const CurvePrediction& p);
+
+}  // namespace palpa::fit

@@ -1,0 +1,196 @@
+#include "palpa/fit/simulate.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "palpa/core/error.hpp"
+
+namespace palpa::fit {
+
+Eigen::MatrixXd interpolation_weights(const std::vector<double>& grid, const std::vector<double>& x) {
+  const auto n = static_cast<Eigen::Index>(grid.size());
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(x.size()), n);
+  if (n == 0) return w;
+  if (n == 1) {
+    w.col(0).setOnes();
+    return w;
+  }
+  const int order = static_cast<int>(std::min<Eigen::Index>(4, n));  // points per stencil
+  for (std::size_t j = 0; j < x.size(); ++j) {
+    // Interval k with grid[k] <= x < grid[k+1] (clamped).
+    const auto it = std::upper_bound(grid.begin(), grid.end(), x[j]);
+    Eigen::Index k = std::clamp<Eigen::Index>(static_cast<Eigen::Index>(it - grid.begin()) - 1, 0, n - 2);
+    // Stencil: k−1 … k+2 for cubics, shifted to stay inside the grid.
+    Eigen::Index first = std::clamp<Eigen::Index>(k - (order / 2 - 1), 0, n - order);
+    for (int a = 0; a < order; ++a) {
+      const Eigen::Index ia = first + a;
+      double l = 1.0;
+      for (int b = 0; b < order; ++b) {
+        if (b == a) continue;
+        const Eigen::Index ib = first + b;
+        l *= (x[j] - grid[static_cast<std::size_t>(ib)]) /
+             (grid[static_cast<std::size_t>(ia)] - grid[static_cast<std::size_t>(ib)]);
+      }
+      w(static_cast<Eigen::Index>(j), ia) = l;
+    }
+  }
+  return w;
+}
+
+axisym::PokeSetup poke_setup(const Dataset& d, const MeasuredCurve& c, double layer_depth,
+                             const SimulationOptions& o) {
+  axisym::PokeSetup s;
+  s.mesh_level = o.mesh_level;
+  s.element = o.element;
+  s.fillet_radius = o.fillet_radius;
+  s.contact = d.contact;
+  s.geometry.thickness = layer_depth;
+  s.geometry.punch_radius = c.radius;
+  if (d.test == TestKind::Indentation) {
+    double outer = axisym::default_outer_radius(c.radius, layer_depth);
+    if (d.lateral_size) outer = std::min(outer, 0.5 * *d.lateral_size);
+    s.geometry.outer_radius = outer;
+  } else if (d.test == TestKind::Compression) {
+    s.test = axisym::PokeTest::Compression;
+    s.fillet_radius = 0.0;
+    s.geometry.outer_radius = 0.0;
+  } else {
+    throw Error(ErrorKind::Internal, fmt::format("no axisymmetric set-up for a {} test", to_string(d.test)));
+  }
+  return s;
+}
+
+namespace {
+
+class PokeCurveSimulator final : public CurveSimulator {
+ public:
+  PokeCurveSimulator(axisym::PokeSetup setup, const MeasuredCurve& c, int steps, const material::Material* reference)
+      : setup_(std::move(setup)), x_(c.x), steps_(steps), reference_(reference ? reference->clone() : nullptr) {
+    grid_.resize(static_cast<std::size_t>(steps_) + 1);
+    for (int k = 0; k <= steps_; ++k) grid_[static_cast<std::size_t>(k)] = c.x.back() * k / steps_;
+    weights_ = interpolation_weights(grid_, x_);
+  }
+
+  CurvePrediction predict(const material::Material& m, bool sensitivities) override {
+    if (!sim_ || sim_->model().material().model() != m.model() ||
+        sim_->model().num_params() != m.num_params()) {
+      const bool use_reference =
+          reference_ && reference_->model() == m.model() && reference_->num_params() == m.num_params();
+      sim_ = std::make_unique<axisym::PokeSimulator>(use_reference ? *reference_ : m, setup_);
+    }
+    sim_->model().set_material_params(m.params());
+    axisym::PokeOptions po;
+    po.max_depth = grid_.back();
+    po.steps = steps_;
+    po.sensitivities = sensitivities;
+    CurvePrediction p;
+    axisym::PokeSimulator::DepthCallback on_depth;
+    if (record_stretches_) {
+      on_depth = [&](const axisym::PokeModel& model, const Eigen::VectorXd& x, const axisym::PokeSample& s) {
+        if (s.depth < grid_.back()) return;
+        const auto states = model.element_states(x);
+        const axisym::AxisymMesh& mesh = model.mesh();
+        for (Eigen::Index e = 0; e < mesh.num_elements(); ++e) {
+          // Ring volume of the rest cell: 2π r_centroid × area (shoelace).
+          double area = 0.0, rc = 0.0;
+          for (int k = 0; k < 4; ++k) {
+            const auto a = mesh.nodes.row(mesh.quads(e, k));
+            const auto b = mesh.nodes.row(mesh.quads(e, (k + 1) % 4));
+            area += 0.5 * (a[0] * b[1] - b[0] * a[1]);
+            rc += 0.25 * a[0];
+          }
+          const Eigen::Vector3d l = states[static_cast<std::size_t>(e)].stretches;
+          const double psi = l.minCoeff() > 0.0 ? m.psi(l) : 0.0;
+          p.stretches.push_back({l, psi * 2.0 * 3.14159265358979323846 * rc * std::abs(area)});
+        }
+      };
+    }
+    const axisym::PokeCurve curve = sim_->run(po, on_depth);
+    const auto ng = static_cast<Eigen::Index>(curve.samples.size());
+    Eigen::VectorXd f(ng);
+    Eigen::MatrixXd df(ng, sensitivities ? m.num_params() : 0);
+    for (Eigen::Index k = 0; k < ng; ++k) {
+      const auto& s = curve.samples[static_cast<std::size_t>(k)];
+      f[k] = s.force;
+      if (sensitivities) df.row(k) = s.dforce_dparams.transpose();
+      p.grid_x.push_back(s.depth);
+      p.grid_y.push_back(s.force);
+    }
+    const Eigen::VectorXd y = weights_ * f;
+    p.y.assign(y.data(), y.data() + y.size());
+    if (sensitivities) p.dy_dparams = weights_ * df;
+    p.newton_iterations = curve.newton_iterations;
+    p.factorizations = curve.factorizations;
+    return p;
+  }
+
+ private:
+  axisym::PokeSetup setup_;
+  std::vector<double> x_;
+  int steps_;
+  std::vector<double> grid_;
+  Eigen::MatrixXd weights_;
+  std::unique_ptr<material::Material> reference_;  // fixes penalty and stabilization (may be null)
+  std::unique_ptr<axisym::PokeSimulator> sim_;
+};
+
+// Homogeneous stress–stretch curves: closed form up to the lateral
+// equilibrium (material/homogeneous.hpp), no FEM.
+class HomogeneousCurveSimulator final : public CurveSimulator {
+ public:
+  explicit HomogeneousCurveSimulator(const MeasuredCurve& c) : c_(&c) {}
+
+  CurvePrediction predict(const material::Material& m, bool sensitivities) override {
+    const material::CurveSensitivity s = material::homogeneous_curve_sensitivity(m, c_->load_case, c_->x);
+    CurvePrediction p;
+    for (std::size_t j = 0; j < s.points.size(); ++j) {
+      const material::CurvePoint& pt = s.points[j];
+      p.y.push_back(pt.nominal);
+      if (!record_stretches_) continue;
+      const double load = c_->x[j];
+      switch (c_->load_case) {
+        case material::LoadCase::Uniaxial: p.stretches.push_back({{load, pt.lateral, pt.lateral}, pt.energy}); break;
+        case material::LoadCase::Equibiaxial: p.stretches.push_back({{load, load, pt.lateral}, pt.energy}); break;
+        case material::LoadCase::SimpleShear: {
+          const double r = std::sqrt(1.0 + 0.25 * load * load);
+          p.stretches.push_back({{r + 0.5 * std::abs(load), r - 0.5 * std::abs(load), 1.0}, pt.energy});
+          break;
+        }
+      }
+    }
+    if (sensitivities) p.dy_dparams = s.dnominal_dparams;
+    // The curve for plots: 41 loads over the measured range.
+    const auto [lo, hi] = std::minmax_element(c_->x.begin(), c_->x.end());
+    std::vector<double> loads;
+    for (int k = 0; k <= 40; ++k) loads.push_back(*lo + (*hi - *lo) * k / 40.0);
+    const material::CurveSensitivity g = material::homogeneous_curve_sensitivity(m, c_->load_case, loads);
+    p.grid_x = loads;
+    for (const auto& pt : g.points) p.grid_y.push_back(pt.nominal);
+    return p;
+  }
+
+ private:
+  const MeasuredCurve* c_;
+};
+
+}  // namespace
+
+std::unique_ptr<CurveSimulator> make_curve_simulator(const Dataset& d, const MeasuredCurve& c,
+                                                     double layer_depth, const SimulationOptions& o,
+                                                     const material::Material* reference) {
+  if (o.steps < 2 || o.steps > 1000) {
+    throw_input_error(fmt::format("{} steps", o.steps), ErrorContext{"", 0, 0, "steps"}, "2 to 1000 depth steps");
+  }
+  switch (d.test) {
+    case TestKind::Indentation:
+    case TestKind::Compression:
+      return std::make_unique<PokeCurveSimulator>(poke_setup(d, c, layer_depth, o), c, o.steps, reference);
+    case TestKind::Homogeneous:
+      return std::make_unique<HomogeneousCurveSimulator>(c);
+  }
+  throw Error(ErrorKind::Internal, fmt::format("no simulator for a {} test", to_string(d.test)));
+}
+
+}  // namespace palpa::fit

@@ -1,0 +1,115 @@
+// `palpa fit` end to end.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "common/test_support.hpp"
+#include "fit/bad_datasets.hpp"
+#include "palpa/core/json.hpp"
+
+namespace palpa {
+namespace {
+
+using test::run_palpa;
+using test::ScratchDir;
+
+// A layer with ν = 0.3 fitted from a start with the dataset's ν = 0.45: the
+// shape stage has something to lower.
+constexpr const char* kTruth = R"({"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.3}})";
+
+std::size_t files_in(const std::filesystem::path& p) {
+  std::size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(p)) n += e.is_regular_file() ? 1 : 0;
+  return n;
+}
+
+TEST(FitCli, WritesTheMaterialReportCurvesAndPlots) {
+  ScratchDir dir;
+  dir.write("truth.json", kTruth);
+  for (const char* r : {"3mm", "2mm"}) {
+    const auto p = run_palpa(fmt::format("poke --material truth.json --thickness 10mm --radius {} --depth 1.5mm "
+                                         "--steps 6 --mesh-level 0 -o a{}.csv",
+                                         r, r),
+                             dir.path());
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+  }
+  dir.write("dataset.json", R"({"palpa_dataset": 1, "sample": "cli test", "test": "indentation",
+    "layer_depth": ["9 mm", "10 mm"], "contact": "stick", "poisson": 0.45,
+    "curves": [{"file": "a3mm.csv", "radius": "3 mm", "role": "train"},
+               {"file": "a2mm.csv", "radius": "2 mm", "role": "validate"}]})");
+  const auto r = run_palpa("fit dataset.json -o out --model neo-hookean --mesh-level 0 --steps 6 --max-iterations 4",
+                           dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto out = dir / "out";
+  for (const char* f : {"material.json", "report.json", "curves/a3mm.csv", "curves/a2mm.csv", "curves.svg",
+                        "objective.svg", "depth.svg"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
+  }
+  const Json report = Json::parse(test::read_text(out / "report.json"));
+  EXPECT_EQ(report["test"], "indentation");
+  EXPECT_EQ(report["model"], "neo-hookean");
+  EXPECT_EQ(report["guesses"].size(), 2u);
+  EXPECT_EQ(report["layer_depth_m"], 0.01);  // the depth the data was made at
+  const double final_eps = report["objective"]["final"].get<double>();
+  const double stage1_eps = report["objective"]["stage1"].get<double>();
+  EXPECT_LT(final_eps, stage1_eps);
+  ASSERT_TRUE(report["rms_error"].contains("validate"));
+  EXPECT_GT(report["rms_error"]["validate"].get<double>(), 0.0);
+  EXPECT_LT(report["rms_error"]["validate"].get<double>(), 0.05);  // N, largest force ~0.3 N
+  EXPECT_EQ(report["curves"].size(), 2u);
+  const std::string material = test::read_text(out / "material.json");
+  EXPECT_NE(material.find("\"palpa_material\""), std::string::npos);
+  EXPECT_NE(material.find("\"neo-hookean\""), std::string::npos);
+  const std::string curve = test::read_text(out / "curves" / "a2mm.csv");
+  EXPECT_NE(curve.find("indentation_m,force_measured_N,force_stage1_N,force_fitted_N"), std::string::npos) << curve;
+  for (const char* svg : {"curves.svg", "objective.svg", "depth.svg"}) {
+    EXPECT_NE(test::read_text(out / svg).find("<svg"), std::string::npos) << svg;
+  }
+  EXPECT_NE(r.err.find("fit: layer depth 10 mm"), std::string::npos) << r.err;
+
+  // The folder is now not empty: refused without --resume or --overwrite, and untouched.
+  const auto before = std::filesystem::last_write_time(out / "report.json");
+  const auto again = run_palpa("fit dataset.json -o out --model neo-hookean --mesh-level 0", dir.path());
+  EXPECT_EQ(again.exit_code, 2) << again.err;
+  EXPECT_NE(again.err.find("output folder 'out' is not empty"), std::string::npos) << again.err;
+  EXPECT_EQ(std::filesystem::last_write_time(out / "report.json"), before);
+}
+
+TEST(FitCli, BadDatasetsAreRefusedAndNothingIsWritten) {
+  for (const auto& bad : fit::test::bad_datasets()) {
+    ScratchDir dir;
+    for (const auto& [name, text] : bad.files) dir.write(name, text);
+    dir.write("dataset.json", bad.dataset);
+    const auto r = run_palpa("fit dataset.json -o out --mesh-level 0", dir.path());
+    EXPECT_EQ(r.exit_code, 2) << bad.what << "\n" << r.err;
+    for (const auto& f : bad.fragments) EXPECT_NE(r.err.find(f), std::string::npos) << bad.what << ": " << f << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out")) << bad.what << ": the output folder was created";
+  }
+}
+
+TEST(FitCli, ANonEmptyOutputFolderOrAMissingCheckpointIsRefused) {
+  ScratchDir dir;
+  dir.write("a.csv", fit::test::kGoodCurve);
+  dir.write("dataset.json", fit::test::indentation_dataset());
+  std::filesystem::create_directories(dir / "out");
+  dir.write("out/notes.txt", "mine");
+  const auto r = run_palpa("fit dataset.json -o out --mesh-level 0", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("output folder 'out' is not empty"), std::string::npos) << r.err;
+  EXPECT_EQ(files_in(dir / "out"), 1u);
+  EXPECT_EQ(test::read_text(dir / "out" / "notes.txt"), "mine");
+
+  const auto resume = run_palpa("fit dataset.json -o fresh --resume --mesh-level 0", dir.path());
+  EXPECT_EQ(resume.exit_code, 2) << resume.err;
+  EXPECT_NE(resume.err.find("there is no checkpoint in 'fresh'"), std::string::npos) << resume.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "fresh"));
+  const auto resume2 = run_palpa("fit dataset.json -o out --resume --mesh-level 0", dir.path());
+  EXPECT_EQ(resume2.exit_code, 2) << resume2.err;
+  EXPECT_NE(resume2.err.find("checkpoint"), std::string::npos) << resume2.err;
+  EXPECT_EQ(files_in(dir / "out"), 1u);
+}
+
+}  // namespace
+}  // namespace palpa

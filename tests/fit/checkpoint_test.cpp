@@ -1,0 +1,149 @@
+// Checkpoint and resume: a fit interrupted after its second iteration and
+// resumed ends where an uninterrupted fit ends (nonlinear CG: bit for bit;
+// Levenberg–Marquardt, which restarts its trust region: ε within 1e-6
+// relative); a checkpoint of another fit is refused.
+#include <gtest/gtest.h>
+
+#include "common/test_support.hpp"
+#include "fit/fit_fixtures.hpp"
+#include "palpa/core/interrupt.hpp"
+#include "palpa/fit/fit.hpp"
+#include "palpa/material/models.hpp"
+
+namespace palpa::fit {
+namespace {
+
+using palpa::test::ScratchDir;
+
+constexpr int kInterruptAfter = 2;
+
+Dataset small_dataset(const ScratchDir& dir) {
+  test::IndentationSpec spec;
+  spec.true_depth = 6e-3;
+  spec.layer_depth = "6 mm";
+  spec.train_radii = {3e-3};
+  spec.max_depth = 1.2e-3;
+  spec.points = 8;
+  spec.mesh_level = 0;
+  spec.salt = 13;
+  return read_dataset(test::write_indentation_dataset(dir.path(), material::NeoHookean(20e3, 0.3), spec).dataset);
+}
+
+FitOptions options(Optimizer opt) {
+  FitOptions o;
+  o.model = "neo-hookean";
+  o.optimizer = opt;
+  o.max_iterations = 6;
+  o.function_tolerance = 1e-12;  // run every iteration
+  o.simulation.mesh_level = 0;
+  o.simulation.steps = 8;
+  return o;
+}
+
+struct Runs {
+  GuessResult whole;
+  GuessResult resumed;
+};
+
+Runs interrupted_and_resumed(const Dataset& d, const FitOptions& o, const std::filesystem::path& checkpoint) {
+  Runs runs;
+  runs.whole = fit_dataset(d, o).guesses.at(0);
+
+  FitControl c;
+  c.checkpoint = checkpoint;
+  int last = -1;
+  c.on_iteration = [&](std::size_t, const GuessResult& r) {
+    last = r.iterations;
+    if (r.iterations == kInterruptAfter) request_interrupt();
+  };
+  try {
+    fit_dataset(d, o, c);
+    ADD_FAILURE() << "the fit was not interrupted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Interrupted) << e.what();
+  }
+  clear_interrupt();
+  EXPECT_EQ(last, kInterruptAfter);
+  EXPECT_TRUE(std::filesystem::exists(checkpoint));
+
+  FitControl resume;
+  resume.checkpoint = checkpoint;
+  resume.resume = true;
+  int first = -1;
+  resume.on_iteration = [&](std::size_t, const GuessResult& r) {
+    if (first < 0) first = r.iterations;
+  };
+  runs.resumed = fit_dataset(d, o, resume).guesses.at(0);
+  EXPECT_EQ(first, kInterruptAfter + 1) << "the resumed fit continues after the checkpointed iteration";
+  return runs;
+}
+
+TEST(Checkpoint, ResumedNlcgEndsBitForBitWhereAnUninterruptedFitEnds) {
+  ScratchDir dir;
+  const Dataset d = small_dataset(dir);
+  const FitOptions o = options(Optimizer::Nlcg);
+  const Runs runs = interrupted_and_resumed(d, o, dir / "checkpoint.json");
+  ASSERT_GT(runs.whole.iterations, kInterruptAfter) << runs.whole.stop_reason;
+  EXPECT_EQ(runs.resumed.iterations, runs.whole.iterations);
+  EXPECT_EQ(runs.resumed.material->params(), runs.whole.material->params());
+  EXPECT_EQ(runs.resumed.objective_final, runs.whole.objective_final);
+  EXPECT_EQ(runs.resumed.modulus_scale, runs.whole.modulus_scale);
+  ASSERT_EQ(runs.resumed.history.size(), runs.whole.history.size());
+  for (std::size_t k = 0; k < runs.whole.history.size(); ++k) {
+    EXPECT_EQ(runs.resumed.history[k].objective, runs.whole.history[k].objective) << "iteration " << k;
+  }
+  RecordProperty("iterations", runs.whole.iterations);
+  RecordProperty("objective_final", std::to_string(runs.whole.objective_final));
+}
+
+TEST(Checkpoint, ResumedLmEndsAtTheSameObjective) {
+  ScratchDir dir;
+  const Dataset d = small_dataset(dir);
+  // Run to convergence: a restarted trust region takes other steps, so only
+  // the end point is comparable.
+  FitOptions o = options(Optimizer::LevenbergMarquardt);
+  o.max_iterations = 40;
+  o.function_tolerance = 1e-9;
+  const Runs runs = interrupted_and_resumed(d, o, dir / "checkpoint.json");
+  ASSERT_GT(runs.whole.iterations, kInterruptAfter) << runs.whole.stop_reason;
+  EXPECT_NEAR(runs.resumed.objective_final, runs.whole.objective_final, 1e-6 * runs.whole.objective_final);
+  const Eigen::VectorXd a = runs.resumed.material->params(), b = runs.whole.material->params();
+  EXPECT_LE((a - b).cwiseQuotient(b).cwiseAbs().maxCoeff(), 1e-3) << a.transpose() << " vs " << b.transpose();
+  RecordProperty("objective_whole", std::to_string(runs.whole.objective_final));
+  RecordProperty("objective_resumed", std::to_string(runs.resumed.objective_final));
+}
+
+TEST(Checkpoint, ACheckpointOfAnotherFitIsRefused) {
+  ScratchDir dir;
+  const Dataset d = small_dataset(dir);
+  FitOptions o = options(Optimizer::Nlcg);
+  o.max_iterations = 1;
+  FitControl c;
+  c.checkpoint = dir / "checkpoint.json";
+  fit_dataset(d, o, c);
+  ASSERT_TRUE(std::filesystem::exists(c.checkpoint));
+  c.resume = true;
+  // Other options.
+  FitOptions other = o;
+  other.model = "ogden";
+  EXPECT_TRUE(palpa::test::throws_error([&] { fit_dataset(d, other, c); }, ErrorKind::Input,
+                                        {"checkpoint.json", "fingerprint", "differ"}));
+  // Another dataset (one curve value changed).
+  ScratchDir dir2;
+  Dataset d2 = small_dataset(dir2);
+  test::write_force_csv(d2.curves[0].file, {d2.curves[0].x, std::vector<double>(d2.curves[0].y.size(), 0.5)});
+  d2 = read_dataset(d2.file);
+  EXPECT_TRUE(palpa::test::throws_error([&] { fit_dataset(d2, o, c); }, ErrorKind::Input,
+                                        {"checkpoint.json", "fingerprint"}));
+  // No checkpoint at all.
+  FitControl none;
+  none.checkpoint = dir / "none.json";
+  none.resume = true;
+  EXPECT_TRUE(palpa::test::throws_error([&] { fit_dataset(d, o, none); }, ErrorKind::Input, {"none.json", "does not exist"}));
+  // The same fit resumes (it is done: nothing to do, same result).
+  const FitResult again = fit_dataset(d, o, c);
+  EXPECT_TRUE(again.guesses.at(0).done);
+}
+
+}  // namespace
+}  // namespace palpa::fit
