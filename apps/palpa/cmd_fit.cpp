@@ -77,12 +77,17 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
                dataset_file.string(), fit::to_string(d.test), d.curves.size(), d.count(fit::CurveRole::Train),
                d.count(fit::CurveRole::Validate), d.layer_depths.size(), d.depth_search() ? " guesses" : "",
                o.model, fit::to_string(o.optimizer));
-  Progress progress("fit iterations", static_cast<std::size_t>(std::max(1, o.max_iterations)) * d.layer_depths.size());
-  std::vector<int> seen(d.layer_depths.size(), 0);
+  // One unit per recorded iteration (the start of stage 2 included) and guess;
+  // a guess that converges early leaves its remaining units to finish().
+  Progress progress("fit iterations",
+                    static_cast<std::size_t>(o.max_iterations + 1) * d.layer_depths.size());
+  std::vector<std::size_t> seen(d.layer_depths.size(), 0);
   control.on_iteration = [&](std::size_t g, const fit::GuessResult& r) {
-    const int n = static_cast<int>(r.history.size());
-    if (n > seen[g] + 1 || (n > seen[g] && seen[g] > 0)) progress.advance(static_cast<std::size_t>(n - std::max(seen[g], 1)));
-    seen[g] = std::max(seen[g], n);
+    const std::size_t n = r.history.size();
+    if (g < seen.size() && n > seen[g]) {
+      progress.advance(n - seen[g]);
+      seen[g] = n;
+    }
     progress.set_note(fmt::format("D = {:.3g} mm: eps {:.4g}", r.layer_depth * 1e3, r.objective_final));
   };
   const fit::FitResult result = fit::fit_dataset(d, o, control);

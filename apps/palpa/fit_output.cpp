@@ -1,6 +1,7 @@
 #include "fit_output.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
@@ -86,30 +87,49 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
   Errors err;
   for (std::size_t i = 0; i < d.curves.size(); ++i) {
     const auto& c = d.curves[i];
+    // Rows up to the deepest point both simulations reached (all, normally).
+    std::size_t rows = c.x.size();
+    while (rows > 0 && !(std::isfinite(before[i].y[rows - 1]) && std::isfinite(after[i].y[rows - 1]))) --rows;
+    const auto head = [rows](const std::vector<double>& v) {
+      return std::vector<double>(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(rows));
+    };
     CsvTable t;
     t.add_comment(fmt::format("palpa fit: {} curve '{}' of {} ({}), layer depth {} m", fit::to_string(c.role), c.name,
                               d.file.filename().string(), d.sample, best.layer_depth));
+    if (rows < c.x.size()) {
+      t.add_comment(fmt::format("the simulations stopped early: {} of {} measured points", rows, c.x.size()));
+    }
     if (d.test == TestKind::Homogeneous) {
-      t.add_column(c.load_case == material::LoadCase::SimpleShear ? "shear" : "stretch", c.x);
-      t.add_quantity("stress_measured", "Pa", Dimension::Pressure, c.y);
-      t.add_quantity("stress_stage1", "Pa", Dimension::Pressure, before[i].y);
-      t.add_quantity("stress_fitted", "Pa", Dimension::Pressure, after[i].y);
+      t.add_column(c.load_case == material::LoadCase::SimpleShear ? "shear" : "stretch", head(c.x));
+      t.add_quantity("stress_measured", "Pa", Dimension::Pressure, head(c.y));
+      t.add_quantity("stress_stage1", "Pa", Dimension::Pressure, head(before[i].y));
+      t.add_quantity("stress_fitted", "Pa", Dimension::Pressure, head(after[i].y));
     } else {
-      t.add_quantity("indentation", "m", Dimension::Length, c.x);
-      t.add_quantity("force_measured", "N", Dimension::Force, c.y);
-      t.add_quantity("force_stage1", "N", Dimension::Force, before[i].y);
-      t.add_quantity("force_fitted", "N", Dimension::Force, after[i].y);
+      t.add_quantity("indentation", "m", Dimension::Length, head(c.x));
+      t.add_quantity("force_measured", "N", Dimension::Force, head(c.y));
+      t.add_quantity("force_stage1", "N", Dimension::Force, head(before[i].y));
+      t.add_quantity("force_fitted", "N", Dimension::Force, head(after[i].y));
     }
     batch.add(out / "curves" / (c.name + ".csv")) << format_csv(t);
     const double ss = fit::sum_of_squares(c, after[i]);
     double max_err = 0.0;
-    for (std::size_t j = 0; j < c.y.size(); ++j) max_err = std::max(max_err, std::abs(after[i].y[j] - c.y[j]));
+    for (std::size_t j = 0; j < c.y.size(); ++j) {
+      if (std::isfinite(after[i].y[j])) max_err = std::max(max_err, std::abs(after[i].y[j] - c.y[j]));
+    }
+    const std::size_t compared = fit::compared_points(c, after[i]);
     if (c.role == CurveRole::Train) {
       err.sq_train += ss;
-      err.n_train += c.y.size();
+      err.n_train += compared;
     } else {
       err.sq_validate += ss;
-      err.n_validate += c.y.size();
+      err.n_validate += compared;
+    }
+    for (const auto* p : {&before[i], &after[i]}) {
+      if (!p->failure.empty()) {
+        spdlog::warn("fit: curve {} was simulated only to {:.4g} mm of {:.4g} mm with the {} material ({}); its "
+                     "errors cover the points up to there",
+                     c.name, p->reached * 1e3, c.x.back() * 1e3, p == &before[i] ? "stage-1" : "fitted", p->failure);
+      }
     }
     Json cj{{"name", c.name},
             {"role", std::string(fit::to_string(c.role))},
@@ -118,7 +138,10 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
             {"rms_error_stage1", fit::rms_error(c, before[i])},
             {"rms_error_fitted", fit::rms_error(c, after[i])},
             {"max_abs_error_fitted", max_err},
-            {"largest_measured", *std::max_element(c.y.begin(), c.y.end())}};
+            {"largest_measured", *std::max_element(c.y.begin(), c.y.end())},
+            {"points_compared_fitted", compared},
+            {"simulated_to_fitted", after[i].reached},
+            {"simulation_failure_fitted", after[i].failure.empty() ? Json(nullptr) : Json(after[i].failure)}};
     if (d.test != TestKind::Homogeneous) cj["radius_m"] = c.radius;
     curves.push_back(cj);
   }

@@ -161,6 +161,22 @@ TEST(TrainingSensitivities, HomogeneousCurves) {
   const auto spline = material::SplineMaterial::from_model(start);
   TrainingProblem ps(d, 0.0, coarse(), spline, {}, material::small_strain_constants(spline).mu);
   check_jacobian(ps, {}, 1e-3, 1e-7, "homogeneous_spline");
+
+  // With the curvature regularization: one extra residual per interior knot
+  // of f, g and h (3 × 6 with the default 8 knots), linear in θ, zero at the
+  // start; its Jacobian rows against finite differences too, and
+  // regularization(x) is the squared norm of those rows away from the start.
+  ps.set_curvature_regularization(0.1 / material::small_strain_constants(spline).mu);
+  EXPECT_EQ(ps.num_residuals(), 11 + 18);
+  check_jacobian(ps, {}, 1e-3, 1e-7, "homogeneous_spline_regularized");
+  Eigen::VectorXd x = ps.start();
+  x[3] += 0.002;
+  x[12] -= 0.001;
+  Evaluation e;
+  ASSERT_TRUE(ps.evaluate(x, e)) << e.reason;
+  EXPECT_GT(ps.regularization(x), 0.0);
+  EXPECT_NEAR(ps.regularization(x), e.residuals.tail(18).squaredNorm(), 1e-12 * ps.regularization(x));
+  EXPECT_LT(ps.regularization(ps.start()), 1e-20 * ps.regularization(x));  // rounding of θ = scale·x
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 #include "palpa/core/error.hpp"
@@ -91,14 +92,18 @@ material::SplineLayout layout_covering(const std::vector<CurvePrediction::Stretc
   // stress (its slope) in the end intervals: the knots reach one interval
   // beyond the data on each side (log-uniform spacing over n − 3 intervals
   // across the data).
-  const auto widen = [](double lo, double hi, int knots) {
-    const double step = std::log(hi / lo) / std::max(1, knots - 3);
-    return material::SplineRange{lo * std::exp(-step), hi * std::exp(step), knots};
+  // Never narrower than `base`: curves the fit did not train on (a smaller
+  // punch, a deeper poke) reach further, and inside the knots the curvature
+  // regularization keeps the unseen parts near the stage-1 material, which
+  // extrapolates far better than a spline's parabolic continuation.
+  const auto widen = [](double lo, double hi, const material::SplineRange& b) {
+    const double step = std::log(hi / lo) / std::max(1, b.knots - 3);
+    return material::SplineRange{std::min(b.lo, lo * std::exp(-step)), std::max(b.hi, hi * std::exp(step)), b.knots};
   };
   material::SplineLayout out = base;
-  out.f = widen(f_lo, f_hi, base.f.knots);
-  out.g = widen(g_lo, g_hi, base.g.knots);
-  out.h = widen(h_lo, h_hi, base.h.knots);
+  out.f = widen(f_lo, f_hi, base.f);
+  out.g = widen(g_lo, g_hi, base.g);
+  out.h = widen(h_lo, h_hi, base.h);
   return out;
 }
 
@@ -149,12 +154,21 @@ std::unique_ptr<Material> stage2_start(const Material& stage1, const FitOptions&
 
 double sum_of_squares(const MeasuredCurve& c, const CurvePrediction& p) {
   double s = 0.0;
-  for (std::size_t j = 0; j < c.y.size(); ++j) s += (p.y[j] - c.y[j]) * (p.y[j] - c.y[j]);
+  for (std::size_t j = 0; j < c.y.size(); ++j) {
+    if (std::isfinite(p.y[j])) s += (p.y[j] - c.y[j]) * (p.y[j] - c.y[j]);
+  }
   return s;
 }
 
+std::size_t compared_points(const MeasuredCurve& c, const CurvePrediction& p) {
+  std::size_t n = 0;
+  for (std::size_t j = 0; j < c.y.size(); ++j) n += std::isfinite(p.y[j]) ? 1 : 0;
+  return n;
+}
+
 double rms_error(const MeasuredCurve& c, const CurvePrediction& p) {
-  return std::sqrt(sum_of_squares(c, p) / static_cast<double>(c.y.size()));
+  const std::size_t n = compared_points(c, p);
+  return n == 0 ? std::numeric_limits<double>::quiet_NaN() : std::sqrt(sum_of_squares(c, p) / static_cast<double>(n));
 }
 
 std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth, const Material& m,
@@ -162,6 +176,7 @@ std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth
   std::vector<CurvePrediction> out(d.curves.size());
   tbb::parallel_for(std::size_t{0}, d.curves.size(), [&](std::size_t i) {
     auto sim = make_curve_simulator(d, d.curves[i], layer_depth, o);
+    sim->allow_partial(true);
     out[i] = sim->predict(m, false);
   });
   return out;

@@ -138,8 +138,8 @@ inline std::unique_ptr<material::Material> stage2_start(const material::Material
 // §6.1, Fig. 6.1: the knots span the λ distribution of the deepest poke): f
 // over every λi, g over every λiλj, h over J = λ1λ2λ3, each range at least
 // [0.9, 1.1] and widened by one knot interval on each side (a natural
-// spline's end intervals bend its slope toward zero); the knot counts are
-// `base`'s.
+// spline's end intervals bend its slope toward zero), and never narrower
+// than `base`'s ranges; the knot counts are `base`'s.
 // Quantiles are energy-weighted: the central 98% of the strain energy (the
 // few cells at a sharp punch rim reach extreme stretches but carry little of
 // it); homogeneous curves use every point (tail 0).
@@ -150,12 +150,15 @@ material::SplineLayout layout_covering(const std::vector<CurvePrediction::Stretc
 std::unique_ptr<material::Material> scaled_material(const material::Material& m, double s);
 
 // Simulated curves of the dataset (all of them, train and validate) for a
-// material at one layer depth; with the fit's discretization.
+// material at one layer depth; with the fit's discretization. A curve whose
+// simulation stops early is returned partial (CurvePrediction::failure).
 std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth, const material::Material& m,
                                             const SimulationOptions& o);
 
-// ε contribution and root-mean-square error of one curve.
+// ε contribution and root-mean-square error of one curve, over the points the
+// prediction reached (a partial prediction is NaN beyond; see compared_points).
 double sum_of_squares(const MeasuredCurve& c, const CurvePrediction& p);
 double rms_error(const MeasuredCurve& c, const CurvePrediction& p);
+std::size_t compared_points(const MeasuredCurve& c, const CurvePrediction& p);
 
 }  // namespace palpa::fit

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "palpa/core/error.hpp"
 
@@ -85,11 +86,21 @@ class PokeCurveSimulator final : public CurveSimulator {
     po.max_depth = grid_.back();
     po.steps = steps_;
     po.sensitivities = sensitivities;
+    if (allow_partial_) {
+      // Showing a curve: where the simulation cannot go on (very deep pokes
+      // with a small punch), say so soon rather than after ten halvings of
+      // 100 Newton iterations each.
+      po.max_step_cuts = 8;
+      po.newton.max_iterations = 40;
+    }
     CurvePrediction p;
-    axisym::PokeSimulator::DepthCallback on_depth;
-    if (record_stretches_) {
-      on_depth = [&](const axisym::PokeModel& model, const Eigen::VectorXd& x, const axisym::PokeSample& s) {
-        if (s.depth < grid_.back()) return;
+    std::vector<axisym::PokeSample> reached{axisym::PokeSample{}};
+    const axisym::PokeSimulator::DepthCallback on_depth = [&](const axisym::PokeModel& model,
+                                                              const Eigen::VectorXd& x,
+                                                              const axisym::PokeSample& s) {
+      if (allow_partial_) reached.push_back(s);
+      if (!record_stretches_ || s.depth < grid_.back()) return;
+      {
         const auto states = model.element_states(x);
         const axisym::AxisymMesh& mesh = model.mesh();
         for (Eigen::Index e = 0; e < mesh.num_elements(); ++e) {
@@ -105,9 +116,15 @@ class PokeCurveSimulator final : public CurveSimulator {
           const double psi = l.minCoeff() > 0.0 ? m.psi(l) : 0.0;
           p.stretches.push_back({l, psi * 2.0 * 3.14159265358979323846 * rc * std::abs(area)});
         }
-      };
+      }
+    };
+    axisym::PokeCurve curve;
+    try {
+      curve = sim_->run(po, on_depth);
+    } catch (const Error& e) {
+      if (!allow_partial_ || e.kind() != ErrorKind::Solver) throw;
+      return partial(reached, e.problem());
     }
-    const axisym::PokeCurve curve = sim_->run(po, on_depth);
     const auto ng = static_cast<Eigen::Index>(curve.samples.size());
     Eigen::VectorXd f(ng);
     Eigen::MatrixXd df(ng, sensitivities ? m.num_params() : 0);
@@ -123,6 +140,7 @@ class PokeCurveSimulator final : public CurveSimulator {
     if (sensitivities) p.dy_dparams = weights_ * df;
     p.newton_iterations = curve.newton_iterations;
     p.factorizations = curve.factorizations;
+    p.reached = grid_.back();
     return p;
   }
 
@@ -134,6 +152,28 @@ class PokeCurveSimulator final : public CurveSimulator {
   Eigen::MatrixXd weights_;
   std::unique_ptr<material::Material> reference_;  // fixes penalty and stabilization (may be null)
   std::unique_ptr<axisym::PokeSimulator> sim_;
+
+  // The prediction from the depths reached before a failure: interpolated on
+  // the reached part of the schedule, NaN beyond it.
+  CurvePrediction partial(const std::vector<axisym::PokeSample>& reached, const std::string& why) const {
+    CurvePrediction p;
+    p.failure = why;
+    for (const auto& s : reached) {
+      p.grid_x.push_back(s.depth);
+      p.grid_y.push_back(s.force);
+    }
+    p.reached = p.grid_x.back();
+    std::vector<double> inside;
+    for (double x : x_) {
+      if (x <= p.reached) inside.push_back(x);
+    }
+    const Eigen::MatrixXd w = interpolation_weights(p.grid_x, inside);
+    const Eigen::VectorXd f = Eigen::Map<const Eigen::VectorXd>(p.grid_y.data(), static_cast<Eigen::Index>(p.grid_y.size()));
+    const Eigen::VectorXd y = w * f;
+    p.y.assign(x_.size(), std::numeric_limits<double>::quiet_NaN());
+    for (Eigen::Index j = 0; j < y.size(); ++j) p.y[static_cast<std::size_t>(j)] = y[j];
+    return p;
+  }
 };
 
 // Homogeneous stress–stretch curves: closed form up to the lateral

@@ -43,6 +43,10 @@ struct CurvePrediction {
     double weight = 0.0;
   };
   std::vector<StretchSample> stretches;
+  // Set when partial results were allowed and the simulation stopped early:
+  // why, and the deepest depth reached; y is NaN beyond it.
+  std::string failure;
+  double reached = 0.0;
 };
 
 // Weights w (#x × #grid) of the cubic Lagrange interpolant of values on the
@@ -63,9 +67,14 @@ class CurveSimulator {
   virtual CurvePrediction predict(const material::Material& m, bool sensitivities) = 0;
   // Also record CurvePrediction::stretches from now on.
   void record_stretches(bool on) noexcept { record_stretches_ = on; }
+  // A simulation that stops early (solver failure) returns what it reached
+  // (CurvePrediction::failure) instead of throwing: for showing validation
+  // curves, never inside a fit.
+  void allow_partial(bool on) noexcept { allow_partial_ = on; }
 
  protected:
   bool record_stretches_ = false;
+  bool allow_partial_ = false;
 };
 
 // The simulator of curve `c` of dataset `d` at layer depth `layer_depth`.
