@@ -5,16 +5,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <mutex>
 
 #include "palpa/core/error.hpp"
-#include "palpa/core/interrupt.hpp"
 #include "palpa/fit/checkpoint.hpp"
 #include "palpa/fit/optimize.hpp"
-#include "palpa/material/checks.hpp"
 #include "palpa/material/models.hpp"
 
 namespace palpa::fit {
@@ -182,179 +179,6 @@ std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth
   return out;
 }
 
-// ---------------------------------------------------------------------------
-// The training problem of one layer depth, in scaled free parameters x:
-// θ_free = scale ⊙ x, the other parameters held.
-
-TrainingProblem::TrainingProblem(const Dataset& d, double layer_depth, const SimulationOptions& so,
-                                 const Material& start, const std::vector<std::string>& fixed, double mu0)
-    : dataset_(&d), material_(start.clone()), theta0_(start.params()) {
-  for (const auto& c : d.curves) {
-    if (c.role != CurveRole::Train) continue;
-    curves_.push_back(&c);
-    sims_.push_back(make_curve_simulator(d, c, layer_depth, so, &start));
-    offsets_.push_back(residuals_);
-    residuals_ += static_cast<Eigen::Index>(c.y.size());
-  }
-  for (const auto& name : fixed) {
-    bool found = false;
-    for (Eigen::Index k = 0; k < start.num_params(); ++k) found |= start.param_info(k).name == name;
-    if (!found) {
-      std::string names;
-      for (Eigen::Index k = 0; k < start.num_params(); ++k) names += (k ? ", " : "") + start.param_info(k).name;
-      throw_input_error(fmt::format("model {} has no parameter '{}'", start.model(), name),
-                        ErrorContext{"", 0, 0, "fix"}, fmt::format("one of {}", names));
-    }
-  }
-  for (Eigen::Index k = 0; k < start.num_params(); ++k) {
-    const material::ParamInfo info = start.param_info(k);
-    if (std::find(fixed.begin(), fixed.end(), info.name) != fixed.end()) continue;
-    free_.push_back(k);
-    const double v = std::abs(theta0_[k]);
-    double s = 1.0;
-    switch (info.dimension) {
-      case Dimension::Pressure: s = std::max(v, mu0); break;
-      case Dimension::Compliance: s = v > 0.0 ? v : 1.0 / mu0; break;
-      default: s = std::max(v, 0.1); break;
-    }
-    scale_.push_back(s);
-    // Bounds of the ratios that have a closed range.
-    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
-    if (info.name == "nu") {
-      lo = -0.9;
-      hi = 0.4999;
-    } else if (info.name == "volume_share") {
-      lo = 0.0;
-      hi = 1.0;
-    } else if (info.dimension == Dimension::Compliance || info.name == "E" || info.name == "C10") {
-      lo = 1e-6 * v;
-    }
-    lower_.push_back(lo / s);
-    upper_.push_back(hi / s);
-  }
-  if (free_.empty()) {
-    throw_input_error("every parameter is fixed", ErrorContext{"", 0, 0, "fix"}, "at least one free parameter");
-  }
-}
-
-TrainingProblem::~TrainingProblem() = default;
-
-Eigen::VectorXd TrainingProblem::start() const {
-  Eigen::VectorXd x(num_free());
-  for (Eigen::Index i = 0; i < num_free(); ++i) x[i] = theta0_[free_[static_cast<std::size_t>(i)]] / scale_[static_cast<std::size_t>(i)];
-  return x;
-}
-
-Eigen::VectorXd TrainingProblem::theta(const Eigen::VectorXd& x) const {
-  Eigen::VectorXd t = theta0_;
-  for (Eigen::Index i = 0; i < num_free(); ++i) {
-    t[free_[static_cast<std::size_t>(i)]] = x[i] * scale_[static_cast<std::size_t>(i)];
-  }
-  return t;
-}
-
-std::unique_ptr<Material> TrainingProblem::material_at(const Eigen::VectorXd& x) const {
-  auto m = material_->clone();
-  m->set_params(theta(x));
-  return m;
-}
-
-bool TrainingProblem::evaluate(const Eigen::VectorXd& x, Evaluation& out) {
-  out = Evaluation{};
-  ++evaluations_;
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i]) || x[i] < lower_[static_cast<std::size_t>(i)] ||
-        x[i] > upper_[static_cast<std::size_t>(i)]) {
-      out.reason = "a parameter left its range";
-      return false;
-    }
-  }
-  std::unique_ptr<Material> m;
-  try {
-    m = material_at(x);
-  } catch (const Error& e) {
-    if (e.kind() != ErrorKind::Input) throw;
-    out.reason = e.problem();
-    return false;
-  }
-  const material::MaterialCheck check = material::check_material(*m);
-  if (!check.problems.empty()) {
-    out.reason = "not a physically valid material: " + check.problems.front();
-    return false;
-  }
-  std::vector<CurvePrediction> preds(curves_.size());
-  std::vector<std::string> failures(curves_.size());
-  tbb::parallel_for(std::size_t{0}, curves_.size(), [&](std::size_t i) {
-    try {
-      preds[i] = sims_[i]->predict(*m, true);
-    } catch (const Error& e) {
-      if (e.kind() != ErrorKind::Solver) throw;
-      failures[i] = fmt::format("curve {}: {}", curves_[i]->name, e.problem());
-    }
-  });
-  for (const auto& f : failures) {
-    if (!f.empty()) {
-      out.reason = f;
-      return false;
-    }
-  }
-  out.residuals.resize(residuals_);
-  out.jacobian.resize(residuals_, num_free());
-  for (std::size_t i = 0; i < curves_.size(); ++i) {
-    const MeasuredCurve& c = *curves_[i];
-    for (std::size_t j = 0; j < c.y.size(); ++j) {
-      const Eigen::Index row = offsets_[i] + static_cast<Eigen::Index>(j);
-      out.residuals[row] = preds[i].y[j] - c.y[j];
-      for (Eigen::Index q = 0; q < num_free(); ++q) {
-        out.jacobian(row, q) = preds[i].dy_dparams(static_cast<Eigen::Index>(j), free_[static_cast<std::size_t>(q)]) *
-                               scale_[static_cast<std::size_t>(q)];
-      }
-    }
-    out.newton_iterations += preds[i].newton_iterations;
-  }
-  if (curvature_weight_ > 0.0 && curvature_.rows() > 0) {
-    const Eigen::Index n = curvature_.rows();
-    out.residuals.conservativeResize(residuals_ + n);
-    out.jacobian.conservativeResize(residuals_ + n, num_free());
-    out.residuals.tail(n) = curvature_weight_ * (curvature_ * (theta(x) - theta0_));
-    for (Eigen::Index q = 0; q < num_free(); ++q) {
-      out.jacobian.col(q).tail(n) = curvature_weight_ * scale_[static_cast<std::size_t>(q)] *
-                                    curvature_.col(free_[static_cast<std::size_t>(q)]);
-    }
-  }
-  out.objective = out.residuals.squaredNorm();
-  return true;
-}
-
-void TrainingProblem::set_curvature_regularization(double weight) {
-  curvature_weight_ = std::max(weight, 0.0);
-  curvature_.resize(0, 0);
-  const auto* spline = dynamic_cast<const material::SplineMaterial*>(material_.get());
-  if (spline == nullptr || curvature_weight_ == 0.0) {
-    curvature_weight_ = 0.0;
-    return;
-  }
-  using Part = material::ValanisLandelMaterial::Part;
-  std::vector<Eigen::RowVectorXd> rows;
-  Eigen::Index offset = 0;
-  for (const Part part : {Part::F, Part::G, Part::H}) {
-    const material::NaturalCubicSpline& sp = spline->spline(part);
-    const std::vector<double>& knots = sp.knots();
-    for (std::size_t k = 1; k + 1 < knots.size(); ++k) {
-      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(theta0_.size());
-      sp.accumulate_basis(knots[k], 0.0, 0.0, 1.0, row.data() + offset, 1);
-      rows.push_back(std::move(row));
-    }
-    offset += sp.size();
-  }
-  curvature_.resize(static_cast<Eigen::Index>(rows.size()), theta0_.size());
-  for (std::size_t i = 0; i < rows.size(); ++i) curvature_.row(static_cast<Eigen::Index>(i)) = rows[i];
-}
-
-double TrainingProblem::regularization(const Eigen::VectorXd& x) const {
-  if (curvature_weight_ == 0.0) return 0.0;
-  return (curvature_weight_ * (curvature_ * (theta(x) - theta0_))).squaredNorm();
-}
 
 // ---------------------------------------------------------------------------
 
@@ -363,7 +187,6 @@ namespace {
 // Stage 1 on one layer depth: ε of the initial material and the best scale.
 struct Stage1 {
   std::vector<CurvePrediction::StretchSample> stretches;  // of the deepest states
-  bool homogeneous = false;
   double scale = 1.0;
   double objective_initial = 0.0;
   double objective_scaled = 0.0;

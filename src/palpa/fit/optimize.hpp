@@ -64,7 +64,6 @@ class TrainingProblem {
   Eigen::Index num_data_residuals() const noexcept { return residuals_; }
 
  private:
-  const Dataset* dataset_;
   std::unique_ptr<material::Material> material_;
   Eigen::VectorXd theta0_;
   std::vector<const MeasuredCurve*> curves_;
