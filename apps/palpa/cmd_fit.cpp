@@ -102,9 +102,9 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
     }
   }
   const char* unit = d.test == fit::TestKind::Homogeneous ? "Pa" : "N";
-  spdlog::info("fit: sqrt(eps) {:.4g} -> {:.4g} {} ({} iterations, {} evaluations, {:.1f} s); RMS error train "
+  spdlog::info("fit: sqrt(eps) {:.4g} -> {:.4g} {} ({} iterations, {} evaluations, {:.1f} s of fitting); RMS error train "
                "{:.3g} {}, validate {:.3g} {}; E (small strain) = {}; wrote {}",
-               s.sqrt_objective_stage1, s.sqrt_objective_final, unit, best.iterations, best.evaluations, seconds,
+               s.sqrt_objective_stage1, s.sqrt_objective_final, unit, best.iterations, best.evaluations, best.seconds,
                s.rms_train, unit, s.rms_validate, unit,
                format_quantity(material::small_strain_constants(*best.material).young(), Dimension::Pressure),
                out.string());
@@ -136,7 +136,15 @@ void run_fit_command(const FitArgs& a) {
                       ErrorContext{(out / "checkpoint.json").string(), 0, 0, "option --resume"},
                       "the output folder of an interrupted fit");
   }
-  run_fit(a.dataset, out, o, a.resume, a.command_line);
+  try {
+    run_fit(a.dataset, out, o, a.resume, a.command_line);
+  } catch (const Error& e) {
+    if (e.kind() == ErrorKind::Interrupted && std::filesystem::exists(out / "checkpoint.json")) {
+      spdlog::warn("fit: interrupted; the last iteration is in {}: continue with the same command and --resume",
+                   (out / "checkpoint.json").string());
+    }
+    throw;
+  }
 }
 
 }  // namespace
