@@ -41,9 +41,7 @@ namespace fs = std::filesystem;
 using namespace palpa;
 using clock_type = std::chrono::steady_clock;
 
-double seconds_since(clock_type::time_point t0) {
-  return std::chrono::duration<double>(clock_type::now() - t0).count();
-}
+using palpa::bench::seconds_since;
 
 std::vector<fs::path> datasets() {
   std::vector<fs::path> out;

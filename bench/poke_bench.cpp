@@ -97,32 +97,10 @@ constexpr double kThickness = 10e-3;   // D [m]
 constexpr double kYoung = 10e3;        // E [Pa]
 constexpr double kPoisson = 0.45;
 
-// Timing: repeat until kMinSeconds were spent (at least kMinReps, at most
-// kMaxReps times) and take the median; a run longer than kLongRun is measured once.
-constexpr double kMinSeconds = 0.3;
-constexpr int kMinReps = 3;
-constexpr int kMaxReps = 25;
+// Timing: bench::median_seconds, one measurement for runs over 1.5 s.
 constexpr double kLongRun = 1.5;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double median_seconds(const std::function<void()>& setup, const std::function<void()>& work) {
-  std::vector<double> t;
-  double total = 0.0;
-  while (static_cast<int>(t.size()) < kMaxReps &&
-         (static_cast<int>(t.size()) < kMinReps || total < kMinSeconds)) {
-    setup();
-    const auto t0 = Clock::now();
-    work();
-    t.push_back(seconds_since(t0));
-    total += t.back();
-    if (t.size() == 1 && t.front() > kLongRun) break;
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
+using palpa::bench::median_seconds;
+using palpa::bench::seconds_since;
 
 // v rounded to n significant digits (keeps the JSON lines readable).
 double sig(double v, int n) {
@@ -264,7 +242,7 @@ CurveResult run_curve(const PokeSetup& setup, double depth, int steps, bool repe
     }
   };
   if (repeat) {
-    r.seconds = median_seconds(make, work);
+    r.seconds = median_seconds(make, work, kLongRun);
   } else {
     make();
     const auto t0 = Clock::now();
@@ -296,7 +274,7 @@ FactorReference factorization_reference(const PokeSetup& setup, double depth, co
   FactorReference f;
   (void)chol.analyze(H);
   palpa::FactorStatus status = palpa::FactorStatus::Ok;
-  f.seconds = median_seconds([] {}, [&] { status = chol.factorize(H); });
+  f.seconds = median_seconds([] {}, [&] { status = chol.factorize(H); }, kLongRun);
   f.status = std::string(palpa::to_string(status));
   f.nnz = H.nonZeros();
   f.supernodal = chol.is_supernodal();

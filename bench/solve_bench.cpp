@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.hpp"
 #include "palpa/solve/newton.hpp"
 #include "palpa/solve/sparse_cholesky.hpp"
 #include "palpa/solve/sparse_ldlt.hpp"
@@ -43,34 +44,8 @@ using palpa::SymmetricFactorization;
 using SpMat = Eigen::SparseMatrix<double>;
 using Clock = std::chrono::steady_clock;
 
-// Repeat a measurement until this much time was spent (at least kMinReps,
-// at most kMaxReps times) and report the median. A run longer than kLongRun
-// is measured once.
-constexpr double kMinSeconds = 0.3;
-constexpr int kMinReps = 3;
-constexpr int kMaxReps = 25;
-constexpr double kLongRun = 1.0;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// Median wall time of `work`; `setup` runs untimed before each repetition.
-double median_seconds(const std::function<void()>& setup, const std::function<void()>& work) {
-  std::vector<double> t;
-  double total = 0.0;
-  while (static_cast<int>(t.size()) < kMaxReps &&
-         (static_cast<int>(t.size()) < kMinReps || total < kMinSeconds)) {
-    setup();
-    const auto t0 = Clock::now();
-    work();
-    t.push_back(seconds_since(t0));
-    total += t.back();
-    if (t.size() == 1 && t.front() > kLongRun) break;
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
+using palpa::bench::median_seconds;
+using palpa::bench::seconds_since;
 
 // Least-squares slope of log(y) against log(x).
 double fitted_exponent(const std::vector<double>& x, const std::vector<double>& y) {
