@@ -183,34 +183,7 @@ TEST(CompressionSensitivities, MatchFiniteDifferencesOfWholeCurves) {
       if (platens == PunchContact::Stick) {
         ASSERT_GT(c.samples.back().contact_nodes, 0);
       }
-      o.sensitivities = false;
-      const Eigen::VectorXd theta = m->params();
-      std::vector<Eigen::Index> which;
-      for (Eigen::Index k = 0; k < theta.size(); k += std::max<Eigen::Index>(1, theta.size() / 6)) which.push_back(k);
-      for (Eigen::Index k : which) {
-        const double h = 1e-5 * std::max(std::abs(theta[k]), m->param_info(k).dimension == Dimension::Pressure ? kE : 1.0);
-        std::vector<double> fp;
-        std::vector<double> fm;
-        for (double sign : {1.0, -1.0}) {
-          Eigen::VectorXd t = theta;
-          t[k] += sign * h;
-          sim.model().set_material_params(t);
-          const PokeCurve cc = sim.run(o);
-          for (const auto& sample : cc.samples) (sign > 0 ? fp : fm).push_back(sample.force);
-        }
-        sim.model().set_material_params(theta);
-        Eigen::VectorXd analytic(static_cast<Eigen::Index>(c.samples.size()));
-        Eigen::VectorXd numeric(analytic.size());
-        for (std::size_t i = 0; i < c.samples.size(); ++i) {
-          analytic[static_cast<Eigen::Index>(i)] = c.samples[i].dforce_dparams[k];
-          numeric[static_cast<Eigen::Index>(i)] = (fp[i] - fm[i]) / (2 * h);
-        }
-        const double scale = std::abs(theta[k]) > 0 ? std::abs(theta[k]) : 1.0;
-        EXPECT_TRUE(derivatives_match(analytic * scale, numeric * scale, 1e-4,
-                                      palpa::test::ZeroPolicy::MayBeZero,
-                                      1e-3 * c.samples.back().force))
-            << platen_contact_name(platens) << ", " << m->model() << " parameter " << m->param_info(k).name;
-      }
+      test::expect_curve_sensitivities(sim, c, o, kE, std::string(platen_contact_name(platens)));
     }
   }
 }
