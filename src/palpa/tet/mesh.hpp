@@ -1,0 +1,54 @@
+#pragma once
+// Tet meshes for simulation: checks, orientation, the boundary surface, and
+// structured box meshes.
+
+#include <Eigen/Core>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "palpa/io/mesh.hpp"
+
+namespace palpa::tet {
+
+// What prepare_tet_mesh found and did.
+struct TetMeshCheck {
+  Eigen::Index flipped = 0;   // tets whose corner order was reversed (all, or none)
+  Eigen::Index unused_vertices = 0;
+  double min_volume = 0.0;    // smallest tet volume after orientation [m³]
+  double total_volume = 0.0;  // [m³]
+};
+
+// Checks a tet mesh for simulation and orients it. `name` (a file name or
+// "scene.json: mesh") is used in every message. Throws palpa::Error (Input) for:
+// no vertices or tets, non-finite coordinates, corner indices out of range or
+// repeated within a tet, degenerate tets (|V| ≤ 1e-9 · h³, h the tet's longest
+// edge), and inverted tets — a mesh whose tets are all negatively oriented is
+// accepted and flipped (some writers use that convention), but a mix of
+// orientations means inverted elements and is refused, naming the first one.
+TetMeshCheck prepare_tet_mesh(TetMesh& mesh, std::string_view name);
+
+// The boundary of a tet mesh: the faces that belong to one tet only, wound so
+// that their normals point out of the volume. Vertices keep their tet-mesh
+// numbering (the returned mesh's V is the tet mesh's V), so unused rows are
+// the interior vertices.
+struct Boundary {
+  Eigen::MatrixX3i faces;          // #B×3 outward triangles (rows of the tet mesh's V)
+  std::vector<int> vertices;       // the distinct vertices of those faces, sorted
+  Eigen::VectorXi face_tet;        // #B: the tet each face belongs to
+};
+Boundary boundary_of(const TetMesh& mesh);
+
+// A structured box [lo, hi] with cells(0)×cells(1)×cells(2) cubes, each cut
+// into 6 tets around its main diagonal (a conforming Kuhn subdivision), all
+// positively oriented; region 0. Vertex sets of the six faces are named
+// "xmin", "xmax", "ymin", "ymax", "zmin" (also "bottom") and "zmax" (also "top").
+struct BoxMesh {
+  TetMesh mesh;
+  std::map<std::string, std::vector<int>> vertex_sets;
+};
+BoxMesh make_box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                      const Eigen::Vector3i& cells);
+
+}  // namespace palpa::tet

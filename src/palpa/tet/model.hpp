@@ -1,0 +1,92 @@
+#pragma once
+// A hyperelastic body meshed with linear tets (thesis §7.3.3): per-element
+// materials, mass, gravity, and the assembly of energy, gradient and Hessian.
+//
+// DOFs. The model works on the full nodal displacement u (3N, u = x − X,
+// vertex-major: u[3v + c]). Which DOFs are free, and what other energies act
+// on the vertices (contact), is the business of the systems built on it
+// (system.hpp); they call the assembly functions here, which are parallel
+// (TBB), allocate nothing per element and write into caller-owned storage.
+//
+// Units: positions [m], density [kg/m³], energies [J], forces [N].
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <vector>
+
+#include "palpa/io/mesh.hpp"
+#include "palpa/material/material.hpp"
+#include "palpa/tet/element.hpp"
+
+namespace palpa::tet {
+
+// One material of the body, with its mass density.
+struct BodyMaterial {
+  std::shared_ptr<const material::Material> material;
+  double density = 1000.0;  // ρ [kg/m³], ≥ 0
+};
+
+class ElasticModel {
+ public:
+  // mesh: a checked, positively oriented tet mesh (prepare_tet_mesh).
+  // element_material: #T indices into `materials` (empty: all use materials[0]).
+  // Throws palpa::Error (Input) for an index out of range, a missing material
+  // or a negative or non-finite density.
+  ElasticModel(TetMesh mesh, std::vector<BodyMaterial> materials,
+               Eigen::VectorXi element_material = {});
+
+  const TetMesh& mesh() const noexcept { return mesh_; }
+  Eigen::Index num_vertices() const noexcept { return mesh_.V.rows(); }
+  Eigen::Index num_elements() const noexcept { return mesh_.T.rows(); }
+  Eigen::Index num_dofs() const noexcept { return 3 * mesh_.V.rows(); }
+  const std::vector<BodyMaterial>& materials() const noexcept { return materials_; }
+  const Eigen::VectorXi& element_material() const noexcept { return element_material_; }
+  const material::Material& material_of(Eigen::Index e) const {
+    return *materials_[static_cast<std::size_t>(element_material_[e])].material;
+  }
+  const TetGeometry& geometry(Eigen::Index e) const { return geometry_[static_cast<std::size_t>(e)]; }
+
+  // Lumped mass per vertex (ρV/4 from each tet) [kg], N.
+  const Eigen::VectorXd& lumped_mass() const noexcept { return lumped_mass_; }
+  double total_mass() const noexcept { return lumped_mass_.sum(); }
+  // Consistent mass matrix (3N×3N, lower triangle): ρV/20 (1 + δ_ab) I₃ per tet.
+  Eigen::SparseMatrix<double> consistent_mass() const;
+
+  // Deformed corners of element e for displacement u.
+  Mat34 element_positions(const Eigen::VectorXd& u, Eigen::Index e) const;
+
+  // Elastic energy [J] at u; +infinity when an element is inverted. When g is
+  // given it is set to ∂E/∂u (3N) [N] (left unspecified for +infinity).
+  double elastic_energy(const Eigen::VectorXd& u, Eigen::VectorXd* g = nullptr) const;
+
+  // Element Hessians ∂²E_e/∂x_e² at u into blocks (#T, resized), PSD-projected
+  // or not. Throws palpa::Error (Internal) at an inverted element.
+  void element_hessians(const Eigen::VectorXd& u, material::PsdProjection projection,
+                        std::vector<Mat12>& blocks) const;
+
+  // ∂g/∂θ for the parameters of materials[k]: 3N × p_k (dense).
+  Eigen::MatrixXd gradient_param_jacobian(const Eigen::VectorXd& u, std::size_t k) const;
+
+  // Potential of a uniform gravitational field g [m/s²] (lumped masses, which
+  // is exact for linear elements): −Σ_v m_v g·u_v [J]; its gradient is the
+  // constant vector returned by gravity_gradient (3N).
+  Eigen::VectorXd gravity_gradient(const Eigen::Vector3d& gravity) const;
+
+  // Per element: Cauchy stress (rows: σxx σyy σzz σyz σxz σxy) [Pa] and its von
+  // Mises value, at u.
+  Eigen::MatrixXd cauchy_stress(const Eigen::VectorXd& u) const;  // #T×6
+  static Eigen::VectorXd von_mises(const Eigen::MatrixXd& stress6);
+
+  // Smallest det F over the elements at u.
+  double min_jacobian(const Eigen::VectorXd& u) const;
+
+ private:
+  TetMesh mesh_;
+  std::vector<BodyMaterial> materials_;
+  Eigen::VectorXi element_material_;
+  std::vector<TetGeometry> geometry_;
+  Eigen::VectorXd lumped_mass_;
+};
+
+}  // namespace palpa::tet
