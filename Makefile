@@ -37,6 +37,7 @@ test: setup
 	$(MAKE) --no-print-directory test-release
 
 bench: build
+	cmake --build --preset release -j $(JOBS) --target palpa_benchmarks
 	bash bench/run.sh build/release
 
 clean:
