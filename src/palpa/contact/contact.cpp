@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cassert>
 #include <functional>
