@@ -1,10 +1,13 @@
 #include "palpa/contact/obstacle.hpp"
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 #include "palpa/contact/detail/bvh.hpp"
@@ -21,6 +24,8 @@ using detail::TriangleRegion;
 // diagonal are degenerate; a volume below this fraction of its cube is zero.
 constexpr double kDegenerateFraction = 1e-12;
 constexpr double kRotationTolerance = 1e-9;
+// Triangles per task when the normals are recomputed.
+constexpr std::size_t kNormalsGrain = 2048;
 
 [[noreturn]] void fail(const std::string& name, const std::string& what, const std::string& expected) {
   ErrorContext context;
@@ -164,32 +169,60 @@ struct Obstacle::Impl {
   detail::Bvh bvh;
   std::unique_ptr<detail::CgalTree> cgal;  // only for TreeKind::Cgal
   std::vector<int> neighbour;              // 3·f + local side → triangle across
-  std::vector<Eigen::Vector3d> face_normal;    // unit
-  std::vector<Eigen::Vector3d> edge_normal;    // 3·f + local side: sum of the two face normals
-  std::vector<Eigen::Vector3d> vertex_normal;  // angle-weighted pseudo-normal
+  std::vector<Eigen::Vector3d> face_normal;  // unit
+  std::vector<int> corner_start;             // #V + 1: corners of vertex v are
+  std::vector<int> corners;                  //   corners[corner_start[v] …), as 3·f + k
 
   Eigen::Vector3d corner(int f, int k) const { return V.row(F(f, k)); }
 
+  // Unit face normals (in parallel). Edge and vertex pseudo-normals are
+  // computed from them when a query needs one: a deforming obstacle pays only
+  // for the face normals and the box refit.
   void update_normals() {
     const auto nf = static_cast<std::size_t>(F.rows());
     face_normal.resize(nf);
-    edge_normal.resize(3 * nf);
-    vertex_normal.assign(static_cast<std::size_t>(V.rows()), Eigen::Vector3d::Zero());
-    for (std::size_t f = 0; f < nf; ++f) {
-      const int fi = static_cast<int>(f);
-      const Eigen::Vector3d n = (corner(fi, 1) - corner(fi, 0)).cross(corner(fi, 2) - corner(fi, 0));
-      const double len = n.norm();
-      face_normal[f] = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector3d e1 = corner(fi, (k + 1) % 3) - corner(fi, k);
-        const Eigen::Vector3d e2 = corner(fi, (k + 2) % 3) - corner(fi, k);
-        const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-        vertex_normal[static_cast<std::size_t>(F(fi, k))] += angle * face_normal[f];
-      }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, kNormalsGrain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+                          const int fi = static_cast<int>(f);
+                          const Eigen::Vector3d n = (corner(fi, 1) - corner(fi, 0)).cross(corner(fi, 2) - corner(fi, 0));
+                          const double len = n.norm();
+                          face_normal[f] = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+                        }
+                      });
+  }
+
+  // Triangle corners around each vertex (CSR), for vertex pseudo-normals.
+  void build_vertex_corners() {
+    corner_start.assign(static_cast<std::size_t>(V.rows()) + 1, 0);
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) ++corner_start[static_cast<std::size_t>(F(f, k)) + 1];
     }
-    for (std::size_t s = 0; s < 3 * nf; ++s) {
-      edge_normal[s] = face_normal[s / 3] + face_normal[static_cast<std::size_t>(neighbour[s])];
+    std::partial_sum(corner_start.begin(), corner_start.end(), corner_start.begin());
+    corners.resize(static_cast<std::size_t>(3 * F.rows()));
+    std::vector<int> fill(corner_start.begin(), corner_start.end() - 1);
+    for (int f = 0; f < static_cast<int>(F.rows()); ++f) {
+      for (int k = 0; k < 3; ++k) corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(F(f, k))]++)] = 3 * f + k;
     }
+  }
+
+  // Sum of the two face normals across side `local` of triangle f.
+  Eigen::Vector3d edge_pseudo_normal(int f, int local) const {
+    const auto s = 3 * static_cast<std::size_t>(f) + static_cast<std::size_t>(local);
+    return face_normal[static_cast<std::size_t>(f)] + face_normal[static_cast<std::size_t>(neighbour[s])];
+  }
+
+  // Σ corner angle × face normal over the triangles around vertex v.
+  Eigen::Vector3d vertex_pseudo_normal(int v) const {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int c = corner_start[static_cast<std::size_t>(v)]; c < corner_start[static_cast<std::size_t>(v) + 1]; ++c) {
+      const int f = corners[static_cast<std::size_t>(c)] / 3;
+      const int k = corners[static_cast<std::size_t>(c)] % 3;
+      const Eigen::Vector3d e1 = corner(f, (k + 1) % 3) - corner(f, k);
+      const Eigen::Vector3d e2 = corner(f, (k + 2) % 3) - corner(f, k);
+      n += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * face_normal[static_cast<std::size_t>(f)];
+    }
+    return n;
   }
 
   void build_tree(bool refit, TreeKind kind) {
@@ -236,13 +269,13 @@ struct Obstacle::Impl {
       out.feature = Feature::Edge;
       out.vertices = a < b ? std::array<int, 3>{a, b, -1} : std::array<int, 3>{b, a, -1};
       out.weights = a < b ? Eigen::Vector3d(wa, wb, 0.0) : Eigen::Vector3d(wb, wa, 0.0);
-      normal = edge_normal[3 * fs + static_cast<std::size_t>(k)];
+      normal = edge_pseudo_normal(f, k);
     } else {
       const int v = F(f, tp.region);
       out.feature = Feature::Vertex;
       out.vertices = {v, -1, -1};
       out.weights = {1.0, 0.0, 0.0};
-      normal = vertex_normal[static_cast<std::size_t>(v)];
+      normal = vertex_pseudo_normal(v);
     }
     out.inside = d.dot(normal) < 0.0;
     return out;
@@ -280,6 +313,7 @@ Obstacle::Obstacle(const SurfaceMesh& mesh, std::string name, const ObstacleOpti
     m.flipped = true;
     m.neighbour = edge_neighbours(m.F, m.name);
   }
+  m.build_vertex_corners();
   m.update_normals();
   m.build_tree(false, options.tree);
 }
