@@ -24,7 +24,11 @@
 // gradient/Hessian with the committed set are exact derivatives of
 // committed.energy(x): each contact keeps its feature (vertex, edge or face),
 // and its anchor slides on that feature as the point moves (Appendix A). At the
-// prepared point committed.energy(x) == detected_energy(x).
+// prepared point committed.energy(x) == detected_energy(x), and both have the
+// same gradient as long as no point changes Voronoi region or crosses the
+// surface. Away from it a committed contact acts as a two-sided spring to its
+// feature even if the point has left the obstacle: that is why line-search
+// trials must use detected_energy(), never committed.energy().
 //
 // Sign conventions: E ≥ 0; the gradient ∂E/∂p = 2k(p − a) points into the
 // obstacle; the contact force on a point, f = −∂E/∂p = 2k(a − p), pushes it out
