@@ -55,7 +55,8 @@ Eigen::Matrix3Xd box_points(std::mt19937_64& rng) {
   const double z = kTubeRadius * 1.1;
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Eigen::Matrix3Xd p(3, kQueries);
-  for (int i = 0; i < kQueries; ++i) p.col(i) = Eigen::Vector3d(xy * u(rng), xy * u(rng), z * u(rng));
+  for (int i = 0; i < kQueries; ++i)
+    p.col(i) = Eigen::Vector3d(xy * u(rng), xy * u(rng), z * u(rng));
   return p;
 }
 
@@ -78,7 +79,8 @@ double queries_per_second(const contact::Obstacle& o, const Eigen::Matrix3Xd& po
   double sink = 0.0;
   const double rate = throughput(
       [&] {
-        for (Eigen::Index i = 0; i < points.cols(); ++i) sink += o.closest_point(points.col(i)).distance;
+        for (Eigen::Index i = 0; i < points.cols(); ++i)
+          sink += o.closest_point(points.col(i)).distance;
       },
       static_cast<double>(points.cols()));
   if (sink < 0.0) fmt::print("");  // keep the loop
@@ -125,7 +127,8 @@ void bench_mesh(const MeshCase& mc) {
   // 2. Build.
   palpa::contact::detail::Bvh bvh;
   const double t_own = median_seconds([] {}, [&] { bvh.build(mesh.V, mesh.F); });
-  const double t_cgal = median_seconds([] {}, [&] { palpa::contact::detail::CgalTree tree(mesh.V, mesh.F); });
+  const double t_cgal =
+      median_seconds([] {}, [&] { palpa::contact::detail::CgalTree tree(mesh.V, mesh.F); });
   const double t_obstacle = median_seconds([] {}, [&] { contact::Obstacle o(mesh, mc.name); });
   emit({{"bench", "contact.tree_build"},
         {"mesh", mc.name},
@@ -181,10 +184,12 @@ void bench_mesh(const MeshCase& mc) {
   double energy = 0.0;
   const double t_energy =
       median_seconds([] {}, [&] { energy = contact::detected_energy(refit, pts, which, 1e4); });
-  const double t_serial = median_seconds([] {}, [&] {
-    contact::ClosestPoint c;
-    for (int i : which) (void)refit.penetration(pts.col(i), c);
-  });
+  const double t_serial = median_seconds([] {},
+                                         [&] {
+                                           contact::ClosestPoint c;
+                                           for (int i : which)
+                                             (void)refit.penetration(pts.col(i), c);
+                                         });
   emit({{"bench", "contact.batch_detection"},
         {"mesh", mc.name},
         {"triangles", triangles},

@@ -30,13 +30,15 @@ struct Scene {
 
   explicit Scene(int n = 4000) {
     Pose pose;
-    pose.R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.2, 1.0, -0.3).normalized()).toRotationMatrix();
+    pose.R =
+        Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.2, 1.0, -0.3).normalized()).toRotationMatrix();
     pose.t = Eigen::Vector3d(0.01, 0.02, -0.005);
     obstacle.set_pose(pose);
     auto rng = test::make_rng(20);
     std::uniform_real_distribution<double> u(-0.06, 0.06);
     points.resize(3, n);
-    for (int i = 0; i < n; ++i) points.col(i) = pose.t + Eigen::Vector3d(u(rng), u(rng), 0.4 * u(rng));
+    for (int i = 0; i < n; ++i)
+      points.col(i) = pose.t + Eigen::Vector3d(u(rng), u(rng), 0.4 * u(rng));
     for (int i = 0; i < n; i += 2) which.push_back(i);  // every other point may touch
   }
 };
@@ -85,7 +87,8 @@ TEST(ContactDetection, DetectedEnergyEqualsCommittedEnergyAtThePreparedPoint) {
   EXPECT_GT(detected, 0.0);
   EXPECT_NEAR(set.energy(s.obstacle, s.points, kStiffness), detected, 1e-12 * detected);
   double sum = 0.0;
-  for (const Contact& c : set.contacts()) sum += kStiffness * c.closest.distance * c.closest.distance;
+  for (const Contact& c : set.contacts())
+    sum += kStiffness * c.closest.distance * c.closest.distance;
   EXPECT_NEAR(sum, detected, 1e-12 * detected);
   EXPECT_GT(set.max_depth(), 0.0);
   EXPECT_LE(set.max_depth(), 0.015);
@@ -102,7 +105,9 @@ TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePrepar
   Eigen::Matrix3Xd moved = s.points;
   for (Eigen::Index i = 0; i < moved.size(); ++i) moved.data()[i] += jitter(rng);
   const Eigen::VectorXd x = moved.reshaped();
-  const auto as_points = [&](const Eigen::VectorXd& y) { return Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, y.size() / 3); };
+  const auto as_points = [&](const Eigen::VectorXd& y) {
+    return Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, y.size() / 3);
+  };
   // Only the contact points' coordinates matter: check those.
   std::vector<Eigen::Index> dofs;
   for (const Contact& c : set.contacts()) {
@@ -118,7 +123,9 @@ TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePrepar
     for (std::size_t j = 0; j < dofs.size(); ++j) full[dofs[j]] = r[static_cast<Eigen::Index>(j)];
     return full;
   };
-  const auto energy = [&](const Eigen::VectorXd& r) { return set.energy(s.obstacle, as_points(expand(r)), kStiffness); };
+  const auto energy = [&](const Eigen::VectorXd& r) {
+    return set.energy(s.obstacle, as_points(expand(r)), kStiffness);
+  };
   const auto gradient = [&](const Eigen::VectorXd& r) {
     Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, s.points.cols());
     set.add_gradient(s.obstacle, as_points(expand(r)), kStiffness, g);
@@ -148,7 +155,8 @@ TEST(ContactCommitted, ObstacleGradientMatchesFiniteDifferences) {
   ASSERT_EQ(set.size(), 3U);
   const auto energy = [&](const Eigen::VectorXd& v) {
     Obstacle o = Obstacle(sphere, "sphere");
-    o.set_vertices(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(v.data(), sphere.V.rows(), 3));
+    o.set_vertices(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+        v.data(), sphere.V.rows(), 3));
     return set.energy(o, points, kStiffness);
   };
   const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> rows = sphere.V;
@@ -222,8 +230,8 @@ TEST(ContactStiffness, RuleAndCorrection) {
   EXPECT_NEAR(corrected_stiffness(k, 1.0, 3e-4), 10.0 * k, 1e-9 * k);
   EXPECT_NEAR(corrected_stiffness(k, 1e-9, 3e-4, 4.0), 0.25 * k, 1e-9 * k);
   EXPECT_EQ(corrected_stiffness(k, 0.0, 3e-4), k);
-  EXPECT_TRUE(test::throws_error([] { stiffness_for_penetration(100.0, 0.0, 3e-4); }, ErrorKind::Input,
-                                 {"contact stiffness", "0 contact points"}));
+  EXPECT_TRUE(test::throws_error([] { stiffness_for_penetration(100.0, 0.0, 3e-4); },
+                                 ErrorKind::Input, {"contact stiffness", "0 contact points"}));
 }
 
 }  // namespace

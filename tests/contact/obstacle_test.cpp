@@ -37,14 +37,15 @@ Pose some_pose() {
 TEST(ObstacleValidation, RefusesAnOpenMesh) {
   SurfaceMesh m = test::cube_mesh(0.01);
   m.F.conservativeResize(m.F.rows() - 1, 3);  // drop one triangle: three boundary edges
-  EXPECT_TRUE(throws_error([&] { Obstacle(m, "box.obj"); }, ErrorKind::Input,
-                           {"box.obj: ", "not closed", "3 boundary edge(s)", "used by triangle", "only"}));
+  EXPECT_TRUE(
+      throws_error([&] { Obstacle(m, "box.obj"); }, ErrorKind::Input,
+                   {"box.obj: ", "not closed", "3 boundary edge(s)", "used by triangle", "only"}));
 }
 
 TEST(ObstacleValidation, RefusesANonManifoldEdge) {
-  EXPECT_TRUE(throws_error([&] { Obstacle(test::bowtie_mesh(), "bowtie.off"); }, ErrorKind::Input,
-                           {"bowtie.off: ", "not manifold", "1 edge(s)", "vertices 0 and 1",
-                            "shared by 4 triangles"}));
+  EXPECT_TRUE(throws_error(
+      [&] { Obstacle(test::bowtie_mesh(), "bowtie.off"); }, ErrorKind::Input,
+      {"bowtie.off: ", "not manifold", "1 edge(s)", "vertices 0 and 1", "shared by 4 triangles"}));
 }
 
 TEST(ObstacleValidation, RefusesInconsistentOrientation) {
@@ -79,8 +80,9 @@ TEST(ObstacleValidation, RefusesDegenerateTriangles) {
   s.V.row(8) = 0.5 * (s.V.row(0) + s.V.row(1));
   s.F.conservativeResize(13, 3);
   s.F.row(12) = Eigen::Vector3i(0, 8, 1);
-  EXPECT_TRUE(throws_error([&] { Obstacle(s, "box.obj"); }, ErrorKind::Input,
-                           {"degenerate triangle(s)", "triangle 12 (vertices 0, 8, 1) has area 0"}));
+  EXPECT_TRUE(
+      throws_error([&] { Obstacle(s, "box.obj"); }, ErrorKind::Input,
+                   {"degenerate triangle(s)", "triangle 12 (vertices 0, 8, 1) has area 0"}));
 }
 
 TEST(ObstacleValidation, RefusesNonFiniteCoordinatesAndBadIndices) {
@@ -98,12 +100,13 @@ TEST(ObstacleValidation, RefusesABadPoseAndBadNewVertices) {
   Obstacle box(test::cube_mesh(0.01), "box.obj");
   Pose scaled;
   scaled.R *= 1.01;
-  EXPECT_TRUE(throws_error([&] { box.set_pose(scaled); }, ErrorKind::Input, {"box.obj: ", "not a rotation"}));
+  EXPECT_TRUE(throws_error([&] { box.set_pose(scaled); }, ErrorKind::Input,
+                           {"box.obj: ", "not a rotation"}));
   Pose mirrored;
   mirrored.R(2, 2) = -1.0;
   EXPECT_TRUE(throws_error([&] { box.set_pose(mirrored); }, ErrorKind::Input, {"not a rotation"}));
-  EXPECT_TRUE(throws_error([&] { box.set_vertices(Eigen::MatrixX3d::Zero(7, 3)); }, ErrorKind::Input,
-                           {"7 new vertex positions for a mesh of 8 vertices"}));
+  EXPECT_TRUE(throws_error([&] { box.set_vertices(Eigen::MatrixX3d::Zero(7, 3)); },
+                           ErrorKind::Input, {"7 new vertex positions for a mesh of 8 vertices"}));
 }
 
 // ---- inside test ------------------------------------------------------------
@@ -114,15 +117,17 @@ TEST(ObstacleInside, CubeOnAndNearFacesEdgesAndVertices) {
   const Obstacle box(test::cube_mesh(h), "box");
   EXPECT_TRUE(box.inside(Eigen::Vector3d::Zero()));
   // Exactly on a face, an edge, a vertex: on the surface, so not inside.
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, h), Eigen::Vector3d(h, h, 0), Eigen::Vector3d(h, h, h),
-                                   Eigen::Vector3d(0.3 * h, -h, 0.2 * h), Eigen::Vector3d(-h, 0, -h)}) {
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0, 0, h), Eigen::Vector3d(h, h, 0), Eigen::Vector3d(h, h, h),
+        Eigen::Vector3d(0.3 * h, -h, 0.2 * h), Eigen::Vector3d(-h, 0, -h)}) {
     EXPECT_FALSE(box.inside(p)) << p.transpose();
     EXPECT_LT(box.closest_point(p).distance, 1e-18);
   }
   // Just inside and just outside of each kind of feature; the diagonals and the
   // lines through edges and vertices are where ray parity tests break.
-  for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(1, 1, 1),
-                                     Eigen::Vector3d(-1, 0, -1), Eigen::Vector3d(1, -1, 1)}) {
+  for (const Eigen::Vector3d& dir :
+       {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(1, 1, 1),
+        Eigen::Vector3d(-1, 0, -1), Eigen::Vector3d(1, -1, 1)}) {
     EXPECT_TRUE(box.inside((h - e) * dir)) << dir.transpose();
     EXPECT_FALSE(box.inside((h + e) * dir)) << dir.transpose();
   }
@@ -146,8 +151,8 @@ TEST(ObstacleInside, CubeOnAndNearFacesEdgesAndVertices) {
 // that are not within 1e-7 of the surface.
 // `concave`: the mesh has inside points whose closest feature is a vertex or an
 // edge (a convex mesh has none).
-void expect_inside_matches_winding_number(const SurfaceMesh& mesh, double half, int n, std::uint64_t salt,
-                                          bool concave) {
+void expect_inside_matches_winding_number(const SurfaceMesh& mesh, double half, int n,
+                                          std::uint64_t salt, bool concave) {
   const Obstacle obstacle(mesh, "mesh");
   auto rng = test::make_rng(salt);
   int inside = 0;
@@ -215,15 +220,17 @@ TEST(ObstacleInside, PoseMovesTheObstacle) {
     EXPECT_LT((world.point - (pose.R * body.point + pose.t)).norm(), 1e-15);
     EXPECT_EQ(world.vertices, body.vertices);
   }
-  EXPECT_LT((moved.world_vertex(3) - (pose.R * torus.vertices().row(3).transpose() + pose.t)).norm(), 1e-16);
+  EXPECT_LT(
+      (moved.world_vertex(3) - (pose.R * torus.vertices().row(3).transpose() + pose.t)).norm(),
+      1e-16);
 }
 
 // ---- closest points ---------------------------------------------------------
 
 // Closest point against brute force, and its optimality: (p − c)·(v − c) ≤ 0
 // for every corner v of the triangle holding c; the weights reproduce c.
-void expect_closest_points_correct(const Obstacle& obstacle, const SurfaceMesh& mesh, double half, int n,
-                                   std::uint64_t salt) {
+void expect_closest_points_correct(const Obstacle& obstacle, const SurfaceMesh& mesh, double half,
+                                   int n, std::uint64_t salt) {
   auto rng = test::make_rng(salt);
   int kinds[3] = {0, 0, 0};
   for (int i = 0; i < n; ++i) {
@@ -232,7 +239,8 @@ void expect_closest_points_correct(const Obstacle& obstacle, const SurfaceMesh& 
     ASSERT_NEAR(c.distance, test::brute_distance(mesh, p), 1e-14) << p.transpose();
     Eigen::Vector3d from_weights = Eigen::Vector3d::Zero();
     for (int k = 0; k < feature_size(c.feature); ++k) {
-      from_weights += c.weights[k] * mesh.V.row(c.vertices[static_cast<std::size_t>(k)]).transpose();
+      from_weights +=
+          c.weights[k] * mesh.V.row(c.vertices[static_cast<std::size_t>(k)]).transpose();
       EXPECT_GT(c.weights[k], 0.0);
     }
     EXPECT_LT((from_weights - c.point).norm(), 1e-15);
@@ -328,7 +336,8 @@ TEST(VertexAreas, ThirdOfIncidentTriangles) {
   // Every cube corner has either 4 or 5 incident right triangles of area 2e-4.
   for (Eigen::Index v = 0; v < area.size(); ++v) {
     int incident = 0;
-    for (Eigen::Index f = 0; f < box.F.rows(); ++f) incident += (box.F.row(f).array() == v).any() ? 1 : 0;
+    for (Eigen::Index f = 0; f < box.F.rows(); ++f)
+      incident += (box.F.row(f).array() == v).any() ? 1 : 0;
     EXPECT_NEAR(area[v], incident * 2e-4 / 3.0, 1e-18);
   }
 }

@@ -80,7 +80,8 @@ TEST_P(PenaltyRegion, QueryGradientAndHessianMatchFiniteDifferences) {
     return Eigen::VectorXd(penalty_gradient(y, g, kStiffness));
   };
   EXPECT_TRUE(derivatives_match(gradient(x), fd_gradient(energy, x, kStep), kTol));
-  EXPECT_TRUE(derivatives_match(penalty_hessian(g, kStiffness), fd_jacobian(gradient, x, kStep), kTol));
+  EXPECT_TRUE(
+      derivatives_match(penalty_hessian(g, kStiffness), fd_jacobian(gradient, x, kStep), kTol));
 }
 
 TEST_P(PenaltyRegion, FullGradientAndHessianMatchFiniteDifferences) {
@@ -116,23 +117,29 @@ TEST_P(PenaltyRegion, FullGradientAndHessianMatchFiniteDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(VertexEdgeFace, PenaltyRegion, ::testing::Values(1, 2, 3),
                          [](const ::testing::TestParamInfo<int>& param_info) {
-                           return std::string(param_info.param == 1 ? "Vertex" : (param_info.param == 2 ? "Edge" : "Face"));
+                           return std::string(param_info.param == 1
+                                                  ? "Vertex"
+                                                  : (param_info.param == 2 ? "Edge" : "Face"));
                          });
 
 TEST(Penalty, ThesisClosedForms) {
   const double k = kStiffness;
   // (A.3) vertex: 2kI.
-  EXPECT_LT((penalty_hessian(feature(1), k) - 2.0 * k * Eigen::Matrix3d::Identity()).norm(), 1e-9 * k);
+  EXPECT_LT((penalty_hessian(feature(1), k) - 2.0 * k * Eigen::Matrix3d::Identity()).norm(),
+            1e-9 * k);
   // (A.4), (A.6) edge: the anchor formula and 2k(I − eeᵀ). (A.4) as printed
   // pairs (p − p_i) with p_i; the projection pairs each endpoint's weight with
   // the distance along the edge from the other endpoint:
   // a = [((p − p_j)·(p_i − p_j)) p_i + ((p − p_i)·(p_j − p_i)) p_j] / ‖p_i − p_j‖².
   const Eigen::Vector3d e = (kQ0 - kQ1).normalized();
-  EXPECT_LT((penalty_hessian(feature(2), k) - 2.0 * k * (Eigen::Matrix3d::Identity() - e * e.transpose())).norm(),
-            1e-9 * k);
+  EXPECT_LT(
+      (penalty_hessian(feature(2), k) - 2.0 * k * (Eigen::Matrix3d::Identity() - e * e.transpose()))
+          .norm(),
+      1e-9 * k);
   const Eigen::Vector3d pe = query_point(2, 0.004);
   const Eigen::Vector3d thesis_edge_anchor =
-      ((pe - kQ1).dot(kQ0 - kQ1) * kQ0 + (pe - kQ0).dot(kQ1 - kQ0) * kQ1) / (kQ0 - kQ1).squaredNorm();
+      ((pe - kQ1).dot(kQ0 - kQ1) * kQ0 + (pe - kQ0).dot(kQ1 - kQ0) * kQ1) /
+      (kQ0 - kQ1).squaredNorm();
   EXPECT_LT((sliding_anchor(pe, feature(2)).point - thesis_edge_anchor).norm(), 1e-17);
   // (A.7), (A.9) face: p − ((p − p1)·n)n and 2k nnᵀ.
   const Eigen::Vector3d n = (kQ1 - kQ0).cross(kQ2 - kQ0).normalized();
@@ -141,8 +148,8 @@ TEST(Penalty, ThesisClosedForms) {
   EXPECT_LT((sliding_anchor(pf, feature(3)).point - (pf - (pf - kQ0).dot(n) * n)).norm(), 1e-16);
   // Energies: k·depth² in each case.
   for (int m = 1; m <= 3; ++m) {
-    EXPECT_NEAR(penalty_energy(query_point(m, 0.004), feature(m), k), k * 2 * 0.004 * 0.004 * (m == 3 ? 0.5 : 1.0),
-                1e-12 * k * 1.6e-5)
+    EXPECT_NEAR(penalty_energy(query_point(m, 0.004), feature(m), k),
+                k * 2 * 0.004 * 0.004 * (m == 3 ? 0.5 : 1.0), 1e-12 * k * 1.6e-5)
         << m;
   }
 }

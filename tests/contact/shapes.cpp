@@ -12,7 +12,8 @@
 namespace palpa::test {
 
 namespace {
-SurfaceMesh from_lists(const std::vector<Eigen::Vector3d>& v, const std::vector<Eigen::Vector3i>& f) {
+SurfaceMesh from_lists(const std::vector<Eigen::Vector3d>& v,
+                       const std::vector<Eigen::Vector3i>& f) {
   SurfaceMesh m;
   m.V.resize(static_cast<Eigen::Index>(v.size()), 3);
   m.F.resize(static_cast<Eigen::Index>(f.size()), 3);
@@ -26,7 +27,8 @@ SurfaceMesh cube_mesh(double h) {
   std::vector<Eigen::Vector3d> v;
   for (int i = 0; i < 8; ++i) v.emplace_back((i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h);
   // Each face as a quad (counter-clockwise from outside), split in two.
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   std::vector<Eigen::Vector3i> f;
   for (const auto& q : quads) {
     f.emplace_back(q[0], q[1], q[2]);
@@ -37,8 +39,9 @@ SurfaceMesh cube_mesh(double h) {
 
 SurfaceMesh sphere_mesh(double r, int levels) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                                    {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
   std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                     {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                     {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -79,7 +82,8 @@ SurfaceMesh torus_mesh(double R, double r, int nu, int nv) {
     for (int j = 0; j < nv; ++j) {
       const double u = two_pi * i / nu;
       const double w = two_pi * j / nv;
-      v.emplace_back((R + r * std::cos(w)) * std::cos(u), (R + r * std::cos(w)) * std::sin(u), r * std::sin(w));
+      v.emplace_back((R + r * std::cos(w)) * std::cos(u), (R + r * std::cos(w)) * std::sin(u),
+                     r * std::sin(w));
     }
   }
   auto id = [&](int i, int j) { return ((i + nu) % nu) * nv + (j + nv) % nv; };
@@ -94,17 +98,20 @@ SurfaceMesh torus_mesh(double R, double r, int nu, int nv) {
 
 SurfaceMesh bowtie_mesh() {
   // Tetrahedra (0, 1, 2, 3) and (0, 1, 4, 5) share the edge 0–1.
-  const std::vector<Eigen::Vector3d> v = {{0, 0, 0},  {0, 0, 1},  {1, 0, 0},
-                                          {0, 1, 0},  {-1, 0, 0}, {0, -1, 0}};
+  const std::vector<Eigen::Vector3d> v = {{0, 0, 0}, {0, 0, 1},  {1, 0, 0},
+                                          {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
   std::vector<Eigen::Vector3i> f;
   for (const auto& t : {Eigen::Vector4i(0, 1, 2, 3), Eigen::Vector4i(0, 1, 4, 5)}) {
-    const Eigen::Vector3d centre = (v[static_cast<std::size_t>(t[0])] + v[static_cast<std::size_t>(t[1])] +
-                                    v[static_cast<std::size_t>(t[2])] + v[static_cast<std::size_t>(t[3])]) /
-                                   4.0;
-    const int faces[4][3] = {{t[0], t[1], t[2]}, {t[0], t[1], t[3]}, {t[0], t[2], t[3]}, {t[1], t[2], t[3]}};
+    const Eigen::Vector3d centre =
+        (v[static_cast<std::size_t>(t[0])] + v[static_cast<std::size_t>(t[1])] +
+         v[static_cast<std::size_t>(t[2])] + v[static_cast<std::size_t>(t[3])]) /
+        4.0;
+    const int faces[4][3] = {
+        {t[0], t[1], t[2]}, {t[0], t[1], t[3]}, {t[0], t[2], t[3]}, {t[1], t[2], t[3]}};
     for (const auto& q : faces) {
       const Eigen::Vector3d& a = v[static_cast<std::size_t>(q[0])];
-      const Eigen::Vector3d n = (v[static_cast<std::size_t>(q[1])] - a).cross(v[static_cast<std::size_t>(q[2])] - a);
+      const Eigen::Vector3d n =
+          (v[static_cast<std::size_t>(q[1])] - a).cross(v[static_cast<std::size_t>(q[2])] - a);
       if (n.dot(a - centre) > 0.0) {
         f.emplace_back(q[0], q[1], q[2]);
       } else {
@@ -125,7 +132,8 @@ double winding_number(const SurfaceMesh& mesh, const Eigen::Vector3d& p) {
     const double lb = b.norm();
     const double lc = c.norm();
     // Solid angle of the triangle seen from p (Van Oosterom & Strackee).
-    total += 2.0 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
+    total += 2.0 * std::atan2(a.dot(b.cross(c)),
+                              la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
   }
   return total / (4.0 * std::numbers::pi);
 }
@@ -133,8 +141,8 @@ double winding_number(const SurfaceMesh& mesh, const Eigen::Vector3d& p) {
 double brute_distance(const SurfaceMesh& mesh, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const auto tp = contact::detail::closest_on_triangle(p, mesh.V.row(mesh.F(f, 0)), mesh.V.row(mesh.F(f, 1)),
-                                                         mesh.V.row(mesh.F(f, 2)));
+    const auto tp = contact::detail::closest_on_triangle(
+        p, mesh.V.row(mesh.F(f, 0)), mesh.V.row(mesh.F(f, 1)), mesh.V.row(mesh.F(f, 2)));
     best = std::min(best, (p - tp.point).norm());
   }
   return best;

@@ -61,7 +61,8 @@ Eigen::Matrix3d hessian_block(const Obstacle& obstacle, const Contact& contact, 
 // Σ k·depth² over the points `which` (columns of `points`) inside the obstacle,
 // detected afresh [J]. Parallel (TBB), deterministic sum, allocation-free;
 // safe to call concurrently.
-double detected_energy(const Obstacle& obstacle, Points points, std::span<const int> which, double k);
+double detected_energy(const Obstacle& obstacle, Points points, std::span<const int> which,
+                       double k);
 
 struct Wrench {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   // [N]
@@ -105,9 +106,9 @@ class ContactSet {
 
  private:
   std::vector<Contact> contacts_;
-  std::vector<ClosestPoint> slot_;   // scratch: one per queried point
-  std::vector<unsigned char> hit_;   // scratch: inside or not
-  std::vector<int> all_;             // 0 … N−1, for detect() without a list
+  std::vector<ClosestPoint> slot_;  // scratch: one per queried point
+  std::vector<unsigned char> hit_;  // scratch: inside or not
+  std::vector<int> all_;            // 0 … N−1, for detect() without a list
 };
 
 // Contact pressure per point [Pa]: ‖f_i‖ / area_i (0 where area_i = 0).

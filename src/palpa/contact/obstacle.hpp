@@ -41,7 +41,9 @@ struct Pose {
 enum class Feature : std::uint8_t { Vertex, Edge, Face };
 
 // Number of mesh vertices spanning a feature: 1, 2 or 3.
-constexpr int feature_size(Feature f) { return static_cast<int>(f) + 1; }
+constexpr int feature_size(Feature f) {
+  return static_cast<int>(f) + 1;
+}
 
 // The closest point of an obstacle to a query point.
 struct ClosestPoint {
