@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cassert>
 #include <functional>
@@ -19,7 +20,9 @@ namespace {
 // Points per task of the parallel loops: a closest-point query costs ~1 µs.
 constexpr std::size_t kGrain = 256;
 
-Eigen::Vector3d point_of(Points points, int column) { return points.col(column); }
+Eigen::Vector3d point_of(Points points, int column) {
+  return points.col(column);
+}
 
 }  // namespace
 
@@ -27,7 +30,8 @@ FeatureGeometry feature_geometry(const Obstacle& obstacle, const ClosestPoint& c
   FeatureGeometry g;
   g.m = feature_size(closest.feature);
   for (int i = 0; i < g.m; ++i) {
-    g.q[static_cast<std::size_t>(i)] = obstacle.world_vertex(closest.vertices[static_cast<std::size_t>(i)]);
+    g.q[static_cast<std::size_t>(i)] =
+        obstacle.world_vertex(closest.vertices[static_cast<std::size_t>(i)]);
   }
   return g;
 }
@@ -36,13 +40,15 @@ Eigen::Matrix3d hessian_block(const Obstacle& obstacle, const Contact& contact, 
   return penalty_hessian(feature_geometry(obstacle, contact.closest), k);
 }
 
-double detected_energy(const Obstacle& obstacle, Points points, std::span<const int> which, double k) {
+double detected_energy(const Obstacle& obstacle, Points points, std::span<const int> which,
+                       double k) {
   return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, which.size(), kGrain), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double sum) {
         ClosestPoint c;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          if (obstacle.penetration(point_of(points, which[i]), c)) sum += k * c.distance * c.distance;
+          if (obstacle.penetration(point_of(points, which[i]), c))
+            sum += k * c.distance * c.distance;
         }
         return sum;
       },
@@ -55,7 +61,8 @@ void ContactSet::detect(const Obstacle& obstacle, Points points, std::span<const
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, which.size(), kGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                        hit_[i] = obstacle.penetration(point_of(points, which[i]), slot_[i]) ? 1 : 0;
+                        hit_[i] =
+                            obstacle.penetration(point_of(points, which[i]), slot_[i]) ? 1 : 0;
                       }
                     });
   contacts_.clear();
@@ -90,7 +97,8 @@ void ContactSet::add_gradient(const Obstacle& obstacle, Points points, double k,
                               Eigen::Ref<Eigen::Matrix3Xd> grad) const {
   assert(grad.cols() == points.cols());
   for (const Contact& c : contacts_) {
-    grad.col(c.point) += penalty_gradient(point_of(points, c.point), feature_geometry(obstacle, c.closest), k);
+    grad.col(c.point) +=
+        penalty_gradient(point_of(points, c.point), feature_geometry(obstacle, c.closest), k);
   }
 }
 
@@ -106,10 +114,12 @@ void ContactSet::add_obstacle_gradient(const Obstacle& obstacle, Points points, 
   }
 }
 
-void ContactSet::forces(const Obstacle& obstacle, Points points, double k, Eigen::Matrix3Xd& forces) const {
+void ContactSet::forces(const Obstacle& obstacle, Points points, double k,
+                        Eigen::Matrix3Xd& forces) const {
   forces.setZero(3, points.cols());
   for (const Contact& c : contacts_) {
-    forces.col(c.point) -= penalty_gradient(point_of(points, c.point), feature_geometry(obstacle, c.closest), k);
+    forces.col(c.point) -=
+        penalty_gradient(point_of(points, c.point), feature_geometry(obstacle, c.closest), k);
   }
 }
 
@@ -138,10 +148,11 @@ Eigen::VectorXd pressures(const Eigen::Matrix3Xd& forces, const Eigen::VectorXd&
 
 double stiffness_for_penetration(double load, double contact_points, double target) {
   if (!(load > 0.0) || !(contact_points > 0.0) || !(target > 0.0)) {
-    throw_input_error(fmt::format("cannot choose a contact stiffness from load {} N, {} contact points and "
-                                  "target penetration {} m",
-                                  load, contact_points, target),
-                      ErrorContext{}.with_field("contact stiffness"), "positive load, point count and target");
+    throw_input_error(
+        fmt::format("cannot choose a contact stiffness from load {} N, {} contact points and "
+                    "target penetration {} m",
+                    load, contact_points, target),
+        ErrorContext{}.with_field("contact stiffness"), "positive load, point count and target");
   }
   return load / (2.0 * contact_points * target);
 }

@@ -24,7 +24,11 @@
 // gradient/Hessian with the committed set are exact derivatives of
 // committed.energy(x): each contact keeps its feature (vertex, edge or face),
 // and its anchor slides on that feature as the point moves (Appendix A). At the
-// prepared point committed.energy(x) == detected_energy(x).
+// prepared point committed.energy(x) == detected_energy(x), and both have the
+// same gradient as long as no point changes Voronoi region or crosses the
+// surface. Away from it a committed contact acts as a two-sided spring to its
+// feature even if the point has left the obstacle: that is why line-search
+// trials must use detected_energy(), never committed.energy().
 //
 // Sign conventions: E ≥ 0; the gradient ∂E/∂p = 2k(p − a) points into the
 // obstacle; the contact force on a point, f = −∂E/∂p = 2k(a − p), pushes it out
@@ -57,7 +61,8 @@ Eigen::Matrix3d hessian_block(const Obstacle& obstacle, const Contact& contact, 
 // Σ k·depth² over the points `which` (columns of `points`) inside the obstacle,
 // detected afresh [J]. Parallel (TBB), deterministic sum, allocation-free;
 // safe to call concurrently.
-double detected_energy(const Obstacle& obstacle, Points points, std::span<const int> which, double k);
+double detected_energy(const Obstacle& obstacle, Points points, std::span<const int> which,
+                       double k);
 
 struct Wrench {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   // [N]
@@ -101,9 +106,9 @@ class ContactSet {
 
  private:
   std::vector<Contact> contacts_;
-  std::vector<ClosestPoint> slot_;   // scratch: one per queried point
-  std::vector<unsigned char> hit_;   // scratch: inside or not
-  std::vector<int> all_;             // 0 … N−1, for detect() without a list
+  std::vector<ClosestPoint> slot_;  // scratch: one per queried point
+  std::vector<unsigned char> hit_;  // scratch: inside or not
+  std::vector<int> all_;            // 0 … N−1, for detect() without a list
 };
 
 // Contact pressure per point [Pa]: ‖f_i‖ / area_i (0 where area_i = 0).

@@ -1,10 +1,13 @@
 #include "palpa/contact/obstacle.hpp"
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 #include "palpa/contact/detail/bvh.hpp"
@@ -21,8 +24,11 @@ using detail::TriangleRegion;
 // diagonal are degenerate; a volume below this fraction of its cube is zero.
 constexpr double kDegenerateFraction = 1e-12;
 constexpr double kRotationTolerance = 1e-9;
+// Triangles per task when the normals are recomputed.
+constexpr std::size_t kNormalsGrain = 2048;
 
-[[noreturn]] void fail(const std::string& name, const std::string& what, const std::string& expected) {
+[[noreturn]] void fail(const std::string& name, const std::string& what,
+                       const std::string& expected) {
   ErrorContext context;
   context.file = name;
   throw_input_error(what, context, expected);
@@ -31,7 +37,9 @@ constexpr double kRotationTolerance = 1e-9;
 void check_finite(const Eigen::MatrixX3d& V, const std::string& name) {
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     if (!V.row(i).allFinite()) {
-      fail(name, fmt::format("vertex {} has a non-finite coordinate ({}, {}, {})", i, V(i, 0), V(i, 1), V(i, 2)),
+      fail(name,
+           fmt::format("vertex {} has a non-finite coordinate ({}, {}, {})", i, V(i, 0), V(i, 1),
+                       V(i, 2)),
            "finite vertex coordinates");
     }
   }
@@ -77,50 +85,60 @@ std::vector<int> edge_neighbours(const Eigen::MatrixX3i& F, const std::string& n
     const Side& s = sides[i];
     if (j - i == 1) {
       if (boundary++ == 0) {
-        boundary_example = fmt::format("the edge between vertices {} and {}, used by triangle {} only", s.lo,
-                                       s.hi, s.face);
+        boundary_example = fmt::format(
+            "the edge between vertices {} and {}, used by triangle {} only", s.lo, s.hi, s.face);
       }
     } else if (j - i > 2) {
       if (nonmanifold++ == 0) {
-        nonmanifold_example =
-            fmt::format("the edge between vertices {} and {} is shared by {} triangles", s.lo, s.hi, j - i);
+        nonmanifold_example = fmt::format(
+            "the edge between vertices {} and {} is shared by {} triangles", s.lo, s.hi, j - i);
       }
     } else if (sides[i].forward == sides[i + 1].forward) {
       if (misoriented++ == 0) {
-        misoriented_example = fmt::format(
-            "triangles {} and {} both run from vertex {} to {}", s.face, sides[i + 1].face,
-            s.forward ? s.lo : s.hi, s.forward ? s.hi : s.lo);
+        misoriented_example =
+            fmt::format("triangles {} and {} both run from vertex {} to {}", s.face,
+                        sides[i + 1].face, s.forward ? s.lo : s.hi, s.forward ? s.hi : s.lo);
       }
     } else {
-      neighbour[3 * static_cast<std::size_t>(s.face) + static_cast<std::size_t>(s.local)] = sides[i + 1].face;
-      neighbour[3 * static_cast<std::size_t>(sides[i + 1].face) + static_cast<std::size_t>(sides[i + 1].local)] =
-          s.face;
+      neighbour[3 * static_cast<std::size_t>(s.face) + static_cast<std::size_t>(s.local)] =
+          sides[i + 1].face;
+      neighbour[3 * static_cast<std::size_t>(sides[i + 1].face) +
+                static_cast<std::size_t>(sides[i + 1].local)] = s.face;
     }
     i = j;
   }
   if (boundary > 0) {
-    fail(name, fmt::format("the surface is not closed: {} boundary edge(s), e.g. {}", boundary, boundary_example),
+    fail(name,
+         fmt::format("the surface is not closed: {} boundary edge(s), e.g. {}", boundary,
+                     boundary_example),
          "a closed triangle surface: every edge shared by exactly two triangles");
   }
   if (nonmanifold > 0) {
-    fail(name, fmt::format("the surface is not manifold: {} edge(s) shared by more than two triangles, e.g. {}",
-                           nonmanifold, nonmanifold_example),
+    fail(name,
+         fmt::format(
+             "the surface is not manifold: {} edge(s) shared by more than two triangles, e.g. {}",
+             nonmanifold, nonmanifold_example),
          "every edge shared by exactly two triangles");
   }
   if (misoriented > 0) {
-    fail(name, fmt::format("inconsistent orientation: {} edge(s) where the two triangles disagree, e.g. {}",
-                           misoriented, misoriented_example),
+    fail(name,
+         fmt::format(
+             "inconsistent orientation: {} edge(s) where the two triangles disagree, e.g. {}",
+             misoriented, misoriented_example),
          "consistently oriented triangles: each edge run once in each direction");
   }
   return neighbour;
 }
 
-void check_triangles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::string& name) {
+void check_triangles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+                     const std::string& name) {
   if (F.rows() == 0) fail(name, "the mesh has no triangles", "a closed triangle surface");
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (int k = 0; k < 3; ++k) {
       if (F(f, k) < 0 || F(f, k) >= V.rows()) {
-        fail(name, fmt::format("triangle {} refers to vertex {}, but there are {} vertices", f, F(f, k), V.rows()),
+        fail(name,
+             fmt::format("triangle {} refers to vertex {}, but there are {} vertices", f, F(f, k),
+                         V.rows()),
              "vertex indices in [0, #vertices)");
       }
     }
@@ -130,11 +148,12 @@ void check_triangles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const
   std::string example;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0));
-    const double area = 0.5 * (V.row(F(f, 1)).transpose() - a).cross(V.row(F(f, 2)).transpose() - a).norm();
+    const double area =
+        0.5 * (V.row(F(f, 1)).transpose() - a).cross(V.row(F(f, 2)).transpose() - a).norm();
     if (F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 0) == F(f, 2) || !(area > min_area)) {
       if (degenerate++ == 0) {
-        example = fmt::format("triangle {} (vertices {}, {}, {}) has area {:.3g} m²", f, F(f, 0), F(f, 1), F(f, 2),
-                              area);
+        example = fmt::format("triangle {} (vertices {}, {}, {}) has area {:.3g} m²", f, F(f, 0),
+                              F(f, 1), F(f, 2), area);
       }
     }
   }
@@ -162,34 +181,67 @@ struct Obstacle::Impl {
   double volume = 0.0;
   Pose pose;
   detail::Bvh bvh;
-  std::unique_ptr<detail::CgalTree> cgal;  // only for TreeKind::Cgal
-  std::vector<int> neighbour;              // 3·f + local side → triangle across
-  std::vector<Eigen::Vector3d> face_normal;    // unit
-  std::vector<Eigen::Vector3d> edge_normal;    // 3·f + local side: sum of the two face normals
-  std::vector<Eigen::Vector3d> vertex_normal;  // angle-weighted pseudo-normal
+  std::unique_ptr<detail::CgalTree> cgal;    // only for TreeKind::Cgal
+  std::vector<int> neighbour;                // 3·f + local side → triangle across
+  std::vector<Eigen::Vector3d> face_normal;  // unit
+  std::vector<int> corner_start;             // #V + 1: corners of vertex v are
+  std::vector<int> corners;                  //   corners[corner_start[v] …), as 3·f + k
 
   Eigen::Vector3d corner(int f, int k) const { return V.row(F(f, k)); }
 
+  // Unit face normals (in parallel). Edge and vertex pseudo-normals are
+  // computed from them when a query needs one: a deforming obstacle pays only
+  // for the face normals and the box refit.
   void update_normals() {
     const auto nf = static_cast<std::size_t>(F.rows());
     face_normal.resize(nf);
-    edge_normal.resize(3 * nf);
-    vertex_normal.assign(static_cast<std::size_t>(V.rows()), Eigen::Vector3d::Zero());
-    for (std::size_t f = 0; f < nf; ++f) {
-      const int fi = static_cast<int>(f);
-      const Eigen::Vector3d n = (corner(fi, 1) - corner(fi, 0)).cross(corner(fi, 2) - corner(fi, 0));
-      const double len = n.norm();
-      face_normal[f] = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector3d e1 = corner(fi, (k + 1) % 3) - corner(fi, k);
-        const Eigen::Vector3d e2 = corner(fi, (k + 2) % 3) - corner(fi, k);
-        const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-        vertex_normal[static_cast<std::size_t>(F(fi, k))] += angle * face_normal[f];
-      }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, kNormalsGrain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+                          const int fi = static_cast<int>(f);
+                          const Eigen::Vector3d n =
+                              (corner(fi, 1) - corner(fi, 0)).cross(corner(fi, 2) - corner(fi, 0));
+                          const double len = n.norm();
+                          face_normal[f] =
+                              len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+                        }
+                      });
+  }
+
+  // Triangle corners around each vertex (CSR), for vertex pseudo-normals.
+  void build_vertex_corners() {
+    corner_start.assign(static_cast<std::size_t>(V.rows()) + 1, 0);
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) ++corner_start[static_cast<std::size_t>(F(f, k)) + 1];
     }
-    for (std::size_t s = 0; s < 3 * nf; ++s) {
-      edge_normal[s] = face_normal[s / 3] + face_normal[static_cast<std::size_t>(neighbour[s])];
+    std::partial_sum(corner_start.begin(), corner_start.end(), corner_start.begin());
+    corners.resize(static_cast<std::size_t>(3 * F.rows()));
+    std::vector<int> fill(corner_start.begin(), corner_start.end() - 1);
+    for (int f = 0; f < static_cast<int>(F.rows()); ++f) {
+      for (int k = 0; k < 3; ++k)
+        corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(F(f, k))]++)] = 3 * f + k;
     }
+  }
+
+  // Sum of the two face normals across side `local` of triangle f.
+  Eigen::Vector3d edge_pseudo_normal(int f, int local) const {
+    const auto s = 3 * static_cast<std::size_t>(f) + static_cast<std::size_t>(local);
+    return face_normal[static_cast<std::size_t>(f)] +
+           face_normal[static_cast<std::size_t>(neighbour[s])];
+  }
+
+  // Σ corner angle × face normal over the triangles around vertex v.
+  Eigen::Vector3d vertex_pseudo_normal(int v) const {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int c = corner_start[static_cast<std::size_t>(v)];
+         c < corner_start[static_cast<std::size_t>(v) + 1]; ++c) {
+      const int f = corners[static_cast<std::size_t>(c)] / 3;
+      const int k = corners[static_cast<std::size_t>(c)] % 3;
+      const Eigen::Vector3d e1 = corner(f, (k + 1) % 3) - corner(f, k);
+      const Eigen::Vector3d e2 = corner(f, (k + 2) % 3) - corner(f, k);
+      n += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * face_normal[static_cast<std::size_t>(f)];
+    }
+    return n;
   }
 
   void build_tree(bool refit, TreeKind kind) {
@@ -236,13 +288,13 @@ struct Obstacle::Impl {
       out.feature = Feature::Edge;
       out.vertices = a < b ? std::array<int, 3>{a, b, -1} : std::array<int, 3>{b, a, -1};
       out.weights = a < b ? Eigen::Vector3d(wa, wb, 0.0) : Eigen::Vector3d(wb, wa, 0.0);
-      normal = edge_normal[3 * fs + static_cast<std::size_t>(k)];
+      normal = edge_pseudo_normal(f, k);
     } else {
       const int v = F(f, tp.region);
       out.feature = Feature::Vertex;
       out.vertices = {v, -1, -1};
       out.weights = {1.0, 0.0, 0.0};
-      normal = vertex_normal[static_cast<std::size_t>(v)];
+      normal = vertex_pseudo_normal(v);
     }
     out.inside = d.dot(normal) < 0.0;
     return out;
@@ -252,7 +304,9 @@ struct Obstacle::Impl {
     c.point = pose.R * c.point + pose.t;
     return c;
   }
-  Eigen::Vector3d to_body(const Eigen::Vector3d& x) const { return pose.R.transpose() * (x - pose.t); }
+  Eigen::Vector3d to_body(const Eigen::Vector3d& x) const {
+    return pose.R.transpose() * (x - pose.t);
+  }
 };
 
 Obstacle::Obstacle(const SurfaceMesh& mesh, std::string name, const ObstacleOptions& options)
@@ -272,7 +326,9 @@ Obstacle::Obstacle(const SurfaceMesh& mesh, std::string name, const ObstacleOpti
   }
   if (m.volume < 0.0) {
     if (!options.flip_inward) {
-      fail(m.name, fmt::format("the triangles are oriented inwards (enclosed volume {:.3g} m³ < 0)", m.volume),
+      fail(m.name,
+           fmt::format("the triangles are oriented inwards (enclosed volume {:.3g} m³ < 0)",
+                       m.volume),
            "normals (v1−v0)×(v2−v0) pointing out of the solid");
     }
     m.F.col(1).swap(m.F.col(2));
@@ -280,6 +336,7 @@ Obstacle::Obstacle(const SurfaceMesh& mesh, std::string name, const ObstacleOpti
     m.flipped = true;
     m.neighbour = edge_neighbours(m.F, m.name);
   }
+  m.build_vertex_corners();
   m.update_normals();
   m.build_tree(false, options.tree);
 }
@@ -288,19 +345,34 @@ Obstacle::~Obstacle() = default;
 Obstacle::Obstacle(Obstacle&&) noexcept = default;
 Obstacle& Obstacle::operator=(Obstacle&&) noexcept = default;
 
-const std::string& Obstacle::name() const { return impl_->name; }
-const Eigen::MatrixX3d& Obstacle::vertices() const { return impl_->V; }
-const Eigen::MatrixX3i& Obstacle::triangles() const { return impl_->F; }
-bool Obstacle::flipped() const { return impl_->flipped; }
-double Obstacle::volume() const { return impl_->volume; }
-const Pose& Obstacle::pose() const { return impl_->pose; }
+const std::string& Obstacle::name() const {
+  return impl_->name;
+}
+const Eigen::MatrixX3d& Obstacle::vertices() const {
+  return impl_->V;
+}
+const Eigen::MatrixX3i& Obstacle::triangles() const {
+  return impl_->F;
+}
+bool Obstacle::flipped() const {
+  return impl_->flipped;
+}
+double Obstacle::volume() const {
+  return impl_->volume;
+}
+const Pose& Obstacle::pose() const {
+  return impl_->pose;
+}
 
 void Obstacle::set_pose(const Pose& pose) {
-  const double err = (pose.R.transpose() * pose.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double err =
+      (pose.R.transpose() * pose.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (!pose.R.allFinite() || err > kRotationTolerance || pose.R.determinant() < 0.0) {
-    fail(impl_->name, "the pose's R is not a rotation", "an orthonormal 3×3 matrix with determinant +1");
+    fail(impl_->name, "the pose's R is not a rotation",
+         "an orthonormal 3×3 matrix with determinant +1");
   }
-  if (!pose.t.allFinite()) fail(impl_->name, "the pose's translation is not finite", "finite coordinates [m]");
+  if (!pose.t.allFinite())
+    fail(impl_->name, "the pose's translation is not finite", "finite coordinates [m]");
   impl_->pose = pose;
 }
 
@@ -311,7 +383,9 @@ Eigen::Vector3d Obstacle::world_vertex(int i) const {
 void Obstacle::set_vertices(const Eigen::MatrixX3d& body_vertices, bool refit) {
   Impl& m = *impl_;
   if (body_vertices.rows() != m.V.rows()) {
-    fail(m.name, fmt::format("{} new vertex positions for a mesh of {} vertices", body_vertices.rows(), m.V.rows()),
+    fail(m.name,
+         fmt::format("{} new vertex positions for a mesh of {} vertices", body_vertices.rows(),
+                     m.V.rows()),
          "one position per vertex");
   }
   check_finite(body_vertices, m.name);
@@ -326,7 +400,8 @@ ClosestPoint Obstacle::closest_point(const Eigen::Vector3d& x) const {
 
 bool Obstacle::penetration(const Eigen::Vector3d& x, ClosestPoint& out) const {
   const Eigen::Vector3d xb = impl_->to_body(x);
-  if ((xb.array() < impl_->bvh.lo().array()).any() || (xb.array() > impl_->bvh.hi().array()).any()) return false;
+  if ((xb.array() < impl_->bvh.lo().array()).any() || (xb.array() > impl_->bvh.hi().array()).any())
+    return false;
   ClosestPoint c = impl_->closest_body(xb);
   if (!c.inside) return false;
   out = impl_->to_world(c);

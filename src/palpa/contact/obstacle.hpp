@@ -41,7 +41,9 @@ struct Pose {
 enum class Feature : std::uint8_t { Vertex, Edge, Face };
 
 // Number of mesh vertices spanning a feature: 1, 2 or 3.
-constexpr int feature_size(Feature f) { return static_cast<int>(f) + 1; }
+constexpr int feature_size(Feature f) {
+  return static_cast<int>(f) + 1;
+}
 
 // The closest point of an obstacle to a query point.
 struct ClosestPoint {
@@ -102,7 +104,8 @@ class Obstacle {
   // Moves the vertices (body coordinates, #V×3, same triangles), e.g. a body
   // surface deformed by a Newton step. refit = true keeps the tree's topology
   // and refits its boxes (O(#F), much cheaper than a rebuild; queries slow down
-  // only if the motion is large); false rebuilds the tree. Throws palpa::Error
+  // only if the motion is large); false rebuilds the tree (CGAL's tree is
+  // always rebuilt). Normals are recomputed either way. Throws palpa::Error
   // (Input) for a wrong shape or a non-finite coordinate; the connectivity
   // checks of the constructor are not redone (triangles may degenerate or
   // intersect while a body deforms; queries stay defined).
@@ -110,8 +113,9 @@ class Obstacle {
 
   // Closest surface point to x [m, world], its feature, and the inside test.
   ClosestPoint closest_point(const Eigen::Vector3d& x) const;
-  // Same, but returns false without searching when x is outside the bounding
-  // box (then `out` is untouched): the fast path of contact detection.
+  // The detection query: true, with `out` filled, when x is strictly inside;
+  // otherwise false and `out` untouched (outside the bounding box without any
+  // tree search).
   bool penetration(const Eigen::Vector3d& x, ClosestPoint& out) const;
   bool inside(const Eigen::Vector3d& x) const;
 

@@ -38,7 +38,8 @@ Projection project(const Eigen::Vector3d& p, const FeatureGeometry& g) {
     r.P_perp.setIdentity();
   } else {
     r.G_inv = (r.A.transpose() * r.A).inverse();
-    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2, 1> t = r.G_inv * (r.A.transpose() * (p - g.q[0]));
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2, 1> t =
+        r.G_inv * (r.A.transpose() * (p - g.q[0]));
     r.a = g.q[0] + r.A * t;
     r.beta[0] = 1.0 - t.sum();
     r.beta.segment(1, c) = t;
@@ -86,13 +87,16 @@ Matrix12d penalty_hessian_full(const Eigen::Vector3d& p, const FeatureGeometry& 
   const int c = g.m - 1;
   Eigen::Matrix<double, 3, 12> U;
   U.leftCols<3>().setIdentity();
-  for (int i = 0; i < 3; ++i) U.middleCols<3>(3 * (i + 1)) = -r.beta[i] * Eigen::Matrix3d::Identity();
-  Eigen::Matrix<double, Eigen::Dynamic, 12, 0, 2, 12> W = Eigen::Matrix<double, Eigen::Dynamic, 12, 0, 2, 12>::Zero(c, 12);
+  for (int i = 0; i < 3; ++i)
+    U.middleCols<3>(3 * (i + 1)) = -r.beta[i] * Eigen::Matrix3d::Identity();
+  Eigen::Matrix<double, Eigen::Dynamic, 12, 0, 2, 12> W =
+      Eigen::Matrix<double, Eigen::Dynamic, 12, 0, 2, 12>::Zero(c, 12);
   for (int j = 0; j < c; ++j) {
     W.block<1, 3>(j, 3) = -r.d.transpose();
     W.block<1, 3>(j, 3 * (j + 2)) = r.d.transpose();
   }
-  const Eigen::Matrix<double, Eigen::Dynamic, 12, 0, 2, 12> J_t = r.G_inv * (W + r.A.transpose() * U);
+  const Eigen::Matrix<double, Eigen::Dynamic, 12, 0, 2, 12> J_t =
+      r.G_inv * (W + r.A.transpose() * U);
   const Eigen::Matrix<double, 3, 12> J_d = r.P_perp * U - r.A * (r.G_inv * W);
   Eigen::Matrix<double, 3, 12> J_beta = Eigen::Matrix<double, 3, 12>::Zero();
   for (int j = 0; j < c; ++j) {

@@ -9,7 +9,8 @@ namespace palpa::contact::detail {
 namespace {
 
 // Squared distance from p to the box [lo, hi] (0 inside).
-double box_distance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+double box_distance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo,
+                     const Eigen::Vector3d& hi) {
   const Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(0.0);
   return d.squaredNorm();
 }
@@ -70,7 +71,8 @@ int Bvh::build_node(int begin, int end, std::vector<Eigen::Vector3d>& centroid) 
 void Bvh::store_corners(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
   corner_.resize(3 * order_.size());
   for (std::size_t s = 0; s < order_.size(); ++s) {
-    for (int k = 0; k < 3; ++k) corner_[3 * s + static_cast<std::size_t>(k)] = V.row(F(order_[s], k));
+    for (int k = 0; k < 3; ++k)
+      corner_[3 * s + static_cast<std::size_t>(k)] = V.row(F(order_[s], k));
   }
 }
 

@@ -18,7 +18,9 @@ using Iterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
-Point to_point(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+Point to_point(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
 }  // namespace
 
 struct CgalTree::Impl {
