@@ -26,4 +26,14 @@ CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double&
   return opt;
 }
 
+void require_empty_output(const std::filesystem::path& out, std::string_view what) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(out, ec) && !std::filesystem::is_empty(out, ec)) {
+    throw_input_error(fmt::format("output folder '{}' is not empty", out.string()),
+                      ErrorContext{out.string(), 0, 0, "option -o"},
+                      fmt::format("a new or empty folder, --resume to continue an interrupted {} there, or --overwrite",
+                                  what));
+  }
+}
+
 }  // namespace palpa::cli

@@ -3,7 +3,9 @@
 // conventions every command follows (SI inside, units required at the edge).
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "palpa/core/units.hpp"
 
@@ -15,5 +17,10 @@ namespace palpa::cli {
 // The help text gets the dimension and an example appended.
 CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double& target,
                                  Dimension dimension, const std::string& description);
+
+// Refuses (palpa::Error, Input, naming option -o) an output folder that
+// exists and is not empty: `what` ("fit", "simulation") names the run that
+// --resume would continue there.
+void require_empty_output(const std::filesystem::path& out, std::string_view what);
 
 }  // namespace palpa::cli

@@ -43,11 +43,6 @@ struct FitArgs {
   std::string command_line;
 };
 
-bool folder_has_files(const std::filesystem::path& p) {
-  std::error_code ec;
-  return std::filesystem::is_directory(p, ec) && !std::filesystem::is_empty(p, ec);
-}
-
 }  // namespace
 
 fit::FitOptions fit_options_from(const std::string& model, const std::string& optimizer, const std::string& element) {
@@ -126,11 +121,7 @@ void run_fit_command(const FitArgs& a) {
   o.modulus_only = a.modulus_only;
   if (!a.initial.empty()) o.initial = material::read_material_file(a.initial).material;
   const std::filesystem::path out = a.output;
-  if (!a.resume && !a.overwrite && folder_has_files(out)) {
-    throw_input_error(fmt::format("output folder '{}' is not empty", out.string()),
-                      ErrorContext{out.string(), 0, 0, "option -o"},
-                      "a new or empty folder, --resume to continue an interrupted fit there, or --overwrite");
-  }
+  if (!a.resume && !a.overwrite) require_empty_output(out, "fit");
   if (a.resume && !std::filesystem::exists(out / "checkpoint.json")) {
     throw_input_error(fmt::format("there is no checkpoint in '{}'", out.string()),
                       ErrorContext{(out / "checkpoint.json").string(), 0, 0, "option --resume"},

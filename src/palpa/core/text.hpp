@@ -29,4 +29,8 @@ std::optional<long long> parse_integer(std::string_view s) noexcept;
 // Lower-case ASCII copy.
 std::string to_lower(std::string_view s);
 
+// A fingerprint of `text`: 64-bit FNV-1a in 16 hex digits, stable across runs
+// and builds (checkpoints use it to recognize their inputs).
+std::string fingerprint(std::string_view text);
+
 }  // namespace palpa

@@ -1,5 +1,7 @@
 #include "palpa/fit/checkpoint.hpp"
 
+#include "palpa/core/text.hpp"
+
 #include <fmt/format.h>
 
 #include <fstream>
@@ -17,16 +19,6 @@ std::string file_text(const std::filesystem::path& p) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-// 64-bit FNV-1a, printed in hex: stable across runs and builds.
-std::string fnv1a(const std::string& text) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (const unsigned char c : text) {
-    h ^= c;
-    h *= 1099511628211ULL;
-  }
-  return fmt::format("{:016x}", h);
 }
 
 Json vector_json(const Eigen::VectorXd& v) { return Json(std::vector<double>(v.data(), v.data() + v.size())); }
@@ -62,7 +54,7 @@ Checkpoint::Checkpoint(std::filesystem::path path, const Dataset& d, const FitOp
             {"smoothing", o.smoothing},
             {"initial", material::material_to_json(initial)}};
   text += "\n--\n" + opts.dump();
-  fingerprint_ = fnv1a(text);
+  fingerprint_ = palpa::fingerprint(text);
   doc_ = Json{{"palpa_fit_checkpoint", 1}, {"fingerprint", fingerprint_}, {"guesses", Json::object()}};
 }
 

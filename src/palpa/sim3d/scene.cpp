@@ -1,0 +1,322 @@
+#include "palpa/sim3d/scene.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <map>
+#include <set>
+
+#include "palpa/core/json.hpp"
+#include "palpa/material/material_file.hpp"
+#include "palpa/sim3d/shapes.hpp"
+#include "palpa/tet/mesh.hpp"
+
+namespace palpa::sim3d {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+Eigen::Vector3d quantity3(const JsonView& v, Dimension d) {
+  if (!v.is_array() || v.size() != 3) v.fail("expected 3 values", fmt::format("[x, y, z] in {}", si_unit(d)));
+  return {v.at(std::size_t{0}).as_quantity(d), v.at(std::size_t{1}).as_quantity(d), v.at(std::size_t{2}).as_quantity(d)};
+}
+
+Eigen::Vector3d number3(const JsonView& v) {
+  const std::vector<double> a = v.as_number_array();
+  if (a.size() != 3) v.fail(fmt::format("expected 3 numbers, got {}", a.size()), "[x, y, z]");
+  return {a[0], a[1], a[2]};
+}
+
+double positive(const JsonView& v, Dimension d) {
+  const double x = v.as_quantity(d);
+  if (!(x > 0.0)) v.fail("must be > 0", fmt::format("a positive {}", dimension_name(d)));
+  return x;
+}
+
+fs::path resolve(const fs::path& base, const std::string& p) {
+  const fs::path q(p);
+  return q.is_absolute() ? q : base.parent_path() / q;
+}
+
+int axis_of(const JsonView& v) {
+  const std::string a = v.as_string();
+  if (a == "x") return 0;
+  if (a == "y") return 1;
+  if (a == "z") return 2;
+  v.fail(fmt::format("unknown axis '{}'", a), "\"x\", \"y\" or \"z\"");
+}
+
+std::array<bool, 3> components_of(const JsonView& v) {
+  const std::string s = v.as_string();
+  std::array<bool, 3> c{false, false, false};
+  for (char ch : s) {
+    if (ch < 'x' || ch > 'z') v.fail(fmt::format("'{}' is not a set of components", s), "letters from \"xyz\"");
+    c[static_cast<std::size_t>(ch - 'x')] = true;
+  }
+  if (!(c[0] || c[1] || c[2])) v.fail("no component given", "letters from \"xyz\"");
+  return c;
+}
+
+SurfaceMesh read_shape(const JsonView& shape, const fs::path& scene_file) {
+  shape.expect_only({"cylinder", "box", "sphere", "file", "unit"});
+  if (const auto c = shape.find("cylinder")) {
+    c->expect_only({"radius", "height", "segments"});
+    const int seg = c->has("segments") ? static_cast<int>(c->at("segments").as_integer()) : 64;
+    return make_cylinder(positive(c->at("radius"), Dimension::Length), positive(c->at("height"), Dimension::Length), seg);
+  }
+  if (const auto b = shape.find("box")) {
+    b->expect_only({"size", "divisions"});
+    const int n = b->has("divisions") ? static_cast<int>(b->at("divisions").as_integer()) : 4;
+    return make_box_surface(quantity3(b->at("size"), Dimension::Length), n);
+  }
+  if (const auto s = shape.find("sphere")) {
+    s->expect_only({"radius", "level"});
+    const int level = s->has("level") ? static_cast<int>(s->at("level").as_integer()) : 3;
+    return make_sphere(positive(s->at("radius"), Dimension::Length), level);
+  }
+  if (const auto f = shape.find("file")) {
+    MeshReadOptions opt;
+    if (const auto u = shape.find("unit")) opt.unit_to_si = parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
+    return read_surface_mesh(resolve(scene_file, f->as_string()), opt);
+  }
+  shape.fail("no shape given", "one of \"cylinder\", \"box\", \"sphere\", \"file\"");
+}
+
+}  // namespace
+
+Scene read_scene(const fs::path& path) {
+  const Json doc = read_json_file(path);
+  const JsonView root(doc, path.string());
+  root.expect_only({"palpa_scene", "body", "gravity", "obstacles", "steps", "contact", "solver", "dynamics",
+                    "local", "output"});
+  if (root.at("palpa_scene").as_integer() != 1) root.at("palpa_scene").fail("unsupported version", "1");
+  Scene s;
+  s.file = path;
+
+  // ---- body
+  const JsonView body = root.at("body");
+  body.expect_only({"box", "mesh", "unit", "materials", "fixed"});
+  std::map<std::string, std::vector<int>> sets;
+  if (const auto box = body.find("box")) {
+    if (body.has("mesh")) body.fail("both \"box\" and \"mesh\" given", "one of them");
+    box->expect_only({"size", "cells"});
+    const Eigen::Vector3d size = quantity3(box->at("size"), Dimension::Length);
+    if (!(size.minCoeff() > 0.0)) box->at("size").fail("sizes must be > 0", "three positive lengths");
+    const std::vector<double> cells = box->at("cells").as_number_array();
+    if (cells.size() != 3 || std::any_of(cells.begin(), cells.end(), [](double c) { return c < 1 || c != std::floor(c) || c > 1000; })) {
+      box->at("cells").fail("expected 3 whole numbers from 1 to 1000", "[nx, ny, nz]");
+    }
+    const Eigen::Vector3d lo(-size[0] / 2, -size[1] / 2, -size[2]);
+    const Eigen::Vector3d hi(size[0] / 2, size[1] / 2, 0.0);
+    tet::BoxMesh b = tet::make_box_mesh(lo, hi, Eigen::Vector3i(int(cells[0]), int(cells[1]), int(cells[2])));
+    s.mesh = std::move(b.mesh);
+    sets = std::move(b.vertex_sets);
+    s.mesh_name = fmt::format("{}: body.box", path.string());
+    s.is_box = true;
+  } else {
+    const JsonView m = body.at("mesh");
+    MeshReadOptions opt;
+    if (const auto u = body.find("unit")) opt.unit_to_si = parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
+    const fs::path mesh_path = resolve(path, m.as_string());
+    s.mesh = read_tet_mesh(mesh_path, opt);
+    s.mesh_name = mesh_path.string();
+  }
+  tet::prepare_tet_mesh(s.mesh, s.mesh_name);
+
+  // Materials per region.
+  const JsonView mats = body.at("materials");
+  if (mats.size() == 0) mats.fail("no material given", "at least one {\"material\": ..., \"density\": ...}");
+  const Eigen::Index nt = s.mesh.T.rows();
+  const Eigen::VectorXi region = s.mesh.region.size() == nt ? s.mesh.region : Eigen::VectorXi::Zero(nt);
+  std::set<int> regions(region.data(), region.data() + region.size());
+  s.element_material = Eigen::VectorXi::Constant(nt, -1);
+  for (std::size_t k = 0; k < mats.size(); ++k) {
+    const JsonView mk = mats.at(k);
+    mk.expect_only({"material", "density", "regions"});
+    tet::BodyMaterial bm;
+    const JsonView mv = mk.at("material");
+    if (mv.is_object()) {
+      bm.material = material::material_from_json(mv);
+    } else {
+      bm.material = material::read_material_file(resolve(path, mv.as_string())).material;
+    }
+    bm.density = mk.has("density") ? mk.at("density").as_quantity(Dimension::Density) : 1000.0;
+    if (!(bm.density >= 0.0)) mk.at("density").fail("must be ≥ 0", "a density such as \"1000 kg/m^3\"");
+    std::set<int> mine;
+    if (const auto r = mk.find("regions")) {
+      for (double v : r->as_number_array()) {
+        if (!regions.count(static_cast<int>(v)) || v != std::floor(v)) {
+          r->fail(fmt::format("region {} is not in the mesh", v), "region ids of the mesh's tets");
+        }
+        mine.insert(static_cast<int>(v));
+      }
+    } else {
+      mine = regions;
+    }
+    for (Eigen::Index e = 0; e < nt; ++e) {
+      if (!mine.count(region[e])) continue;
+      if (s.element_material[e] >= 0) {
+        mk.fail(fmt::format("region {} already has material {}", region[e], s.element_material[e]),
+                "each region in one material's \"regions\"");
+      }
+      s.element_material[e] = static_cast<int>(k);
+    }
+    s.materials.push_back(std::move(bm));
+  }
+  for (Eigen::Index e = 0; e < nt; ++e) {
+    if (s.element_material[e] < 0) {
+      mats.fail(fmt::format("region {} (tetrahedron {}) has no material", region[e], e), "a material for every region");
+    }
+  }
+
+  // Fixed vertex sets.
+  const tet::Boundary boundary = tet::boundary_of(s.mesh);
+  sets["boundary"] = boundary.vertices;
+  for (Eigen::Index f = 0; f < s.mesh.boundary_marker.size() && f < s.mesh.boundary.rows(); ++f) {
+    auto& v = sets[fmt::format("marker:{}", s.mesh.boundary_marker[f])];
+    for (int c = 0; c < 3; ++c) v.push_back(s.mesh.boundary(f, c));
+  }
+  if (const auto fixed = body.find("fixed")) {
+    for (std::size_t i = 0; i < fixed->size(); ++i) {
+      const JsonView fi = fixed->at(i);
+      fi.expect_only({"set", "below", "above", "axis", "components"});
+      FixedSpec spec;
+      if (const auto c = fi.find("components")) spec.components = components_of(*c);
+      const std::string comps = std::string(spec.components[0] ? "x" : "") + (spec.components[1] ? "y" : "") +
+                                (spec.components[2] ? "z" : "");
+      if (const auto name = fi.find("set")) {
+        const std::string n = name->as_string();
+        const auto it = sets.find(n);
+        if (it == sets.end()) {
+          std::string known;
+          for (const auto& [k, v] : sets) known += (known.empty() ? "" : ", ") + k;
+          name->fail(fmt::format("unknown vertex set '{}'", n), "one of: " + known);
+        }
+        spec.vertices = it->second;
+        spec.description = fmt::format("{} ({})", n, comps);
+      } else {
+        const bool below = fi.has("below");
+        if (below == fi.has("above")) fi.fail("need exactly one of \"set\", \"below\", \"above\"");
+        const JsonView lim = fi.at(below ? "below" : "above");
+        const double value = lim.as_quantity(Dimension::Length);
+        const int axis = axis_of(fi.at("axis"));
+        for (Eigen::Index v = 0; v < s.mesh.V.rows(); ++v) {
+          const double x = s.mesh.V(v, axis);
+          if (below ? x <= value : x >= value) spec.vertices.push_back(static_cast<int>(v));
+        }
+        spec.description = fmt::format("{} {} {} mm ({})", "xyz"[axis], below ? "≤" : "≥", value * 1e3, comps);
+      }
+      std::sort(spec.vertices.begin(), spec.vertices.end());
+      spec.vertices.erase(std::unique(spec.vertices.begin(), spec.vertices.end()), spec.vertices.end());
+      if (spec.vertices.empty()) fi.fail("selects no vertex", "a set with at least one vertex");
+      s.fixed.push_back(std::move(spec));
+    }
+  }
+
+  if (const auto g = root.find("gravity")) s.gravity = quantity3(*g, Dimension::Acceleration);
+
+  // ---- obstacles
+  bool any_path = false;
+  if (const auto obs = root.find("obstacles")) {
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < obs->size(); ++i) {
+      const JsonView oi = obs->at(i);
+      oi.expect_only({"name", "shape", "position", "rotation", "path"});
+      ObstacleSpec o;
+      o.name = oi.has("name") ? oi.at("name").as_string() : fmt::format("obstacle{}", i);
+      if (o.name.empty() || o.name.find_first_of("/\\ ") != std::string::npos || !names.insert(o.name).second) {
+        oi.at("name").fail(fmt::format("'{}' is empty, repeated or has a space or slash", o.name),
+                           "a unique name usable in file names");
+      }
+      o.mesh = read_shape(oi.at("shape"), path);
+      if (const auto p = oi.find("position")) o.position = quantity3(*p, Dimension::Length);
+      if (const auto r = oi.find("rotation")) {
+        r->expect_only({"axis", "angle"});
+        const Eigen::Vector3d axis = number3(r->at("axis"));
+        if (!(axis.norm() > 0.0)) r->at("axis").fail("zero axis", "a non-zero direction");
+        o.rotation = Eigen::AngleAxisd(r->at("angle").as_quantity(Dimension::Angle), axis.normalized()).toRotationMatrix();
+      }
+      if (const auto p = oi.find("path")) {
+        p->expect_only({"direction", "depth"});
+        const Eigen::Vector3d dir = number3(p->at("direction"));
+        if (!(dir.norm() > 0.0)) p->at("direction").fail("zero direction", "a non-zero direction");
+        o.direction = dir.normalized();
+        o.depth = p->at("depth").as_quantity(Dimension::Length);
+        if (!(o.depth > 0.0)) p->at("depth").fail("must be > 0", "a positive length");
+        o.has_path = true;
+        any_path = true;
+      }
+      s.obstacles.push_back(std::move(o));
+    }
+  }
+  if (const auto st = root.find("steps")) {
+    const long long n = st->as_integer();
+    if (n < 1 || n > 100000) st->fail(fmt::format("{} steps", n), "1 to 100000");
+    s.steps = static_cast<int>(n);
+  } else if (any_path) {
+    s.steps = 10;
+  }
+
+  if (const auto c = root.find("contact")) {
+    c->expect_only({"stiffness", "max_penetration"});
+    if (const auto k = c->find("stiffness")) s.contact.stiffness = positive(*k, Dimension::Stiffness);
+    if (const auto p = c->find("max_penetration")) s.contact.max_penetration = positive(*p, Dimension::Length);
+    if (s.contact.stiffness > 0.0 && s.contact.max_penetration > 0.0) {
+      c->fail("both \"stiffness\" and \"max_penetration\" given", "one of them");
+    }
+  }
+  if (const auto sv = root.find("solver")) {
+    sv->expect_only({"line_search", "max_iterations", "force_tolerance"});
+    if (const auto ls = sv->find("line_search")) {
+      const std::string n = ls->as_string();
+      if (n == "backtracking") s.solver.line_search = LineSearchKind::Backtracking;
+      else if (n == "golden") s.solver.line_search = LineSearchKind::GoldenSection;
+      else if (n == "brent") s.solver.line_search = LineSearchKind::Brent;
+      else if (n == "backtracking+brent") s.solver.line_search = LineSearchKind::BacktrackingThenBrent;
+      else ls->fail(fmt::format("unknown line search '{}'", n), "backtracking, golden, brent or backtracking+brent");
+    }
+    if (const auto m = sv->find("max_iterations")) {
+      const long long n = m->as_integer();
+      if (n < 1 || n > 100000) m->fail(fmt::format("{}", n), "1 to 100000");
+      s.solver.max_iterations = static_cast<int>(n);
+    }
+    if (const auto t = sv->find("force_tolerance")) s.solver.force_tolerance = positive(*t, Dimension::Force);
+  }
+  if (const auto d = root.find("dynamics")) {
+    d->expect_only({"time_step", "mass_damping", "stiffness_damping", "max_steps", "settle"});
+    s.dynamics.enabled = true;
+    if (const auto v = d->find("time_step")) s.dynamics.time_step = positive(*v, Dimension::Time);
+    if (const auto v = d->find("mass_damping")) s.dynamics.mass_damping = v->as_quantity(Dimension::Frequency);
+    if (const auto v = d->find("stiffness_damping")) s.dynamics.stiffness_damping = v->as_quantity(Dimension::Time);
+    if (s.dynamics.mass_damping < 0.0 || s.dynamics.stiffness_damping < 0.0) d->fail("damping must be ≥ 0");
+    if (const auto v = d->find("max_steps")) {
+      const long long n = v->as_integer();
+      if (n < 1 || n > 1000000) v->fail(fmt::format("{}", n), "1 to 1000000");
+      s.dynamics.max_steps = static_cast<int>(n);
+    }
+    if (const auto v = d->find("settle")) s.dynamics.settle = positive(*v, Dimension::Length);
+  }
+  if (const auto l = root.find("local")) {
+    l->expect_only({"margin"});
+    s.local.enabled = true;
+    if (const auto m = l->find("margin")) s.local.margin = positive(*m, Dimension::Length);
+    if (s.obstacles.empty()) l->fail("a local simulation needs an obstacle to be local to");
+  }
+  if (const auto o = root.find("output")) {
+    o->expect_only({"frames_every"});
+    if (const auto f = o->find("frames_every")) {
+      const long long n = f->as_integer();
+      if (n < 0) f->fail(fmt::format("{}", n), "0 (no frames) or a positive number of steps");
+      s.frames_every = static_cast<int>(n);
+    }
+  }
+  if (s.fixed.empty() && s.obstacles.empty()) {
+    body.fail("the body is neither fixed nor touched by an obstacle: it has no equilibrium",
+              "a \"fixed\" set or an obstacle");
+  }
+  return s;
+}
+
+}  // namespace palpa::sim3d

@@ -1,0 +1,27 @@
+#include "scene_fixtures.hpp"
+
+#include <fmt/format.h>
+
+namespace palpa::sim3d::test {
+
+std::string punch_scene_json(const PunchScene& p) {
+  return fmt::format(R"({{
+  "palpa_scene": 1,
+  "body": {{
+    "box": {{"size": {}, "cells": {}}},
+    "materials": [{{"material": {}, "density": "1000 kg/m^3"}}],
+    "fixed": [{{"set": "bottom"}}]
+  }},
+  "obstacles": [{{"name": "punch", "shape": {}, "path": {{"direction": [0, 0, -1], "depth": "{}"}}}}],
+  "steps": {},
+  "contact": {}{}
+}})",
+                     p.size_mm, p.cells, p.material, p.shape, p.depth, p.steps, p.contact, p.extra);
+}
+
+std::filesystem::path write_punch_scene(const palpa::test::ScratchDir& dir, const PunchScene& p,
+                                        const std::string& name) {
+  return dir.write(name, punch_scene_json(p));
+}
+
+}  // namespace palpa::sim3d::test

@@ -1,0 +1,125 @@
+// Scenes: reading and refusing bad ones, and running with interruption and
+// resume (bit-identical to an uninterrupted run).
+#include <gtest/gtest.h>
+
+#include "common/test_support.hpp"
+#include "palpa/core/json.hpp"
+#include "palpa/io/csv.hpp"
+#include "palpa/io/mesh.hpp"
+#include "palpa/sim3d/run.hpp"
+#include "palpa/sim3d/scene.hpp"
+#include "palpa/sim3d/shapes.hpp"
+#include "palpa/tet/mesh.hpp"
+#include "scene_fixtures.hpp"
+
+namespace palpa::sim3d {
+namespace {
+
+using palpa::test::ScratchDir;
+using palpa::test::throws_error;
+using test::PunchScene;
+using test::write_punch_scene;
+
+TEST(Scene, ReadsABoxScene) {
+  ScratchDir dir;
+  const Scene s = read_scene(write_punch_scene(dir, PunchScene{}));
+  EXPECT_EQ(s.mesh.T.rows(), 6 * 8 * 8 * 3);
+  EXPECT_EQ(s.fixed.size(), 1u);
+  EXPECT_EQ(s.fixed[0].vertices.size(), 81u);
+  ASSERT_EQ(s.obstacles.size(), 1u);
+  EXPECT_TRUE(s.obstacles[0].has_path);
+  EXPECT_DOUBLE_EQ(s.obstacles[0].depth, 1e-3);
+  EXPECT_DOUBLE_EQ(s.contact.max_penetration, 5e-5);
+  EXPECT_EQ(s.steps, 4);
+  // The box's top face is at z = 0, centred.
+  EXPECT_DOUBLE_EQ(s.mesh.V.col(2).maxCoeff(), 0.0);
+  EXPECT_DOUBLE_EQ(s.mesh.V.col(0).minCoeff(), -0.02);
+}
+
+TEST(Scene, RefusesUnknownSetsMembersAndRegionsWithoutMaterial) {
+  ScratchDir dir;
+  PunchScene p;
+  p.extra = R"(, "gravty": ["0 m/s^2", "0 m/s^2", "-9.81 m/s^2"])";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input, {"gravty"}));
+
+  std::string text = test::punch_scene_json(PunchScene{});
+  text.replace(text.find("\"bottom\""), 8, "\"floor\"");
+  const auto file = dir.write("floor.json", text);
+  EXPECT_TRUE(throws_error([&] { read_scene(file); }, ErrorKind::Input,
+                           {"floor.json", "body.fixed[0].set", "unknown vertex set 'floor'", "bottom"}));
+
+  // A mesh file with two regions, a material for region 0 only.
+  tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d(-0.01, -0.01, -0.01), Eigen::Vector3d(0.01, 0.01, 0.0),
+                                        Eigen::Vector3i(2, 2, 2));
+  box.mesh.region = Eigen::VectorXi::Zero(box.mesh.T.rows());
+  box.mesh.region.tail(6).setOnes();
+  write_tet_mesh(dir / "two.vtu", box.mesh);
+  const auto two = dir.write("two.json", R"({"palpa_scene": 1, "body": {"mesh": "two.vtu",
+      "materials": [{"material": {"model": "neo-hookean", "parameters": {"E": "10 kPa", "nu": 0.3}}, "regions": [0]}],
+      "fixed": [{"below": "-10 mm", "axis": "z"}]}})");
+  EXPECT_TRUE(throws_error([&] { read_scene(two); }, ErrorKind::Input, {"two.json", "region 1", "has no material"}));
+}
+
+TEST(Scene, RefusesInvertedTetsAndAnOpenObstacle) {
+  ScratchDir dir;
+  tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d(-0.01, -0.01, -0.01), Eigen::Vector3d(0.01, 0.01, 0.0),
+                                        Eigen::Vector3i(2, 2, 2));
+  std::swap(box.mesh.T(7, 0), box.mesh.T(7, 1));
+  write_tet_mesh(dir / "bad.vtu", box.mesh);
+  const auto bad = dir.write("bad.json", R"({"palpa_scene": 1, "body": {"mesh": "bad.vtu",
+      "materials": [{"material": {"model": "neo-hookean", "parameters": {"E": "10 kPa", "nu": 0.3}}}],
+      "fixed": [{"set": "boundary"}]}})");
+  EXPECT_TRUE(throws_error([&] { read_scene(bad); }, ErrorKind::Input, {"bad.vtu", "inverted", "tetrahedron 7"}));
+
+  // A box surface with its top face missing is no solid.
+  SurfaceMesh open = make_box_surface(Eigen::Vector3d(0.01, 0.01, 0.01), 1);
+  SurfaceMesh cut;
+  cut.V = open.V;
+  cut.F.resize(open.F.rows() - 2, 3);
+  Eigen::Index k = 0;
+  for (Eigen::Index f = 0; f < open.F.rows(); ++f) {
+    if (f == 2 || f == 3) continue;  // the z = top face's two triangles
+    cut.F.row(k++) = open.F.row(f);
+  }
+  write_surface_mesh(dir / "open.obj", cut);
+  PunchScene p;
+  p.shape = R"({"file": "open.obj"})";
+  const Scene s = read_scene(write_punch_scene(dir, p, "open.json"));
+  EXPECT_TRUE(throws_error([&] { Simulation sim(s); }, ErrorKind::Input, {"obstacle 'punch'", "not closed"}));
+}
+
+TEST(Run, InterruptedAndResumedRunMatchesAnUninterruptedOne) {
+  ScratchDir dir;
+  PunchScene p;
+  p.cells = "[4, 4, 2]";
+  const Scene s = read_scene(write_punch_scene(dir, p));
+  RunOptions whole;
+  whole.out = dir / "whole";
+  whole.progress = Progress::Style::Silent;
+  run(s, whole);
+  const CsvTable a = read_csv(dir / "whole" / "force_punch.csv");
+  EXPECT_FALSE(std::filesystem::exists(dir / "whole" / "state.json"));
+
+  RunOptions part = whole;
+  part.out = dir / "part";
+  part.stop_after_steps = 2;
+  EXPECT_TRUE(throws_error([&] { run(s, part); }, ErrorKind::Interrupted, {"stopped after 2 steps"}));
+  EXPECT_TRUE(std::filesystem::exists(dir / "part" / "state.json"));
+  EXPECT_EQ(read_csv(dir / "part" / "force_punch.csv").rows(), 3u);
+  // Not without --resume …
+  part.stop_after_steps = 0;
+  EXPECT_TRUE(throws_error([&] { run(s, part); }, ErrorKind::Input, {"interrupted run", "--resume"}));
+  part.resume = true;
+  run(s, part);
+  const CsvTable b = read_csv(dir / "part" / "force_punch.csv");
+  ASSERT_EQ(a.rows(), b.rows());
+  for (std::size_t i = 0; i < a.rows(); ++i) EXPECT_EQ(a.column("force_N")[i], b.column("force_N")[i]) << i;
+  EXPECT_GT(a.column("force_N").back(), 0.0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "part" / "state.json"));
+  const Json summary = read_json_file(dir / "part" / "summary.json");
+  EXPECT_TRUE(summary.at("complete").get<bool>());
+  EXPECT_EQ(summary.at("records").size(), 4u);
+}
+
+}  // namespace
+}  // namespace palpa::sim3d
