@@ -121,5 +121,25 @@ TEST(Run, InterruptedAndResumedRunMatchesAnUninterruptedOne) {
   EXPECT_EQ(summary.at("records").size(), 4u);
 }
 
+TEST(Run, DampedDynamicsSettlesToTheStaticForce) {
+  ScratchDir dir;
+  PunchScene p;
+  p.cells = "[4, 4, 2]";
+  p.steps = 2;
+  const Scene statics = read_scene(write_punch_scene(dir, p));
+  p.extra = R"(, "dynamics": {"time_step": "20 ms", "mass_damping": "50 Hz", "max_steps": 2000, "settle": "1e-7 mm"})";
+  const Scene dynamics = read_scene(write_punch_scene(dir, p, "dynamic.json"));
+  ASSERT_TRUE(dynamics.dynamics.enabled);
+  Simulation a(statics), b(dynamics);
+  for (int s = 1; s <= 2; ++s) {
+    const StepRecord ra = a.solve_step(s);
+    const StepRecord rb = b.solve_step(s);
+    EXPECT_GT(rb.solves, 2);  // several implicit steps
+    EXPECT_NEAR(rb.obstacles[0].indentation_force, ra.obstacles[0].indentation_force,
+                1e-4 * ra.obstacles[0].indentation_force)
+        << s;
+  }
+}
+
 }  // namespace
 }  // namespace palpa::sim3d
