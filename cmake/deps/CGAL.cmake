@@ -1,0 +1,4 @@
+# CGAL 5.5 (header-only, with GMP/MPFR). Only src/palpa/mesh/detail/cgal_surface.cpp
+# includes it. CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE: the presets choose it.
+set(CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE TRUE)
+find_package(CGAL 5.5 REQUIRED)

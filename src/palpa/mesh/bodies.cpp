@@ -1,0 +1,273 @@
+#include "palpa/mesh/bodies.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numbers>
+
+#include "palpa/core/error.hpp"
+#include "palpa/core/units.hpp"
+#include "palpa/mesh/surface_check.hpp"
+
+namespace palpa::mesh {
+namespace {
+
+using Level = std::function<double(const Eigen::Vector3d&)>;
+
+struct Shape {
+  Level level;
+  Eigen::Vector3d centre;  // the body is star-shaped about it
+  double reach;            // every surface point is within this of the centre [m]
+  double smallest;         // smallest feature size [m]
+};
+
+// Smooth union of two level functions with blending width k [m] (polynomial
+// smooth minimum).
+double smooth_min(double a, double b, double k) {
+  const double h = std::max(k - std::abs(a - b), 0.0) / k;
+  return std::min(a, b) - h * h * k / 4.0;
+}
+
+// Ellipsoid level: (|(x − c)/a| − 1)·min(a), negative inside.
+double ellipsoid(const Eigen::Vector3d& p, const Eigen::Vector3d& c, const Eigen::Vector3d& a) {
+  return ((p - c).cwiseQuotient(a).norm() - 1.0) * a.minCoeff();
+}
+
+Eigen::Vector3d default_size(BodyShape shape) {
+  switch (shape) {
+    case BodyShape::Sphere: return {0.1, 0.1, 0.1};
+    case BodyShape::RoundedBlock: return {0.1, 0.06, 0.04};
+    case BodyShape::Thigh: return {0.4, 0.16, 0.14};
+    case BodyShape::Foot: return {0.26, 0.0, 0.0};
+  }
+  return {0.1, 0.1, 0.1};
+}
+
+Eigen::Vector3d size_of(const BodyOptions& o) {
+  Eigen::Vector3d size = o.size;
+  const Eigen::Vector3d d = default_size(o.shape);
+  if (size.isZero()) size = d;
+  if (o.shape == BodyShape::Sphere) size = Eigen::Vector3d::Constant(size.x());
+  if (o.shape == BodyShape::Foot) size = Eigen::Vector3d(size.x(), 0.38 * size.x(), 0.6 * size.x());
+  return size;
+}
+
+double radius_of(const BodyOptions& o, const Eigen::Vector3d& size) {
+  return o.radius > 0.0 ? o.radius : std::min(0.01, size.minCoeff() / 3.0);
+}
+
+Shape shape_of(const BodyOptions& o) {
+  const Eigen::Vector3d size = size_of(o);
+  switch (o.shape) {
+    case BodyShape::Sphere: {
+      const double r = size.x() / 2.0;
+      return {[r](const Eigen::Vector3d& p) { return p.norm() - r; }, Eigen::Vector3d::Zero(),
+              1.01 * r, r};
+    }
+    case BodyShape::RoundedBlock: {
+      const double r = radius_of(o, size);
+      const Eigen::Vector3d inner = size / 2.0 - Eigen::Vector3d::Constant(r);
+      return {[inner, r](const Eigen::Vector3d& p) {
+                const Eigen::Vector3d q = p.cwiseAbs() - inner;
+                return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0) - r;
+              },
+              Eigen::Vector3d::Zero(), 1.01 * (size / 2.0).norm(), size.minCoeff()};
+    }
+    case BodyShape::Thigh: {
+      const Eigen::Vector3d a = size / 2.0;
+      return {[a](const Eigen::Vector3d& p) { return ellipsoid(p, Eigen::Vector3d::Zero(), a); },
+              Eigen::Vector3d::Zero(), 1.01 * a.maxCoeff(), 2.0 * a.minCoeff()};
+    }
+    case BodyShape::Foot: {
+      const double L = size.x();
+      // Proportions of an adult foot: sole 0.38 L wide, ankle stump to 0.6 L.
+      const Level level = [L](const Eigen::Vector3d& p) {
+        const double sole = ellipsoid(p, L * Eigen::Vector3d(0.52, 0.0, 0.09),
+                                      L * Eigen::Vector3d(0.40, 0.17, 0.085));
+        const double heel = ellipsoid(p, L * Eigen::Vector3d(0.17, 0.0, 0.12),
+                                      L * Eigen::Vector3d(0.16, 0.13, 0.12));
+        const double toes = ellipsoid(p, L * Eigen::Vector3d(0.80, 0.015, 0.065),
+                                      L * Eigen::Vector3d(0.19, 0.19, 0.065));
+        const double ankle = ellipsoid(p, L * Eigen::Vector3d(0.22, 0.0, 0.36),
+                                       L * Eigen::Vector3d(0.13, 0.12, 0.26));
+        const double k = 0.08 * L;
+        return smooth_min(smooth_min(smooth_min(sole, heel, k), toes, k), ankle, k);
+      };
+      return {level, L * Eigen::Vector3d(0.3, 0.0, 0.13), 0.8 * L, 0.12 * L};
+    }
+  }
+  return {};
+}
+
+Eigen::Vector3d gradient(const Level& f, const Eigen::Vector3d& p, double h) {
+  Eigen::Vector3d g;
+  for (int c = 0; c < 3; ++c) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e(c) = h;
+    g(c) = (f(p + e) - f(p - e)) / (2.0 * h);
+  }
+  return g;
+}
+
+// Newton steps along the gradient onto f = 0.
+Eigen::Vector3d project(const Level& f, Eigen::Vector3d p, double h) {
+  for (int it = 0; it < 20; ++it) {
+    const double value = f(p);
+    const Eigen::Vector3d g = gradient(f, p, h);
+    const double g2 = g.squaredNorm();
+    if (!(g2 > 0.0)) break;
+    p -= value / g2 * g;
+    if (std::abs(value) < 1e-12) break;
+  }
+  return p;
+}
+
+// An icosahedron subdivided `level` times on the unit sphere.
+SurfaceMesh unit_icosphere(int level) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> V = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0},
+                                    {0, -1, t}, {0, 1, t},  {0, -1, -t}, {0, 1, -t},
+                                    {t, 0, -1}, {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> F = {
+      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+      {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (auto& v : V) v.normalize();
+  for (int l = 0; l < level; ++l) {
+    std::map<std::pair<int, int>, int> midpoint;
+    const auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      if (const auto it = midpoint.find(key); it != midpoint.end()) return it->second;
+      V.push_back((V[a] + V[b]).normalized());
+      midpoint.emplace(key, static_cast<int>(V.size()) - 1);
+      return static_cast<int>(V.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> next;
+    next.reserve(4 * F.size());
+    for (const auto& f : F) {
+      const int ab = mid(f[0], f[1]), bc = mid(f[1], f[2]), ca = mid(f[2], f[0]);
+      next.push_back({f[0], ab, ca});
+      next.push_back({f[1], bc, ab});
+      next.push_back({f[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    F = std::move(next);
+  }
+  SurfaceMesh m;
+  m.V.resize(static_cast<Eigen::Index>(V.size()), 3);
+  for (std::size_t i = 0; i < V.size(); ++i) m.V.row(Eigen::Index(i)) = V[i].transpose();
+  m.F.resize(static_cast<Eigen::Index>(F.size()), 3);
+  for (std::size_t f = 0; f < F.size(); ++f) m.F.row(Eigen::Index(f)) << F[f][0], F[f][1], F[f][2];
+  return m;
+}
+
+// The last crossing of f from inside to outside along centre + t·d, t in (0, reach].
+double ray_root(const Level& f, const Eigen::Vector3d& centre, const Eigen::Vector3d& d,
+                double reach) {
+  constexpr int kSteps = 200;
+  double outside = reach;
+  double inside = 0.0;
+  for (int s = kSteps - 1; s >= 0; --s) {
+    const double t = reach * s / kSteps;
+    if (f(centre + t * d) < 0.0) {
+      inside = t;
+      outside = reach * (s + 1) / kSteps;
+      break;
+    }
+  }
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (inside + outside);
+    (f(centre + mid * d) < 0.0 ? inside : outside) = mid;
+  }
+  return 0.5 * (inside + outside);
+}
+
+}  // namespace
+
+std::string_view body_shape_name(BodyShape shape) noexcept {
+  switch (shape) {
+    case BodyShape::Sphere: return "sphere";
+    case BodyShape::RoundedBlock: return "rounded-block";
+    case BodyShape::Thigh: return "thigh";
+    case BodyShape::Foot: return "foot";
+  }
+  return "?";
+}
+
+BodyShape parse_body_shape(std::string_view name) {
+  for (BodyShape s :
+       {BodyShape::Sphere, BodyShape::RoundedBlock, BodyShape::Thigh, BodyShape::Foot}) {
+    if (body_shape_name(s) == name) return s;
+  }
+  throw_input_error(fmt::format("unknown body shape '{}'", name), {},
+                    "one of sphere, rounded-block, thigh, foot");
+}
+
+Eigen::VectorXd body_level(const BodyOptions& options, const Eigen::MatrixX3d& P) {
+  const Shape shape = shape_of(options);
+  Eigen::VectorXd values(P.rows());
+  for (Eigen::Index i = 0; i < P.rows(); ++i) values(i) = shape.level(P.row(i).transpose());
+  return values;
+}
+
+double body_volume(const BodyOptions& options) {
+  const Eigen::Vector3d size = size_of(options);
+  const double pi = std::numbers::pi;
+  switch (options.shape) {
+    case BodyShape::Sphere: return pi * std::pow(size.x(), 3) / 6.0;
+    case BodyShape::Thigh: return pi * size.prod() / 6.0;
+    case BodyShape::RoundedBlock: {
+      const double r = radius_of(options, size);
+      const Eigen::Vector3d a = size - Eigen::Vector3d::Constant(2.0 * r);
+      // Box + 6 slabs + 12 quarter cylinders + 8 sphere octants.
+      return a.prod() + 2.0 * r * (a.x() * a.y() + a.y() * a.z() + a.z() * a.x()) +
+             pi * r * r * a.sum() + 4.0 / 3.0 * pi * r * r * r;
+    }
+    case BodyShape::Foot: return std::numeric_limits<double>::quiet_NaN();
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+SurfaceMesh make_body(const BodyOptions& options) {
+  const Eigen::Vector3d size = size_of(options);
+  if (!size.allFinite() || !(size.minCoeff() > 0.0)) {
+    throw_input_error("a body size is not positive", {}, "sizes > 0");
+  }
+  if (options.shape == BodyShape::RoundedBlock &&
+      !(radius_of(options, size) <= size.minCoeff() / 2.0)) {
+    throw_input_error(fmt::format("rounding radius {} exceeds half the smallest size {}",
+                                  format_quantity(options.radius, Dimension::Length),
+                                  format_quantity(size.minCoeff(), Dimension::Length)),
+                      {}, "a radius ≤ half the smallest size");
+  }
+  const Shape shape = shape_of(options);
+  if (!(options.edge_length > 0.0) || !(options.edge_length <= shape.smallest / 4.0)) {
+    throw_input_error(
+        fmt::format("edge length {} for a body whose smallest feature is {}",
+                    format_quantity(options.edge_length, Dimension::Length),
+                    format_quantity(shape.smallest, Dimension::Length)),
+        {}, "an edge length > 0 and at most a quarter of the smallest feature");
+  }
+  // A sphere mesh whose rays sample the body at about the target edge length
+  // (capped: level 6 has 81 920 triangles); remeshing then evens it out.
+  int level = 2;
+  while (level < 6 && shape.reach * 1.1 / std::pow(2.0, level) > options.edge_length) ++level;
+  SurfaceMesh m = unit_icosphere(level);
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
+    const Eigen::Vector3d d = m.V.row(i).transpose();
+    m.V.row(i) = (shape.centre + ray_root(shape.level, shape.centre, d, shape.reach) * d).transpose();
+  }
+  const double h = 1e-6 * shape.reach;
+  SurfaceMesh out = remesh_surface(m, options.edge_length, 5);
+  for (Eigen::Index i = 0; i < out.V.rows(); ++i) {
+    out.V.row(i) = project(shape.level, out.V.row(i).transpose(), h).transpose();
+  }
+  return out;
+}
+
+}  // namespace palpa::mesh
