@@ -147,11 +147,11 @@ TEST(Layer, ADepthLargerThanTheLocalThicknessOrCurvatureRadiusIsRefused) {
   BodyOptions b;  // 100 × 60 × 40 mm block, edges rounded with 10 mm
   b.edge_length = 5e-3;
   const SurfaceMesh block = make_body(b);
-  // 36 mm + one edge does not fit in 40 mm.
+  // 36 mm + two edges do not fit in 40 mm.
   EXPECT_TRUE(throws_error(
       [&] { make_layer(block, DepthSpec{0.036, std::nullopt}, std::nullopt, options()); },
       ErrorKind::Input, {"sphere.obj", "does not fit", "thick there"}));
-  // 18 mm fits, but an inward offset beyond the 10 mm rounding radius folds
+  // 18 mm (+ 10 mm) fits, but an inward offset beyond the 10 mm rounding radius folds
   // the inner surface over itself at the edges.
   EXPECT_TRUE(throws_error(
       [&] { make_layer(block, DepthSpec{0.018, std::nullopt}, std::nullopt, options()); },

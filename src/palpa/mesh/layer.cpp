@@ -148,21 +148,25 @@ Eigen::VectorXd depth_field(const SurfaceMesh& outer, const DepthSpec& spec,
   return geometry::SurfaceInterpolator(outer, s.positions, io).interpolate(s.values);
 }
 
+// The core must stay at least this many edge lengths thick to be meshed.
+constexpr double kMinCoreEdges = 2.0;
+
 void check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& normals,
                      const Eigen::VectorXd& depth, double edge, const std::string& source) {
   const detail::SurfaceQueries queries(outer);
   const double delta = kRayOffset * edge;
+  const double core = kMinCoreEdges * edge;
   for (Eigen::Index i = 0; i < outer.V.rows(); ++i) {
     const Eigen::Vector3d p = outer.V.row(i).transpose();
     const Eigen::Vector3d n = normals.row(i).transpose();
     const auto hit = queries.ray_hit(p - delta * n, -n, -1);
     const double thickness = hit ? delta + *hit : 0.0;
-    if (depth(i) + edge > thickness) {
+    if (depth(i) + core > thickness) {
       throw_input_error(
           fmt::format("the layer depth {} at {} does not fit: the body is {} thick there along "
-                      "the inward normal, and the core needs at least one edge length ({})",
-                      length(depth(i)), format_point(p), length(thickness), length(edge)),
-          in_file(source), "a depth smaller than the local thickness minus one edge length");
+                      "the inward normal, and the core needs at least two edge lengths ({})",
+                      length(depth(i)), format_point(p), length(thickness), length(core)),
+          in_file(source), "a depth smaller than the local thickness minus two edge lengths");
     }
   }
 }
@@ -205,25 +209,35 @@ Eigen::VectorXd distance_to_surface(const SurfaceMesh& surface, const Eigen::Mat
 LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
                      const std::optional<Samples>& stiffness, const LayerOptions& options) {
   LayerMesh layer;
+  const auto stage = [&options](std::string_view name) {
+    if (options.on_stage) options.on_stage(name);
+  };
+  stage("repair");
   const SurfaceMesh repaired = repair_surface(scan);
   check_closed_surface(repaired, options.source);
+  stage("remesh");
   layer.outer = options.edge_length > 0.0
                     ? remesh_surface(repaired, options.edge_length, options.remesh_iterations)
                     : repaired;
   const double edge =
       options.edge_length > 0.0 ? options.edge_length : mean_edge_length(layer.outer);
 
+  stage("depth");
   const Eigen::MatrixX3d normals = geometry::vertex_normals(layer.outer);
   layer.depth = depth_field(layer.outer, depth, options);
   check_thickness(layer.outer, normals, layer.depth, edge, options.source);
+  stage("inner_surface");
   layer.core = inner_surface(layer.outer, normals, layer.depth, options, edge);
 
-  TetQuality quality = options.quality;
+  TetQuality& quality = layer.quality;
+  quality = options.quality;
   if (quality.max_volume == 0.0) quality.max_volume = std::pow(edge, 3) / (6.0 * std::sqrt(2.0));
+  stage("tetrahedralize");
   const std::vector<Eigen::Vector3d> holes = inside_points(layer.core, edge);
   TetMesh raw = detail::tetgen_shells({&layer.outer, &layer.core}, holes, quality);
 
   // Drop tets inside the core (none when the hole points did their job).
+  stage("core");
   const detail::SurfaceQueries core_queries(layer.core);
   std::vector<Eigen::Index> kept;
   for (Eigen::Index t = 0; t < raw.T.rows(); ++t) {
@@ -273,6 +287,7 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
   }
 
   if (stiffness) {
+    stage("stiffness");
     for (Eigen::Index i = 0; i < stiffness->values.size(); ++i) {
       if (!(stiffness->values(i) > 0.0)) {
         throw_input_error(fmt::format("{} has Young's modulus {}", stiffness->labels[i],

@@ -11,8 +11,9 @@
 //     surface (geometry::SurfaceInterpolator, linearly precise biharmonic by
 //     default, clamped to the samples' range);
 //  4. check the depth against the local thickness (the distance along the
-//     inward normal to the opposite side of the body): depth + edge length
-//     must fit, else an input error naming the place;
+//     inward normal to the opposite side of the body): depth + two edge
+//     lengths (the thinnest core that can be meshed) must fit, else an input
+//     error naming the place;
 //  5. push every vertex inward along its angle-weighted normal by its depth,
 //     smooth the result lightly (Taubin, which does not shrink), remesh it, and
 //     verify that it does not intersect itself or the outer surface (an input
@@ -25,7 +26,9 @@
 //     each tet the value at the outer-surface point closest to its centroid.
 
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -57,6 +60,10 @@ struct LayerOptions {
   TetQuality quality;
   // Names the scan in messages.
   std::string source;
+  // Called before each stage with its name ("repair", "remesh", "depth",
+  // "inner_surface", "tetrahedralize", "core", "stiffness"): for progress,
+  // timing and interruption (it may throw, e.g. on Ctrl-C).
+  std::function<void(std::string_view stage)> on_stage;
 };
 
 // Boundary markers of LayerMesh::tets.boundary.
@@ -71,6 +78,7 @@ struct LayerMesh {
   std::vector<Eigen::Index> attached;  // rows of tets.V on the core surface, ascending
   Eigen::VectorXd youngs_modulus;  // #T [Pa], empty without stiffness samples
   Eigen::Index dropped_in_core = 0;  // tets removed because their centroid was in the core
+  TetQuality quality;                // the bounds TetGen was given (max_volume filled in)
 };
 
 // Builds the layer mesh from a scanned surface. Throws palpa::Error (Input)
