@@ -103,22 +103,30 @@ std::vector<Eigen::Vector3d> inside_points(const SurfaceMesh& s, double edge) {
   return points;
 }
 
-// The faces of tets seen by one tet only, outward, with the tet they bound.
+// The faces of tets seen by one tet only, outward (by sorting all faces).
 std::vector<std::array<int, 3>> boundary_faces(const Eigen::MatrixX4i& T) {
   static constexpr int kFace[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  std::map<std::array<int, 3>, std::pair<int, std::array<int, 3>>> faces;
+  struct Face {
+    std::array<int, 3> key;
+    std::array<int, 3> face;
+  };
+  std::vector<Face> faces;
+  faces.reserve(static_cast<std::size_t>(4 * T.rows()));
   for (Eigen::Index t = 0; t < T.rows(); ++t) {
     for (const auto& f : kFace) {
-      const std::array<int, 3> face = {T(t, f[0]), T(t, f[1]), T(t, f[2])};
-      std::array<int, 3> key = face;
-      std::sort(key.begin(), key.end());
-      auto [it, inserted] = faces.try_emplace(key, 1, face);
-      if (!inserted) ++it->second.first;
+      Face x{{}, {T(t, f[0]), T(t, f[1]), T(t, f[2])}};
+      x.key = x.face;
+      std::sort(x.key.begin(), x.key.end());
+      faces.push_back(x);
     }
   }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
   std::vector<std::array<int, 3>> out;
-  for (const auto& [key, value] : faces) {
-    if (value.first == 1) out.push_back(value.second);
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j == i + 1) out.push_back(faces[i].face);
+    i = j;
   }
   return out;
 }
@@ -302,17 +310,22 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
     io.sample_labels = stiffness->labels;
     const Eigen::VectorXd E = geometry::SurfaceInterpolator(layer.outer, stiffness->positions, io)
                                   .interpolate(stiffness->values);
-    layer.youngs_modulus.resize(layer.tets.T.rows());
-    for (Eigen::Index t = 0; t < layer.tets.T.rows(); ++t) {
-      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-      for (int c = 0; c < 4; ++c) centroid += layer.tets.V.row(layer.tets.T(t, c)).transpose() / 4.0;
+    // Each tet vertex takes the value at its closest skin point; each tet the
+    // mean of its corners (one closest-point query per vertex, not per tet).
+    Eigen::VectorXd at_vertex(layer.tets.V.rows());
+    for (Eigen::Index i = 0; i < layer.tets.V.rows(); ++i) {
       geometry::SurfacePoint q;
-      std::tie(q.face, q.position) = outer_queries.closest(centroid);
+      std::tie(q.face, q.position) = outer_queries.closest(layer.tets.V.row(i).transpose());
       q.barycentric = geometry::closest_point_on_triangle(
           q.position, layer.outer.V.row(layer.outer.F(q.face, 0)).transpose(),
           layer.outer.V.row(layer.outer.F(q.face, 1)).transpose(),
           layer.outer.V.row(layer.outer.F(q.face, 2)).transpose());
-      layer.youngs_modulus(t) = geometry::evaluate_at(layer.outer, q, E)(0);
+      at_vertex(i) = geometry::evaluate_at(layer.outer, q, E)(0);
+    }
+    layer.youngs_modulus.resize(layer.tets.T.rows());
+    for (Eigen::Index t = 0; t < layer.tets.T.rows(); ++t) {
+      layer.youngs_modulus(t) = 0.25 * (at_vertex(layer.tets.T(t, 0)) + at_vertex(layer.tets.T(t, 1)) +
+                                        at_vertex(layer.tets.T(t, 2)) + at_vertex(layer.tets.T(t, 3)));
     }
   }
   return layer;

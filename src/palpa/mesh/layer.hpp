@@ -22,8 +22,10 @@
 //     point inside each core component), drop any tet whose centroid is
 //     inside the core (a robust inside test), and mark the vertices on the
 //     core surface as attached;
-//  7. optionally interpolate stiffness samples over the outer surface and give
-//     each tet the value at the outer-surface point closest to its centroid.
+//  7. optionally interpolate stiffness samples over the outer surface; every
+//     tet vertex takes the value at its closest outer-surface point and every
+//     tet the mean of its four corners (constant through the depth, as the
+//     measurements are made from the skin).
 
 #include <Eigen/Core>
 #include <functional>
