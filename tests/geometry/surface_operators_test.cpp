@@ -17,6 +17,18 @@ using palpa::test::square_grid;
 
 constexpr double kRadius = 0.05;  // m
 
+TEST(Icosphere, CountsAndUnitRadius) {
+  for (int level : {0, 1, 3}) {
+    const SurfaceMesh m = icosphere(level, 1.0);
+    EXPECT_EQ(m.V.rows(), 10 * (1 << (2 * level)) + 2);
+    EXPECT_EQ(m.F.rows(), 20 * (1 << (2 * level)));
+    EXPECT_LT((m.V.rowwise().norm().array() - 1.0).abs().maxCoeff(), 1e-15);
+    // Outward winding: every face normal points away from the centre.
+    const Eigen::MatrixX3d n = face_normals(m);
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) EXPECT_GT(n.row(f).dot(m.V.row(m.F(f, 0))), 0.0);
+  }
+}
+
 TEST(SurfaceOperators, AreasSumToTheSphereArea) {
   const SurfaceMesh sphere = icosphere(4, kRadius);
   const double exact = 4.0 * std::numbers::pi * kRadius * kRadius;

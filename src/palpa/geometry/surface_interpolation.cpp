@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "palpa/core/units.hpp"
+#include "palpa/geometry/format.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/solve/sparse_cholesky.hpp"
 
@@ -15,12 +16,6 @@ namespace {
 
 // Relative rank threshold of the linear (affine) fit of the biharmonic method.
 constexpr double kAffineRankThreshold = 1e-8;
-
-std::string format_position(const Eigen::Vector3d& p) {
-  return fmt::format("({}, {}, {})", format_quantity(p.x(), Dimension::Length),
-                     format_quantity(p.y(), Dimension::Length),
-                     format_quantity(p.z(), Dimension::Length));
-}
 
 // Connected components of the triangle graph: component id per vertex, -1 for
 // vertices used by no triangle.
@@ -100,7 +95,7 @@ void SurfaceInterpolator::Impl::locate(const SurfaceMesh& mesh,
     SurfacePoint q = closest_point(mesh, p);
     if (q.distance > options.max_distance) {
       throw_input_error(
-          fmt::format("{} at {} is {} from the surface", label(s), format_position(p),
+          fmt::format("{} at {} is {} from the surface", label(s), format_point(p),
                       format_quantity(q.distance, Dimension::Length)),
           context(),
           fmt::format("a point within {} of the surface (the same length unit and placement "
@@ -113,7 +108,7 @@ void SurfaceInterpolator::Impl::locate(const SurfaceMesh& mesh,
     if (owner[v] >= 0) {
       throw_input_error(
           fmt::format("{} and {} are both nearest to surface vertex {} at {}", label(owner[v]),
-                      label(s), v, format_position(mesh.V.row(v).transpose())),
+                      label(s), v, format_point(mesh.V.row(v).transpose())),
           context(),
           "samples farther apart than the surface's edge length (refine the surface or merge "
           "the samples)");

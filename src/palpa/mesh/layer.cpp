@@ -12,6 +12,7 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/units.hpp"
+#include "palpa/geometry/format.hpp"
 #include "palpa/geometry/closest_point.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/detail/cgal_surface.hpp"
@@ -20,17 +21,14 @@
 namespace palpa::mesh {
 namespace {
 
+using geometry::format_point;
+
 // Taubin smoothing factors (λ, μ): smooth without shrinking.
 constexpr double kTaubinLambda = 0.5;
 constexpr double kTaubinMu = -0.53;
 // Rays start this fraction of an edge inside the surface.
 constexpr double kRayOffset = 1e-3;
 
-std::string format_point(const Eigen::Vector3d& p) {
-  return fmt::format("({}, {}, {})", format_quantity(p.x(), Dimension::Length),
-                     format_quantity(p.y(), Dimension::Length),
-                     format_quantity(p.z(), Dimension::Length));
-}
 std::string length(double v) { return format_quantity(v, Dimension::Length); }
 
 ErrorContext in_file(const std::string& source) {

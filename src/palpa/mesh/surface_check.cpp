@@ -13,18 +13,16 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/units.hpp"
+#include "palpa/geometry/format.hpp"
 #include "palpa/mesh/detail/cgal_surface.hpp"
 
 namespace palpa::mesh {
 namespace {
 
+using geometry::format_point;
+
 constexpr double kRelativeMergeTolerance = 1e-9;
 
-std::string format_point(const Eigen::Vector3d& p) {
-  return fmt::format("({}, {}, {})", format_quantity(p.x(), Dimension::Length),
-                     format_quantity(p.y(), Dimension::Length),
-                     format_quantity(p.z(), Dimension::Length));
-}
 
 ErrorContext in_file(const std::string& source) {
   ErrorContext c;
