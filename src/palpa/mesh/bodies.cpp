@@ -215,10 +215,15 @@ SurfaceMesh make_body(const BodyOptions& options) {
                     format_quantity(shape.smallest, Dimension::Length)),
         {}, "an edge length > 0 and at most a quarter of the smallest feature");
   }
-  // A sphere mesh whose rays sample the body at about the target edge length
-  // (capped: level 6 has 81 920 triangles); remeshing then evens it out.
+  // A sphere mesh whose rays sample the body at about 1.5 target edge lengths
+  // (capped: level 6 has 81 920 triangles); remeshing refines and evens it out
+  // and the final projection puts every vertex back on the level set.
+  constexpr double kSamplingEdges = 1.5;
   int level = 2;
-  while (level < 6 && shape.reach * 1.1 / std::pow(2.0, level) > options.edge_length) ++level;
+  while (level < 6 &&
+         shape.reach * 1.1 / std::pow(2.0, level) > kSamplingEdges * options.edge_length) {
+    ++level;
+  }
   SurfaceMesh m = geometry::unit_icosphere(level);
   for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
     const Eigen::Vector3d d = m.V.row(i).transpose();
