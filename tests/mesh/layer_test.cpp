@@ -186,6 +186,11 @@ TEST(Layer, OpenOrSelfIntersectingScansAndSamplesOffTheSurfaceAreRefused) {
   EXPECT_TRUE(throws_error(
       [&] { make_layer(sphere(10e-3), DepthSpec{0.0, off}, std::nullopt, options()); },
       ErrorKind::Input, {"depths.csv", "the sample on line 3", "from the surface"}));
+  off.source = "moduli.csv";
+  off.values = Eigen::Vector2d(5e3, -1e3);
+  EXPECT_TRUE(throws_error(
+      [&] { make_layer(sphere(10e-3), DepthSpec{0.01, std::nullopt}, off, options()); },
+      ErrorKind::Input, {"moduli.csv", "the sample on line 3", "Young's modulus"}));
 }
 
 }  // namespace

@@ -154,6 +154,24 @@ Eigen::VectorXd depth_field(const SurfaceMesh& outer, const DepthSpec& spec,
   return geometry::SurfaceInterpolator(outer, s.positions, io).interpolate(s.values);
 }
 
+// Stiffness samples interpolated to the outer vertices [Pa].
+Eigen::VectorXd stiffness_field(const SurfaceMesh& outer, const Samples& samples,
+                                const LayerOptions& options) {
+  for (Eigen::Index i = 0; i < samples.values.size(); ++i) {
+    if (!(samples.values(i) > 0.0)) {
+      throw_input_error(fmt::format("{} has Young's modulus {}", samples.labels[i],
+                                    format_quantity(samples.values(i), Dimension::Pressure)),
+                        in_file(samples.source).with_field(samples.field), "a modulus > 0");
+    }
+  }
+  geometry::InterpolationOptions io;
+  io.method = options.interpolation;
+  io.max_distance = options.max_sample_distance;
+  io.source = samples.source;
+  io.sample_labels = samples.labels;
+  return geometry::SurfaceInterpolator(outer, samples.positions, io).interpolate(samples.values);
+}
+
 // The core must stay at least this many edge lengths thick to be meshed.
 constexpr double kMinCoreEdges = 2.0;
 
@@ -187,8 +205,7 @@ SurfaceMesh inner_surface(const SurfaceMesh& outer, const Eigen::MatrixX3d& norm
   if (options.edge_length > 0.0) inner = remesh_surface(inner, edge, options.remesh_iterations);
   if (const auto pair = detail::cgal_self_intersection(inner)) {
     const Eigen::Vector3d at = inner.V.row(inner.F(pair->first, 0)).transpose();
-    const auto [face, on_outer] = detail::SurfaceQueries(outer).closest(at);
-    (void)face;
+    const Eigen::Vector3d on_outer = detail::SurfaceQueries(outer).closest(at).second;
     throw_input_error(
         fmt::format("the inner surface would intersect itself near {} (under the outer surface "
                     "at {}): the depth there is too large for the curvature of the body",
@@ -232,6 +249,9 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
   const Eigen::MatrixX3d normals = geometry::vertex_normals(layer.outer);
   layer.depth = depth_field(layer.outer, depth, options);
   check_thickness(layer.outer, normals, layer.depth, edge, options.source);
+  // Stiffness samples are located now, so bad ones fail before the meshing.
+  const Eigen::VectorXd E =
+      stiffness ? stiffness_field(layer.outer, *stiffness, options) : Eigen::VectorXd();
   stage("inner_surface");
   layer.core = inner_surface(layer.outer, normals, layer.depth, options, edge);
 
@@ -294,20 +314,6 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
 
   if (stiffness) {
     stage("stiffness");
-    for (Eigen::Index i = 0; i < stiffness->values.size(); ++i) {
-      if (!(stiffness->values(i) > 0.0)) {
-        throw_input_error(fmt::format("{} has Young's modulus {}", stiffness->labels[i],
-                                      format_quantity(stiffness->values(i), Dimension::Pressure)),
-                          in_file(stiffness->source).with_field(stiffness->field), "a modulus > 0");
-      }
-    }
-    geometry::InterpolationOptions io;
-    io.method = options.interpolation;
-    io.max_distance = options.max_sample_distance;
-    io.source = stiffness->source;
-    io.sample_labels = stiffness->labels;
-    const Eigen::VectorXd E = geometry::SurfaceInterpolator(layer.outer, stiffness->positions, io)
-                                  .interpolate(stiffness->values);
     // Each tet vertex takes the value at its closest skin point; each tet the
     // mean of its corners (one closest-point query per vertex, not per tet).
     Eigen::VectorXd at_vertex(layer.tets.V.rows());
