@@ -85,6 +85,30 @@ TEST(SurfaceInterpolation, HarmonicObeysTheMaximumPrincipleWithoutClamping) {
   EXPECT_LE(u.maxCoeff(), 15e3 + 1e-9);
 }
 
+TEST(SurfaceInterpolation, BiharmonicOvershootsWithoutTheClampAndNotWithIt) {
+  const SurfaceMesh sphere = test::icosphere(3, kRadius);
+  const Eigen::MatrixX3d P = sphere_samples(32, 0.01, 1);
+  auto rng = test::make_rng(2);
+  std::uniform_real_distribution<double> depth(2e-3, 12e-3);
+  Eigen::VectorXd values(P.rows());
+  for (auto& v : values) v = depth(rng);
+  const Eigen::VectorXd free = interpolate_over_surface(
+      sphere, P, values, options_for(SurfaceInterpolation::Biharmonic, false));
+  const Eigen::VectorXd clamped = interpolate_over_surface(
+      sphere, P, values, options_for(SurfaceInterpolation::Biharmonic, true));
+  const double overshoot = std::max(free.maxCoeff() - values.maxCoeff(),
+                                    values.minCoeff() - free.minCoeff());
+  EXPECT_GT(overshoot, 1e-5);  // the smooth fit leaves the range somewhere ...
+  EXPECT_GE(clamped.minCoeff(), values.minCoeff());  // ... and the clamp brings it back
+  EXPECT_LE(clamped.maxCoeff(), values.maxCoeff());
+  // Where the free fit is in range the clamp changes nothing.
+  for (Eigen::Index i = 0; i < free.size(); ++i) {
+    if (free(i) >= values.minCoeff() && free(i) <= values.maxCoeff()) {
+      EXPECT_EQ(clamped(i), free(i));
+    }
+  }
+}
+
 TEST(SurfaceInterpolation, BiharmonicReproducesLinearFunctionsOfPositionExactly) {
   const SurfaceMesh sphere = test::icosphere(3, kRadius);
   // Every 25th vertex, pushed 1 mm outward (so samples do not share vertices).
