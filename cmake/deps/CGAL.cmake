@@ -1,3 +1,5 @@
-# CGAL 5.5 (Debian's libcgal-dev, header-only): used inside .cpp files only.
+# CGAL 5.5 (header-only, with GMP/MPFR), included only by the .cpp files of
+# contact (detail/cgal_tree.cpp) and mesh (detail/). CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE:
+# the presets choose it.
 set(CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE TRUE)
-find_package(CGAL REQUIRED)
+find_package(CGAL 5.5 REQUIRED)

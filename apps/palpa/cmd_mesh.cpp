@@ -1,0 +1,392 @@
+// palpa mesh: simulation meshes of bodies — a soft tet layer around a rigid
+// core from a scan and tissue depths (`layer`), analytic test bodies (`body`),
+// and solid tet meshes of closed surfaces (`solid`).
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <unistd.h>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/core/interrupt.hpp"
+#include "palpa/core/json.hpp"
+#include "palpa/core/text.hpp"
+#include "palpa/io/csv.hpp"
+#include "palpa/io/mesh.hpp"
+#include "palpa/io/vtu.hpp"
+#include "palpa/mesh/bodies.hpp"
+#include "palpa/mesh/layer.hpp"
+#include "palpa/mesh/surface_check.hpp"
+#include "palpa/mesh/tetrahedralize.hpp"
+
+namespace palpa::cli {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+struct QualityArgs {
+  double max_radius_edge = 1.5;
+  double min_dihedral = 12.0 * kDegree;
+  double tet_size = 0.0;  // edge of a regular tet of the largest volume [m]; 0 = default
+};
+
+struct LayerArgs {
+  std::string surface;
+  std::string unit;
+  double depth = 0.0;
+  std::string depth_samples;
+  std::string depth_column = "depth";
+  std::string stiffness_samples;
+  std::string stiffness_column = "youngs_modulus";
+  double edge = 5e-3;
+  double max_sample_distance = 5e-3;
+  std::string interpolation = "biharmonic";
+  QualityArgs quality;
+  std::string output;
+};
+
+struct BodyArgs {
+  std::string shape;
+  double length = 0.0, width = 0.0, height = 0.0, radius = 0.0;
+  double edge = 5e-3;
+  std::string output;
+};
+
+struct SolidArgs {
+  std::string surface;
+  std::string unit;
+  double edge = 0.0;
+  QualityArgs quality;
+  std::string output;
+};
+
+ErrorContext option(const std::string& name) {
+  ErrorContext c;
+  c.field = "option " + name;
+  return c;
+}
+
+// Metres per coordinate unit: a unit symbol ("mm") or a length ("0.1 m").
+double length_unit(const std::string& text) {
+  if (text.empty()) return 1.0;
+  const Unit* u = find_unit(trim(text));
+  const double scale =
+      u ? (u->dimension == Dimension::Length ? u->to_si : 0.0)
+        : parse_quantity(text, Dimension::Length, option("--unit"));
+  if (!(scale > 0.0)) {
+    throw_input_error(fmt::format("'{}' is not a length unit", text), option("--unit"),
+                      "a length unit such as mm, cm or m, or a length such as 0.1 m");
+  }
+  return scale;
+}
+
+mesh::TetQuality quality_from(const QualityArgs& q) {
+  mesh::TetQuality t;
+  t.max_radius_edge = q.max_radius_edge;
+  t.min_dihedral = q.min_dihedral;
+  if (q.tet_size > 0.0) t.max_volume = std::pow(q.tet_size, 3) / (6.0 * std::sqrt(2.0));
+  return t;
+}
+
+void add_quality_options(CLI::App& cmd, QualityArgs& q) {
+  cmd.add_option("--max-radius-edge", q.max_radius_edge,
+                 "TetGen quality bound: largest circumradius / shortest edge of a tet (> 1)")
+      ->capture_default_str();
+  add_quantity_option(cmd, "--min-dihedral", q.min_dihedral, Dimension::Angle,
+                      "TetGen quality target: smallest dihedral angle (default 12 deg)");
+  add_quantity_option(cmd, "--tet-size", q.tet_size, Dimension::Length,
+                      "Largest tet volume, as the edge of a regular tet of that volume (default: "
+                      "the --edge length for layers, no bound for solids)");
+}
+
+// Writes every output into a staging folder beside the first target, then
+// moves them into place: all files appear or none.
+class Staging {
+ public:
+  explicit Staging(const std::filesystem::path& first_target) {
+    const auto folder = first_target.parent_path().empty() ? std::filesystem::path(".")
+                                                           : first_target.parent_path();
+    if (!std::filesystem::is_directory(folder)) {
+      ErrorContext c;
+      c.file = first_target.string();
+      throw_input_error("the output folder does not exist", c, "an existing folder");
+    }
+    dir_ = folder / fmt::format(".palpa-mesh-{}", ::getpid());
+    std::filesystem::create_directory(dir_);
+  }
+  ~Staging() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+  Staging(const Staging&) = delete;
+  Staging& operator=(const Staging&) = delete;
+
+  // Where to write `target` for now.
+  std::filesystem::path stage(const std::filesystem::path& target) {
+    targets_.push_back(target);
+    return dir_ / target.filename();
+  }
+  void commit() {
+    for (const auto& t : targets_) std::filesystem::rename(dir_ / t.filename(), t);
+  }
+
+ private:
+  std::filesystem::path dir_;
+  std::vector<std::filesystem::path> targets_;
+};
+
+std::filesystem::path with_suffix(const std::filesystem::path& out, const std::string& suffix,
+                                  const std::string& extension) {
+  return out.parent_path() / (out.stem().string() + suffix + extension);
+}
+
+Json statistics_json(const mesh::TetStatistics& s) {
+  return Json{{"tets", s.tets},
+              {"vertices", s.vertices},
+              {"inverted_tets", s.inverted},
+              {"min_dihedral_deg", s.min_dihedral / kDegree},
+              {"max_dihedral_deg", s.max_dihedral / kDegree},
+              {"max_radius_edge", s.max_radius_edge},
+              {"mean_radius_edge", s.mean_radius_edge},
+              {"tets_below_min_dihedral", s.below_min_dihedral},
+              {"tets_above_max_radius_edge", s.above_max_radius_edge},
+              {"min_tet_volume_m3", s.min_volume},
+              {"volume_m3", s.volume}};
+}
+
+void run_layer(const LayerArgs& a) {
+  MeshReadOptions read;
+  read.unit_to_si = length_unit(a.unit);
+  const SurfaceMesh scan = read_surface_mesh(a.surface, read);
+  if (a.depth > 0.0 && !a.depth_samples.empty()) {
+    throw_input_error("both --depth and --depth-samples given", option("--depth"),
+                      "one of them");
+  }
+  mesh::DepthSpec depth;
+  depth.uniform = a.depth;
+  if (!a.depth_samples.empty()) {
+    depth.samples = mesh::read_samples(a.depth_samples, a.depth_column, Dimension::Length);
+  } else if (!(a.depth > 0.0)) {
+    throw_input_error("no layer depth", option("--depth"),
+                      "--depth (e.g. 10mm) or --depth-samples FILE.csv");
+  }
+  std::optional<mesh::Samples> stiffness;
+  if (!a.stiffness_samples.empty()) {
+    stiffness = mesh::read_samples(a.stiffness_samples, a.stiffness_column, Dimension::Pressure);
+  }
+  mesh::LayerOptions o;
+  o.edge_length = a.edge;
+  o.max_sample_distance = a.max_sample_distance;
+  if (a.interpolation == "harmonic") {
+    o.interpolation = geometry::SurfaceInterpolation::Harmonic;
+  } else if (a.interpolation != "biharmonic") {
+    throw_input_error(fmt::format("unknown interpolation '{}'", a.interpolation),
+                      option("--interpolation"), "harmonic or biharmonic");
+  }
+  o.quality = quality_from(a.quality);
+  o.source = a.surface;
+  auto started = std::chrono::steady_clock::now();
+  std::string current;
+  Json timings = Json::object();
+  o.on_stage = [&](std::string_view stage) {
+    check_interrupt();
+    const auto now = std::chrono::steady_clock::now();
+    if (!current.empty()) {
+      timings[current] = std::chrono::duration<double>(now - started).count();
+    }
+    current = stage;
+    started = now;
+    spdlog::info("mesh layer: {}", stage);
+  };
+  const mesh::LayerMesh layer = mesh::make_layer(scan, depth, stiffness, o);
+  timings[current] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  check_interrupt();
+  const mesh::LayerSummary s = mesh::summarize_layer(layer, layer.quality);
+
+  const std::filesystem::path out = a.output;
+  Staging staging(out);
+  UnstructuredGrid grid = grid_of(layer.tets);
+  Eigen::VectorXd attached = Eigen::VectorXd::Zero(layer.tets.V.rows());
+  for (const Eigen::Index i : layer.attached) attached(i) = 1.0;
+  grid.point_data.push_back({"attached", attached});
+  if (layer.youngs_modulus.size() > 0) {
+    grid.cell_data.push_back({"youngs_modulus", layer.youngs_modulus});
+  }
+  write_vtu(staging.stage(out), grid);
+  const auto node = with_suffix(out, "", ".node");
+  write_tet_mesh(staging.stage(node), layer.tets);
+  staging.stage(with_suffix(out, "", ".ele"));
+  staging.stage(with_suffix(out, "", ".face"));
+  const auto core = with_suffix(out, "_core", ".obj");
+  write_surface_mesh(staging.stage(core), layer.core);
+  const auto outer = with_suffix(out, "_outer", ".obj");
+  write_surface_mesh(staging.stage(outer), layer.outer);
+  const auto summary = with_suffix(out, "_summary", ".json");
+  const auto attached_csv = with_suffix(out, "_attached", ".csv");
+  CsvTable attached_table;
+  attached_table.add_comment("vertices of " + out.filename().string() +
+                             " (0-based rows of its points / .node) attached to the rigid core");
+  attached_table.add_column("vertex", std::vector<double>(layer.attached.begin(), layer.attached.end()));
+  write_csv(staging.stage(attached_csv), attached_table);
+  const Json j{
+      {"palpa_mesh_layer", 1},
+      {"surface", a.surface},
+      {"edge_length_m", a.edge},
+      {"depth",
+       depth.samples ? Json{{"samples", a.depth_samples}, {"column", depth.samples->field}}
+                     : Json{{"uniform_m", a.depth}}},
+      {"quality_bounds", {{"max_radius_edge", layer.quality.max_radius_edge},
+                          {"min_dihedral_deg", layer.quality.min_dihedral / kDegree},
+                          {"max_volume_m3", layer.quality.max_volume}}},
+      {"elements", statistics_json(s.quality)},
+      {"outer_triangles", s.outer_triangles},
+      {"core_triangles", s.core_triangles},
+      {"attached_vertices", s.attached},
+      {"tets_dropped_inside_core", s.dropped_in_core},
+      {"volume_m3", {{"outer", s.outer_volume}, {"core", s.core_volume}, {"layer", s.layer_volume}}},
+      {"thickness_m", {{"min", s.thickness_min}, {"mean", s.thickness_mean}, {"max", s.thickness_max}}},
+      {"requested_depth_m", {{"min", s.depth_min}, {"mean", s.depth_mean}, {"max", s.depth_max}}},
+      {"youngs_modulus_Pa",
+       layer.youngs_modulus.size() > 0 ? Json{{"min", s.youngs_min}, {"max", s.youngs_max}}
+                                       : Json(nullptr)},
+      {"stage_seconds", timings}};
+  write_json_file(staging.stage(summary), j);
+  staging.commit();
+  spdlog::info(
+      "wrote {} (+ .node/.ele/.face, {}, {}, {}, {}): {} tets, {} attached vertices, min dihedral "
+      "{:.1f} deg, max radius-edge {:.2f}, layer {:.4g} cm3, thickness {:.1f}-{:.1f} mm",
+      out.string(), core.filename().string(), outer.filename().string(),
+      summary.filename().string(), attached_csv.filename().string(), s.quality.tets, s.attached, s.quality.min_dihedral / kDegree,
+      s.quality.max_radius_edge, s.layer_volume * 1e6, s.thickness_min * 1e3,
+      s.thickness_max * 1e3);
+}
+
+void run_body(const BodyArgs& a) {
+  mesh::BodyOptions o;
+  o.shape = mesh::parse_body_shape(a.shape);
+  o.size = Eigen::Vector3d(a.length, a.width, a.height);
+  if (o.shape == mesh::BodyShape::Sphere || o.shape == mesh::BodyShape::Foot) {
+    o.size = Eigen::Vector3d(a.length, a.length, a.length);
+  } else if (!o.size.isZero() && !(o.size.minCoeff() > 0.0)) {
+    throw_input_error("give --length, --width and --height together", option("--length"),
+                      "all three sizes, or none for the default");
+  }
+  o.radius = a.radius;
+  o.edge_length = a.edge;
+  const SurfaceMesh m = mesh::make_body(o);
+  write_surface_mesh(a.output, m);
+  spdlog::info("wrote {}: {} {} with {} vertices, {} triangles, volume {:.4g} cm3",
+               a.output, mesh::body_shape_name(o.shape), "surface", m.V.rows(), m.F.rows(),
+               mesh::enclosed_volume(m) * 1e6);
+}
+
+void run_solid(const SolidArgs& a) {
+  MeshReadOptions read;
+  read.unit_to_si = length_unit(a.unit);
+  SurfaceMesh s = mesh::repair_surface(read_surface_mesh(a.surface, read));
+  mesh::check_closed_surface(s, a.surface);
+  if (a.edge > 0.0) s = mesh::remesh_surface(s, a.edge);
+  const mesh::TetQuality q = quality_from(a.quality);
+  const TetMesh tets = mesh::tetrahedralize(s, q);
+  const mesh::TetStatistics st = mesh::tet_statistics(tets, q);
+  write_tet_mesh(a.output, tets);
+  spdlog::info("wrote {}: {} tets, {} vertices, min dihedral {:.1f} deg, max radius-edge {:.2f}",
+               a.output, st.tets, st.vertices, st.min_dihedral / kDegree, st.max_radius_edge);
+}
+
+}  // namespace
+
+void add_mesh_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "mesh", "Simulation meshes of bodies: a soft tet layer around a rigid core (layer), "
+              "analytic test bodies (body), solid tet meshes of closed surfaces (solid).");
+  cmd->require_subcommand(1);
+
+  auto la = std::make_shared<LayerArgs>();
+  auto* layer = cmd->add_subcommand(
+      "layer",
+      "Tetrahedral soft layer between a closed scan surface and an inner surface at a uniform "
+      "or sampled depth; inner vertices are attached to a rigid core.");
+  layer->add_option("--surface", la->surface, "Closed body surface (.obj .ply .stl .off .vtu)")
+      ->required();
+  layer->add_option("--unit", la->unit, "Length unit of the surface's coordinates (default m)")
+      ->type_name("UNIT");
+  add_quantity_option(*layer, "--depth", la->depth, Dimension::Length,
+                      "Uniform layer depth, e.g. 10mm");
+  layer->add_option("--depth-samples", la->depth_samples,
+                    "CSV of measured depths: x_<unit>,y_<unit>,z_<unit>,depth_<unit> (positions "
+                    "in the scan's frame)")
+      ->type_name("FILE.csv");
+  layer->add_option("--depth-column", la->depth_column,
+                    "Base name of the depth column (e.g. bone_distance or fat_depth)")
+      ->capture_default_str();
+  layer->add_option("--stiffness-samples", la->stiffness_samples,
+                    "CSV of Young's moduli: x_<unit>,y_<unit>,z_<unit>,youngs_modulus_<unit>; "
+                    "each tet gets the value interpolated at the skin above it")
+      ->type_name("FILE.csv");
+  layer->add_option("--stiffness-column", la->stiffness_column, "Base name of the modulus column")
+      ->capture_default_str();
+  add_quantity_option(*layer, "--edge", la->edge, Dimension::Length,
+                      "Target edge length of both surfaces (default 5mm; 0 keeps the scan's)");
+  add_quantity_option(*layer, "--max-sample-distance", la->max_sample_distance,
+                      Dimension::Length,
+                      "Largest distance from a sample to the surface (default 5mm)");
+  layer->add_option("--interpolation", la->interpolation,
+                    "Spreading samples over the surface: biharmonic (smooth, reproduces linear "
+                    "trends) or harmonic (no overshoot)")
+      ->capture_default_str();
+  add_quality_options(*layer, la->quality);
+  layer->add_option("-o,--output", la->output,
+                    "Output .vtu; beside it <name>.node/.ele/.face, <name>_core.obj, "
+                    "<name>_outer.obj, <name>_attached.csv and <name>_summary.json")
+      ->required();
+  layer->footer(
+      "Examples:\n"
+      "  palpa mesh body thigh -o thigh.obj\n"
+      "  palpa mesh layer --surface thigh.obj --depth 15mm --edge 8mm -o thigh.vtu\n"
+      "  palpa mesh layer --surface arm.obj --unit mm --depth-samples table31.csv \\\n"
+      "      --depth-column bone_distance --stiffness-samples moduli.csv -o arm.vtu");
+  layer->callback([la] { run_layer(*la); });
+
+  auto ba = std::make_shared<BodyArgs>();
+  auto* body = cmd->add_subcommand("body", "An analytic closed test body surface.");
+  body->add_option("SHAPE", ba->shape, "sphere, rounded-block, thigh or foot")->required();
+  add_quantity_option(*body, "--length", ba->length, Dimension::Length,
+                      "Size along x (sphere: diameter; foot: heel to toe); default per shape");
+  add_quantity_option(*body, "--width", ba->width, Dimension::Length, "Size along y (block, thigh)");
+  add_quantity_option(*body, "--height", ba->height, Dimension::Length,
+                      "Size along z (block, thigh)");
+  add_quantity_option(*body, "--radius", ba->radius, Dimension::Length,
+                      "Block edge rounding radius (default 10mm)");
+  add_quantity_option(*body, "--edge", ba->edge, Dimension::Length,
+                      "Target triangle edge length (default 5mm)");
+  body->add_option("-o,--output", ba->output, "Output surface (.obj .ply .stl .off .vtu), in m")
+      ->required();
+  body->callback([ba] { run_body(*ba); });
+
+  auto sa = std::make_shared<SolidArgs>();
+  auto* solid = cmd->add_subcommand("solid", "Solid tet mesh of the inside of a closed surface.");
+  solid->add_option("--surface", sa->surface, "Closed surface (.obj .ply .stl .off .vtu)")
+      ->required();
+  solid->add_option("--unit", sa->unit, "Length unit of the surface's coordinates (default m)")
+      ->type_name("UNIT");
+  add_quantity_option(*solid, "--edge", sa->edge, Dimension::Length,
+                      "Remesh the surface to this edge length first (default: keep it)");
+  add_quality_options(*solid, sa->quality);
+  solid->add_option("-o,--output", sa->output, "Output tet mesh (.vtu, .node, .msh)")->required();
+  solid->callback([sa] { run_solid(*sa); });
+}
+
+}  // namespace palpa::cli

@@ -1,0 +1,154 @@
+// The one translation unit of palpa that includes CGAL (see cgal_surface.hpp).
+#include "palpa/mesh/detail/cgal_surface.hpp"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <vector>
+
+#include "palpa/core/error.hpp"
+
+namespace palpa::mesh::detail {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+// Faces get the indices of F's rows (added in order, none removed).
+Mesh to_cgal(const SurfaceMesh& mesh) {
+  Mesh m;
+  std::vector<Mesh::Vertex_index> vertices;
+  vertices.reserve(static_cast<std::size_t>(mesh.V.rows()));
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
+    vertices.push_back(m.add_vertex(Point(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2))));
+  }
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const auto face =
+        m.add_face(vertices[mesh.F(f, 0)], vertices[mesh.F(f, 1)], vertices[mesh.F(f, 2)]);
+    if (face == Mesh::null_face()) {
+      throw_input_error("triangle " + std::to_string(f) +
+                            " makes the surface non-manifold (a vertex or edge shared by "
+                            "separate sheets, or a flipped triangle)",
+                        {}, "a closed, consistently oriented 2-manifold surface");
+    }
+  }
+  return m;
+}
+
+SurfaceMesh from_cgal(const Mesh& m) {
+  SurfaceMesh out;
+  out.V.resize(static_cast<Eigen::Index>(m.number_of_vertices()), 3);
+  std::vector<int> index(m.num_vertices(), -1);
+  int next = 0;
+  for (const auto v : m.vertices()) {
+    const Point& p = m.point(v);
+    out.V.row(next) << p.x(), p.y(), p.z();
+    index[v] = next++;
+  }
+  out.F.resize(static_cast<Eigen::Index>(m.number_of_faces()), 3);
+  Eigen::Index f = 0;
+  for (const auto face : m.faces()) {
+    int k = 0;
+    for (const auto v : CGAL::vertices_around_face(m.halfedge(face), m)) out.F(f, k++) = index[v];
+    ++f;
+  }
+  return out;
+}
+
+Eigen::Vector3d to_eigen(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
+}  // namespace
+
+SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterations) {
+  Mesh m = to_cgal(mesh);
+  PMP::split_long_edges(edges(m), edge_length, m);
+  PMP::isotropic_remeshing(faces(m), edge_length, m,
+                           PMP::parameters::number_of_iterations(iterations)
+                               .number_of_relaxation_steps(3));
+  m.collect_garbage();
+  return from_cgal(m);
+}
+
+std::optional<std::pair<Eigen::Index, Eigen::Index>> cgal_self_intersection(
+    const SurfaceMesh& mesh) {
+  const Mesh m = to_cgal(mesh);
+  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+  // Only the first pair is needed: stop the search there.
+  struct Full {};
+  try {
+    PMP::self_intersections(faces(m), m,
+                            boost::make_function_output_iterator(
+                                [&pairs](const std::pair<Mesh::Face_index, Mesh::Face_index>& p) {
+                                  pairs.push_back(p);
+                                  throw Full{};
+                                }));
+  } catch (const Full&) {
+  }
+  if (pairs.empty()) return std::nullopt;
+  return std::make_pair(static_cast<Eigen::Index>(pairs.front().first.idx()),
+                        static_cast<Eigen::Index>(pairs.front().second.idx()));
+}
+
+bool cgal_surfaces_intersect(const SurfaceMesh& a, const SurfaceMesh& b) {
+  const Mesh ma = to_cgal(a);
+  const Mesh mb = to_cgal(b);
+  return PMP::do_intersect(ma, mb, PMP::parameters::do_overlap_test_of_bounded_sides(false),
+                           PMP::parameters::do_overlap_test_of_bounded_sides(false));
+}
+
+struct SurfaceQueries::Impl {
+  Mesh mesh;
+  Tree tree;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh, Kernel>> side;
+};
+
+SurfaceQueries::SurfaceQueries(const SurfaceMesh& mesh) : impl_(std::make_unique<Impl>()) {
+  impl_->mesh = to_cgal(mesh);
+  impl_->tree.insert(faces(impl_->mesh).first, faces(impl_->mesh).second, impl_->mesh);
+  impl_->tree.build();
+  impl_->tree.accelerate_distance_queries();
+  impl_->side = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh, Kernel>>(impl_->tree);
+}
+
+SurfaceQueries::~SurfaceQueries() = default;
+
+std::pair<Eigen::Index, Eigen::Vector3d> SurfaceQueries::closest(const Eigen::Vector3d& p) const {
+  const auto hit = impl_->tree.closest_point_and_primitive(Point(p.x(), p.y(), p.z()));
+  return {static_cast<Eigen::Index>(hit.second.idx()), to_eigen(hit.first)};
+}
+
+double SurfaceQueries::distance(const Eigen::Vector3d& p) const {
+  return std::sqrt(impl_->tree.squared_distance(Point(p.x(), p.y(), p.z())));
+}
+
+std::optional<double> SurfaceQueries::ray_hit(const Eigen::Vector3d& p, const Eigen::Vector3d& d,
+                                              Eigen::Index skip_face) const {
+  const Kernel::Ray_3 ray(Point(p.x(), p.y(), p.z()), Kernel::Vector_3(d.x(), d.y(), d.z()));
+  const auto skip = [skip_face](Mesh::Face_index f) {
+    return static_cast<Eigen::Index>(f.idx()) == skip_face;
+  };
+  const auto hit = impl_->tree.first_intersection(ray, skip);
+  if (!hit) return std::nullopt;
+  if (const Point* q = boost::get<Point>(&hit->first)) return (to_eigen(*q) - p).norm();
+  if (const auto* s = boost::get<Kernel::Segment_3>(&hit->first)) {
+    return (to_eigen(s->source()) - p).norm();
+  }
+  return std::nullopt;
+}
+
+bool SurfaceQueries::inside(const Eigen::Vector3d& p) const {
+  return (*impl_->side)(Point(p.x(), p.y(), p.z())) == CGAL::ON_BOUNDED_SIDE;
+}
+
+}  // namespace palpa::mesh::detail

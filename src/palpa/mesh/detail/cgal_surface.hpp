@@ -1,0 +1,54 @@
+#pragma once
+// palpa's wall around CGAL: the surface operations the mesh module needs, with
+// palpa types only. Implemented in cgal_surface.cpp, the one translation unit
+// of palpa that includes CGAL.
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <utility>
+
+#include "palpa/io/mesh.hpp"
+
+namespace palpa::mesh::detail {
+
+// Isotropic remeshing (split long edges, collapse short ones, flip, tangential
+// relaxation, project back onto the input) to `edge_length` [m], `iterations`
+// rounds. The input must be a closed, consistently oriented 2-manifold.
+SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterations);
+
+// A pair of intersecting triangles (rows of F) of a surface, if any: triangles
+// that share a vertex or an edge only intersect if they overlap beyond it.
+std::optional<std::pair<Eigen::Index, Eigen::Index>> cgal_self_intersection(
+    const SurfaceMesh& mesh);
+
+// Whether two surfaces intersect (touch or cross) — not whether one holds the
+// other.
+bool cgal_surfaces_intersect(const SurfaceMesh& a, const SurfaceMesh& b);
+
+// Queries against one closed surface (AABB tree), built once.
+class SurfaceQueries {
+ public:
+  explicit SurfaceQueries(const SurfaceMesh& mesh);
+  ~SurfaceQueries();
+  SurfaceQueries(const SurfaceQueries&) = delete;
+  SurfaceQueries& operator=(const SurfaceQueries&) = delete;
+
+  // Closest point of the surface to p: its face (row of F) and position [m].
+  std::pair<Eigen::Index, Eigen::Vector3d> closest(const Eigen::Vector3d& p) const;
+  // Distance from p to the surface [m].
+  double distance(const Eigen::Vector3d& p) const;
+  // Distance along the ray p + t d (t > 0, d unit) to the first surface hit,
+  // skipping triangle `skip_face` (the one the ray starts on; −1 for none).
+  // nullopt if the ray leaves without a hit.
+  std::optional<double> ray_hit(const Eigen::Vector3d& p, const Eigen::Vector3d& d,
+                                Eigen::Index skip_face) const;
+  // Whether p is strictly inside the closed surface.
+  bool inside(const Eigen::Vector3d& p) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace palpa::mesh::detail

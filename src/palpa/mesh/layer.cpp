@@ -1,0 +1,362 @@
+#include "palpa/mesh/layer.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <vector>
+
+#include "palpa/core/error.hpp"
+#include "palpa/core/units.hpp"
+#include "palpa/geometry/format.hpp"
+#include "palpa/geometry/closest_point.hpp"
+#include "palpa/geometry/surface_operators.hpp"
+#include "palpa/mesh/detail/cgal_surface.hpp"
+#include "palpa/mesh/surface_check.hpp"
+
+namespace palpa::mesh {
+namespace {
+
+using geometry::format_point;
+
+// Taubin smoothing factors (λ, μ): smooth without shrinking.
+constexpr double kTaubinLambda = 0.5;
+constexpr double kTaubinMu = -0.53;
+// Rays start this fraction of an edge inside the surface.
+constexpr double kRayOffset = 1e-3;
+
+std::string length(double v) { return format_quantity(v, Dimension::Length); }
+
+ErrorContext in_file(const std::string& source) {
+  ErrorContext c;
+  c.file = source;
+  return c;
+}
+
+std::vector<std::vector<int>> vertex_neighbours(const SurfaceMesh& m) {
+  std::vector<std::vector<int>> nb(static_cast<std::size_t>(m.V.rows()));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) nb[m.F(f, k)].push_back(m.F(f, (k + 1) % 3));
+  }
+  for (auto& list : nb) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  return nb;
+}
+
+void taubin_smooth(SurfaceMesh& m, int rounds) {
+  const auto nb = vertex_neighbours(m);
+  for (int r = 0; r < rounds; ++r) {
+    for (double factor : {kTaubinLambda, kTaubinMu}) {
+      Eigen::MatrixX3d next = m.V;
+      for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
+        if (nb[i].empty()) continue;
+        Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+        for (int j : nb[i]) mean += m.V.row(j);
+        mean /= double(nb[i].size());
+        next.row(i) += factor * (mean - m.V.row(i));
+      }
+      m.V = next;
+    }
+  }
+}
+
+// One point strictly inside each connected component of a closed surface.
+std::vector<Eigen::Vector3d> inside_points(const SurfaceMesh& s, double edge) {
+  // Components by union-find over triangles' vertices.
+  std::vector<int> parent(static_cast<std::size_t>(s.V.rows()));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&parent](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (Eigen::Index f = 0; f < s.F.rows(); ++f) {
+    parent[find(s.F(f, 0))] = find(s.F(f, 1));
+    parent[find(s.F(f, 1))] = find(s.F(f, 2));
+  }
+  const detail::SurfaceQueries queries(s);
+  const Eigen::MatrixX3d normals = geometry::face_normals(s);
+  std::map<int, bool> done;
+  std::vector<Eigen::Vector3d> points;
+  for (Eigen::Index f = 0; f < s.F.rows(); ++f) {
+    const int c = find(s.F(f, 0));
+    if (done[c]) continue;
+    const Eigen::Vector3d n = normals.row(f).transpose();
+    if (n.isZero()) continue;
+    const Eigen::Vector3d centre =
+        (s.V.row(s.F(f, 0)) + s.V.row(s.F(f, 1)) + s.V.row(s.F(f, 2))).transpose() / 3.0;
+    const double delta = kRayOffset * edge;
+    const auto hit = queries.ray_hit(centre - delta * n, -n, -1);
+    if (!hit) continue;
+    const Eigen::Vector3d p = centre - (delta + 0.5 * *hit) * n;
+    if (!queries.inside(p)) continue;
+    points.push_back(p);
+    done[c] = true;
+  }
+  return points;
+}
+
+// The faces of tets seen by one tet only, outward (by sorting all faces).
+std::vector<std::array<int, 3>> boundary_faces(const Eigen::MatrixX4i& T) {
+  static constexpr int kFace[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  struct Face {
+    std::array<int, 3> key;
+    std::array<int, 3> face;
+  };
+  std::vector<Face> faces;
+  faces.reserve(static_cast<std::size_t>(4 * T.rows()));
+  for (Eigen::Index t = 0; t < T.rows(); ++t) {
+    for (const auto& f : kFace) {
+      Face x{{}, {T(t, f[0]), T(t, f[1]), T(t, f[2])}};
+      x.key = x.face;
+      std::sort(x.key.begin(), x.key.end());
+      faces.push_back(x);
+    }
+  }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
+  std::vector<std::array<int, 3>> out;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j == i + 1) out.push_back(faces[i].face);
+    i = j;
+  }
+  return out;
+}
+
+// Per-outer-vertex depth: uniform or interpolated from samples.
+Eigen::VectorXd depth_field(const SurfaceMesh& outer, const DepthSpec& spec,
+                            const LayerOptions& options) {
+  if (!spec.samples) {
+    if (!(spec.uniform > 0.0) || !std::isfinite(spec.uniform)) {
+      throw_input_error(fmt::format("layer depth {} is not positive", length(spec.uniform)), {},
+                        "a depth > 0");
+    }
+    return Eigen::VectorXd::Constant(outer.V.rows(), spec.uniform);
+  }
+  const Samples& s = *spec.samples;
+  for (Eigen::Index i = 0; i < s.values.size(); ++i) {
+    if (!(s.values(i) > 0.0)) {
+      throw_input_error(fmt::format("{} has depth {}", s.labels[i], length(s.values(i))),
+                        in_file(s.source).with_field(s.field), "a depth > 0");
+    }
+  }
+  geometry::InterpolationOptions io;
+  io.method = options.interpolation;
+  io.max_distance = options.max_sample_distance;
+  io.source = s.source;
+  io.sample_labels = s.labels;
+  return geometry::SurfaceInterpolator(outer, s.positions, io).interpolate(s.values);
+}
+
+// Stiffness samples interpolated to the outer vertices [Pa].
+Eigen::VectorXd stiffness_field(const SurfaceMesh& outer, const Samples& samples,
+                                const LayerOptions& options) {
+  for (Eigen::Index i = 0; i < samples.values.size(); ++i) {
+    if (!(samples.values(i) > 0.0)) {
+      throw_input_error(fmt::format("{} has Young's modulus {}", samples.labels[i],
+                                    format_quantity(samples.values(i), Dimension::Pressure)),
+                        in_file(samples.source).with_field(samples.field), "a modulus > 0");
+    }
+  }
+  geometry::InterpolationOptions io;
+  io.method = options.interpolation;
+  io.max_distance = options.max_sample_distance;
+  io.source = samples.source;
+  io.sample_labels = samples.labels;
+  return geometry::SurfaceInterpolator(outer, samples.positions, io).interpolate(samples.values);
+}
+
+// The core must stay at least this many edge lengths thick to be meshed.
+constexpr double kMinCoreEdges = 2.0;
+
+void check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& normals,
+                     const Eigen::VectorXd& depth, double edge, const std::string& source) {
+  const detail::SurfaceQueries queries(outer);
+  const double delta = kRayOffset * edge;
+  const double core = kMinCoreEdges * edge;
+  for (Eigen::Index i = 0; i < outer.V.rows(); ++i) {
+    const Eigen::Vector3d p = outer.V.row(i).transpose();
+    const Eigen::Vector3d n = normals.row(i).transpose();
+    const auto hit = queries.ray_hit(p - delta * n, -n, -1);
+    const double thickness = hit ? delta + *hit : 0.0;
+    if (depth(i) + core > thickness) {
+      throw_input_error(
+          fmt::format("the layer depth {} at {} does not fit: the body is {} thick there along "
+                      "the inward normal, and the core needs at least two edge lengths ({})",
+                      length(depth(i)), format_point(p), length(thickness), length(core)),
+          in_file(source), "a depth smaller than the local thickness minus two edge lengths");
+    }
+  }
+}
+
+SurfaceMesh inner_surface(const SurfaceMesh& outer, const Eigen::MatrixX3d& normals,
+                          const Eigen::VectorXd& depth, const LayerOptions& options, double edge) {
+  SurfaceMesh inner = outer;
+  for (Eigen::Index i = 0; i < inner.V.rows(); ++i) {
+    inner.V.row(i) -= depth(i) * normals.row(i);
+  }
+  taubin_smooth(inner, options.smoothing_rounds);
+  if (options.edge_length > 0.0) inner = remesh_surface(inner, edge, options.remesh_iterations);
+  if (const auto pair = detail::cgal_self_intersection(inner)) {
+    const Eigen::Vector3d at = inner.V.row(inner.F(pair->first, 0)).transpose();
+    const Eigen::Vector3d on_outer = detail::SurfaceQueries(outer).closest(at).second;
+    throw_input_error(
+        fmt::format("the inner surface would intersect itself near {} (under the outer surface "
+                    "at {}): the depth there is too large for the curvature of the body",
+                    format_point(at), format_point(on_outer)),
+        in_file(options.source), "smaller depths where the surface is concave or thin");
+  }
+  if (detail::cgal_surfaces_intersect(outer, inner) ||
+      !detail::SurfaceQueries(outer).inside(inner.V.row(0).transpose())) {
+    throw_input_error("the inner surface crosses the outer surface", in_file(options.source),
+                      "depths smaller than the local thickness");
+  }
+  return inner;
+}
+
+}  // namespace
+
+Eigen::VectorXd distance_to_surface(const SurfaceMesh& surface, const Eigen::MatrixX3d& points) {
+  const detail::SurfaceQueries queries(surface);
+  Eigen::VectorXd d(points.rows());
+  for (Eigen::Index i = 0; i < points.rows(); ++i) d(i) = queries.distance(points.row(i).transpose());
+  return d;
+}
+
+LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
+                     const std::optional<Samples>& stiffness, const LayerOptions& options) {
+  LayerMesh layer;
+  const auto stage = [&options](std::string_view name) {
+    if (options.on_stage) options.on_stage(name);
+  };
+  stage("repair");
+  const SurfaceMesh repaired = repair_surface(scan);
+  check_closed_surface(repaired, options.source);
+  stage("remesh");
+  layer.outer = options.edge_length > 0.0
+                    ? remesh_surface(repaired, options.edge_length, options.remesh_iterations)
+                    : repaired;
+  const double edge =
+      options.edge_length > 0.0 ? options.edge_length : mean_edge_length(layer.outer);
+
+  stage("depth");
+  const Eigen::MatrixX3d normals = geometry::vertex_normals(layer.outer);
+  layer.depth = depth_field(layer.outer, depth, options);
+  check_thickness(layer.outer, normals, layer.depth, edge, options.source);
+  // Stiffness samples are located now, so bad ones fail before the meshing.
+  const Eigen::VectorXd E =
+      stiffness ? stiffness_field(layer.outer, *stiffness, options) : Eigen::VectorXd();
+  stage("inner_surface");
+  layer.core = inner_surface(layer.outer, normals, layer.depth, options, edge);
+
+  TetQuality& quality = layer.quality;
+  quality = options.quality;
+  if (quality.max_volume == 0.0) quality.max_volume = std::pow(edge, 3) / (6.0 * std::sqrt(2.0));
+  stage("tetrahedralize");
+  const std::vector<Eigen::Vector3d> holes = inside_points(layer.core, edge);
+  TetMesh raw = detail::tetgen_shells({&layer.outer, &layer.core}, holes, quality);
+
+  // Drop tets inside the core (none when the hole points did their job).
+  stage("core");
+  const detail::SurfaceQueries core_queries(layer.core);
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index t = 0; t < raw.T.rows(); ++t) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 4; ++c) centroid += raw.V.row(raw.T(t, c)).transpose() / 4.0;
+    if (core_queries.inside(centroid)) {
+      ++layer.dropped_in_core;
+    } else {
+      kept.push_back(t);
+    }
+  }
+  // Compact vertices.
+  std::vector<int> index(static_cast<std::size_t>(raw.V.rows()), -1);
+  int next = 0;
+  layer.tets.T.resize(static_cast<Eigen::Index>(kept.size()), 4);
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    for (int c = 0; c < 4; ++c) {
+      int& i = index[raw.T(kept[k], c)];
+      if (i < 0) i = next++;
+      layer.tets.T(Eigen::Index(k), c) = i;
+    }
+  }
+  layer.tets.V.resize(next, 3);
+  for (Eigen::Index i = 0; i < raw.V.rows(); ++i) {
+    if (index[i] >= 0) layer.tets.V.row(index[i]) = raw.V.row(i);
+  }
+  layer.tets.region = Eigen::VectorXi::Ones(layer.tets.T.rows());
+
+  // Boundary: outer or core, by which surface is nearer.
+  const detail::SurfaceQueries outer_queries(layer.outer);
+  const auto faces = boundary_faces(layer.tets.T);
+  layer.tets.boundary.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  layer.tets.boundary_marker.resize(static_cast<Eigen::Index>(faces.size()));
+  std::vector<bool> on_core(static_cast<std::size_t>(next), false);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 3; ++c) centroid += layer.tets.V.row(faces[f][c]).transpose() / 3.0;
+    const bool core = core_queries.distance(centroid) < outer_queries.distance(centroid);
+    layer.tets.boundary.row(Eigen::Index(f)) << faces[f][0], faces[f][1], faces[f][2];
+    layer.tets.boundary_marker(Eigen::Index(f)) = core ? kCoreMarker : kOuterMarker;
+    if (core) {
+      for (int c = 0; c < 3; ++c) on_core[faces[f][c]] = true;
+    }
+  }
+  for (int i = 0; i < next; ++i) {
+    if (on_core[i]) layer.attached.push_back(i);
+  }
+
+  if (stiffness) {
+    stage("stiffness");
+    // Each tet vertex takes the value at its closest skin point; each tet the
+    // mean of its corners (one closest-point query per vertex, not per tet).
+    Eigen::VectorXd at_vertex(layer.tets.V.rows());
+    for (Eigen::Index i = 0; i < layer.tets.V.rows(); ++i) {
+      geometry::SurfacePoint q;
+      std::tie(q.face, q.position) = outer_queries.closest(layer.tets.V.row(i).transpose());
+      q.barycentric = geometry::closest_point_on_triangle(
+          q.position, layer.outer.V.row(layer.outer.F(q.face, 0)).transpose(),
+          layer.outer.V.row(layer.outer.F(q.face, 1)).transpose(),
+          layer.outer.V.row(layer.outer.F(q.face, 2)).transpose());
+      at_vertex(i) = geometry::evaluate_at(layer.outer, q, E)(0);
+    }
+    layer.youngs_modulus.resize(layer.tets.T.rows());
+    for (Eigen::Index t = 0; t < layer.tets.T.rows(); ++t) {
+      layer.youngs_modulus(t) = 0.25 * (at_vertex(layer.tets.T(t, 0)) + at_vertex(layer.tets.T(t, 1)) +
+                                        at_vertex(layer.tets.T(t, 2)) + at_vertex(layer.tets.T(t, 3)));
+    }
+  }
+  return layer;
+}
+
+LayerSummary summarize_layer(const LayerMesh& layer, const TetQuality& bounds) {
+  LayerSummary s;
+  s.quality = tet_statistics(layer.tets, bounds);
+  s.outer_volume = enclosed_volume(layer.outer);
+  s.core_volume = enclosed_volume(layer.core);
+  s.layer_volume = s.quality.volume;
+  const Eigen::VectorXd thickness = distance_to_surface(layer.core, layer.outer.V);
+  s.thickness_min = thickness.minCoeff();
+  s.thickness_mean = thickness.mean();
+  s.thickness_max = thickness.maxCoeff();
+  s.depth_min = layer.depth.minCoeff();
+  s.depth_mean = layer.depth.mean();
+  s.depth_max = layer.depth.maxCoeff();
+  if (layer.youngs_modulus.size() > 0) {
+    s.youngs_min = layer.youngs_modulus.minCoeff();
+    s.youngs_max = layer.youngs_modulus.maxCoeff();
+  }
+  s.outer_triangles = layer.outer.F.rows();
+  s.core_triangles = layer.core.F.rows();
+  s.attached = static_cast<Eigen::Index>(layer.attached.size());
+  s.dropped_in_core = layer.dropped_in_core;
+  return s;
+}
+
+}  // namespace palpa::mesh

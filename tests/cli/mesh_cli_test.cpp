@@ -1,0 +1,105 @@
+// `palpa mesh` end to end: a test body and a soft layer around its core with
+// every output file, depth samples from a CSV, and bad input failing with exit
+// code 2, a message naming the file and place, and no output at all.
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "common/test_support.hpp"
+#include "palpa/core/json.hpp"
+
+namespace palpa {
+namespace {
+
+std::string q(const std::filesystem::path& p) { return fmt::format("'{}'", p.string()); }
+
+class MeshCli : public ::testing::Test {
+ protected:
+  test::ScratchDir in;
+  test::ScratchDir out;
+
+  // A 100 mm sphere with 10 mm edges, in metres.
+  std::filesystem::path sphere() {
+    const auto p = in / "sphere.obj";
+    const test::CommandResult r =
+        test::run_palpa("mesh body sphere --length 100mm --edge 10mm -o " + q(p));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return p;
+  }
+
+  void expect_failure(const std::string& args, const std::vector<std::string>& fragments) {
+    const test::CommandResult r = test::run_palpa("mesh " + args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    for (const std::string& f : fragments) {
+      EXPECT_NE(r.err.find(f), std::string::npos) << "stderr lacks '" << f << "':\n" << r.err;
+    }
+    EXPECT_EQ(out.entry_count(), 0u) << "the output folder is not empty";
+  }
+};
+
+TEST_F(MeshCli, LayerOfASphereWritesEveryOutputAndTheShellVolume) {
+  const auto s = sphere();
+  const test::CommandResult r = test::run_palpa("mesh layer --surface " + q(s) +
+                                                " --depth 10mm --edge 10mm -o " + q(out / "b.vtu"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"b.vtu", "b.node", "b.ele", "b.face", "b_core.obj", "b_outer.obj",
+                        "b_attached.csv", "b_summary.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
+  }
+  EXPECT_EQ(out.entry_count(), 8u);
+  const Json j = read_json_file(out / "b_summary.json");
+  EXPECT_EQ(j["elements"]["inverted_tets"].get<int>(), 0);
+  const double shell = 4.0 / 3.0 * std::numbers::pi * (std::pow(0.05, 3) - std::pow(0.04, 3));
+  // Inscribed polyhedra with 10 mm edges: 4 %.
+  EXPECT_NEAR(j["volume_m3"]["layer"].get<double>(), shell, 0.04 * shell);
+  EXPECT_NEAR(j["thickness_m"]["mean"].get<double>(), 0.01, 1e-3);
+  EXPECT_GT(j["attached_vertices"].get<int>(), 100);
+  EXPECT_NE(test::read_text(out / "b_attached.csv").find("vertex\n"), std::string::npos);
+}
+
+TEST_F(MeshCli, DepthAndStiffnessSamplesFromCsv) {
+  const auto s = sphere();
+  const auto depths = in.write("depths.csv",
+                               "# bone distance, sphere\nx_mm,y_mm,z_mm,bone_distance_mm\n"
+                               "50,0,0,8\n-50,0,0,12\n0,50,0,10\n0,0,50,9\n0,0,-50,11\n");
+  const auto moduli = in.write("moduli.csv",
+                               "x_mm,y_mm,z_mm,youngs_modulus_kPa\n50,0,0,5\n-50,0,0,15\n");
+  const test::CommandResult r = test::run_palpa(
+      "mesh layer --surface " + q(s) + " --depth-samples " + q(depths) +
+      " --depth-column bone_distance --stiffness-samples " + q(moduli) + " --edge 10mm -o " +
+      q(out / "b.vtu"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json j = read_json_file(out / "b_summary.json");
+  EXPECT_DOUBLE_EQ(j["requested_depth_m"]["min"].get<double>(), 0.008);
+  EXPECT_DOUBLE_EQ(j["requested_depth_m"]["max"].get<double>(), 0.012);
+  EXPECT_GE(j["youngs_modulus_Pa"]["min"].get<double>(), 5e3 * (1 - 1e-12));
+  EXPECT_LE(j["youngs_modulus_Pa"]["max"].get<double>(), 15e3 * (1 + 1e-12));
+}
+
+TEST_F(MeshCli, BadInputLeavesNothing) {
+  const auto s = sphere();
+  // An open surface: the sphere without its last triangle.
+  std::string text = test::read_text(s);
+  text.erase(text.rfind("f "));
+  const auto open = in.write("open.obj", text);
+  expect_failure("layer --surface " + q(open) + " --depth 10mm --edge 10mm -o " + q(out / "b.vtu"),
+                 {"open.obj", "open"});
+  expect_failure("layer --surface " + q(s) + " --depth 85mm --edge 10mm -o " + q(out / "b.vtu"),
+                 {"sphere.obj", "does not fit"});
+  const auto far = in.write("far.csv", "x_mm,y_mm,z_mm,depth_mm\n50,0,0,8\n0,0,90,9\n");
+  expect_failure("layer --surface " + q(s) + " --depth-samples " + q(far) + " --edge 10mm -o " +
+                     q(out / "b.vtu"),
+                 {"far.csv", "line 3", "from the surface"});
+  expect_failure("layer --surface " + q(s) + " --edge 10mm -o " + q(out / "b.vtu"),
+                 {"--depth"});
+  expect_failure("body hand -o " + q(out / "h.obj"), {"'hand'"});
+}
+
+}  // namespace
+}  // namespace palpa
