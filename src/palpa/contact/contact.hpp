@@ -21,8 +21,8 @@
 //                                                        // an elastic pattern
 //   output:      committed.forces(...), obstacle_wrench(...), pressures(...)
 //
-// (H holds its lower triangle only; the 3×3 block goes in whole, it is on the
-// diagonal.) Several obstacles: one ContactSet per obstacle, energies add. A
+// (System Hessians hold the lower triangle only: add the block's lower
+// triangle, entries (r, c) with r ≥ c.) Several obstacles: one ContactSet per obstacle, energies add. A
 // complete small System wired this way, solved by palpa's Newton, is in
 // tests/contact/newton_contact_test.cpp. k: stiffness_for_penetration() below.
 //
