@@ -73,6 +73,8 @@ struct ObstacleOptions {
   bool flip_inward = true;
 };
 
+// Queries are const and safe to run concurrently; set_pose() and
+// set_vertices() must not run during queries.
 class Obstacle {
  public:
   // mesh: closed, consistently oriented, manifold triangle surface in body
@@ -119,9 +121,8 @@ class Obstacle {
   bool penetration(const Eigen::Vector3d& x, ClosestPoint& out) const;
   bool inside(const Eigen::Vector3d& x) const;
 
-  struct Impl;
-
  private:
+  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
