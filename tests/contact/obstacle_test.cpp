@@ -96,6 +96,28 @@ TEST(ObstacleValidation, RefusesNonFiniteCoordinatesAndBadIndices) {
                            {"triangle 2 refers to vertex 8, but there are 8 vertices"}));
 }
 
+TEST(ObstacleValidation, RefusesASelfIntersectingSurfaceUnlessAsked) {
+  // Two closed, outward cubes overlapping: every test but this one passes.
+  const SurfaceMesh a = test::cube_mesh(0.01);
+  SurfaceMesh both;
+  both.V.resize(16, 3);
+  both.V << a.V, (a.V.rowwise() + Eigen::RowVector3d(0.005, 0.004, 0.003));
+  both.F.resize(24, 3);
+  both.F << a.F, (a.F.array() + 8).matrix();
+  EXPECT_TRUE(throws_error([&] { Obstacle(both, "two_boxes.stl"); }, ErrorKind::Input,
+                           {"two_boxes.stl: ", "the surface intersects itself",
+                            "pair(s) of triangles cross", "does not cross itself"}));
+  ObstacleOptions lenient;
+  lenient.check_self_intersections = false;
+  const Obstacle accepted(both, "two_boxes.stl", lenient);
+  EXPECT_TRUE(accepted.inside(Eigen::Vector3d(-0.009, -0.009, -0.009)));  // first box only
+  // Just below the second box's bottom face, deep inside the first box: the
+  // nearest sheet (that face, seen from outside) decides, so "outside". This is
+  // why such surfaces are refused by default.
+  EXPECT_FALSE(accepted.inside(Eigen::Vector3d(0.0, 0.0, -0.0071)));
+  EXPECT_TRUE(accepted.inside(Eigen::Vector3d(0.0, 0.0, -0.0069)));
+}
+
 TEST(ObstacleValidation, RefusesABadPoseAndBadNewVertices) {
   Obstacle box(test::cube_mesh(0.01), "box.obj");
   Pose scaled;
