@@ -2,12 +2,12 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <map>
 #include <numbers>
 #include <utility>
 #include <vector>
 
 #include "palpa/contact/detail/triangle.hpp"
+#include "palpa/contact/primitives.hpp"
 
 namespace palpa::test {
 
@@ -24,54 +24,11 @@ SurfaceMesh from_lists(const std::vector<Eigen::Vector3d>& v,
 }  // namespace
 
 SurfaceMesh cube_mesh(double h) {
-  std::vector<Eigen::Vector3d> v;
-  for (int i = 0; i < 8; ++i) v.emplace_back((i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h);
-  // Each face as a quad (counter-clockwise from outside), split in two.
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  std::vector<Eigen::Vector3i> f;
-  for (const auto& q : quads) {
-    f.emplace_back(q[0], q[1], q[2]);
-    f.emplace_back(q[0], q[2], q[3]);
-  }
-  return from_lists(v, f);
+  return contact::box_surface(Eigen::Vector3d::Constant(h));
 }
 
 SurfaceMesh sphere_mesh(double r, int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (auto& p : v) p.normalize();
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back((v[static_cast<std::size_t>(a)] + v[static_cast<std::size_t>(b)]).normalized());
-      const int id = static_cast<int>(v.size()) - 1;
-      mid.emplace(key, id);
-      return id;
-    };
-    std::vector<Eigen::Vector3i> next;
-    for (const auto& tri : f) {
-      const int a = midpoint(tri[0], tri[1]);
-      const int b = midpoint(tri[1], tri[2]);
-      const int c = midpoint(tri[2], tri[0]);
-      next.emplace_back(tri[0], a, c);
-      next.emplace_back(tri[1], b, a);
-      next.emplace_back(tri[2], c, b);
-      next.emplace_back(a, b, c);
-    }
-    f = std::move(next);
-  }
-  for (auto& p : v) p *= r;
-  return from_lists(v, f);
+  return contact::sphere_surface(r, levels);
 }
 
 SurfaceMesh torus_mesh(double R, double r, int nu, int nv) {
