@@ -99,4 +99,27 @@ SurfaceMesh cylinder_surface(double radius, double length, int segments) {
   return from_lists(v, f);
 }
 
+SurfaceMesh torus_surface(double R, double r, int nu, int nv) {
+  assert(nu >= 3 && nv >= 3 && R > r && r > 0.0);
+  std::vector<Eigen::Vector3d> v;
+  std::vector<Eigen::Vector3i> f;
+  const double two_pi = 2.0 * std::numbers::pi;
+  for (int i = 0; i < nu; ++i) {
+    for (int j = 0; j < nv; ++j) {
+      const double u = two_pi * i / nu;
+      const double w = two_pi * j / nv;
+      v.emplace_back((R + r * std::cos(w)) * std::cos(u), (R + r * std::cos(w)) * std::sin(u),
+                     r * std::sin(w));
+    }
+  }
+  auto id = [&](int i, int j) { return ((i + nu) % nu) * nv + (j + nv) % nv; };
+  for (int i = 0; i < nu; ++i) {
+    for (int j = 0; j < nv; ++j) {
+      f.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      f.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return from_lists(v, f);
+}
+
 }  // namespace palpa::contact

@@ -22,4 +22,8 @@ SurfaceMesh cylinder_surface(double radius, double length, int segments);
 // vertices on the sphere of radius `radius`.
 SurfaceMesh sphere_surface(double radius, int levels);
 
+// A torus around z: tube centre radius R, tube radius r (R > r > 0), nu × nv
+// quads (nu, nv ≥ 3) each split in two: 2·nu·nv triangles.
+SurfaceMesh torus_surface(double R, double r, int nu, int nv);
+
 }  // namespace palpa::contact
