@@ -139,7 +139,7 @@ void bench_mesh(const MeshCase& mc) {
         {"reference_seconds", t_cgal},
         {"ratio_to_reference", t_own / t_cgal},
         {"obstacle_construction_seconds", t_obstacle},
-        {"obstacle_construction_note", "validation + normals + own tree"}});
+        {"obstacle_construction_note", "validation (with the exact self-intersection test) + normals + own tree"}});
 
   // 3. Deformation: every vertex moves (a squash plus a wobble of ~5 mm).
   palpa::SurfaceMesh moved = mesh;

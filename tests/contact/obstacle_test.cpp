@@ -9,11 +9,13 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include "common/test_support.hpp"
 #include "contact/shapes.hpp"
 #include "palpa/contact/detail/triangle.hpp"
+#include "palpa/contact/primitives.hpp"
 
 namespace palpa::contact {
 namespace {
@@ -94,6 +96,28 @@ TEST(ObstacleValidation, RefusesNonFiniteCoordinatesAndBadIndices) {
   b.F(2, 2) = 8;
   EXPECT_TRUE(throws_error([&] { Obstacle(b, "box.stl"); }, ErrorKind::Input,
                            {"triangle 2 refers to vertex 8, but there are 8 vertices"}));
+}
+
+TEST(ObstacleValidation, RefusesASelfIntersectingSurfaceUnlessAsked) {
+  // Two closed, outward cubes overlapping: every test but this one passes.
+  const SurfaceMesh a = test::cube_mesh(0.01);
+  SurfaceMesh both;
+  both.V.resize(16, 3);
+  both.V << a.V, (a.V.rowwise() + Eigen::RowVector3d(0.005, 0.004, 0.003));
+  both.F.resize(24, 3);
+  both.F << a.F, (a.F.array() + 8).matrix();
+  EXPECT_TRUE(throws_error([&] { Obstacle(both, "two_boxes.stl"); }, ErrorKind::Input,
+                           {"two_boxes.stl: ", "the surface intersects itself",
+                            "pair(s) of triangles cross", "does not cross itself"}));
+  ObstacleOptions lenient;
+  lenient.check_self_intersections = false;
+  const Obstacle accepted(both, "two_boxes.stl", lenient);
+  EXPECT_TRUE(accepted.inside(Eigen::Vector3d(-0.009, -0.009, -0.009)));  // first box only
+  // Just below the second box's bottom face, deep inside the first box: the
+  // nearest sheet (that face, seen from outside) decides, so "outside". This is
+  // why such surfaces are refused by default.
+  EXPECT_FALSE(accepted.inside(Eigen::Vector3d(0.0, 0.0, -0.0071)));
+  EXPECT_TRUE(accepted.inside(Eigen::Vector3d(0.0, 0.0, -0.0069)));
 }
 
 TEST(ObstacleValidation, RefusesABadPoseAndBadNewVertices) {
@@ -327,6 +351,28 @@ TEST(ObstacleClosest, TriangleRegionsAreOptimal) {
     ++seen[tp.region];
   }
   for (int r = 0; r < 7; ++r) EXPECT_GT(seen[r], 0) << "region " << r;
+}
+
+TEST(Primitives, ValidClosedSurfacesWithTheirVolumes) {
+  const Obstacle box(box_surface(Eigen::Vector3d(0.01, 0.02, 0.03)), "box");
+  EXPECT_FALSE(box.flipped());
+  EXPECT_NEAR(box.volume(), 8.0 * 0.01 * 0.02 * 0.03, 1e-18);
+  EXPECT_TRUE(box.inside(Eigen::Vector3d(0.0099, -0.0199, 0.0299)));
+  EXPECT_FALSE(box.inside(Eigen::Vector3d(0.0, 0.0201, 0.0)));
+  const int n = 24;
+  const Obstacle cylinder(cylinder_surface(0.005, 0.02, n), "cylinder");
+  EXPECT_FALSE(cylinder.flipped());
+  EXPECT_EQ(cylinder.triangles().rows(), 4 * n);
+  EXPECT_NEAR(cylinder.volume(), 0.5 * n * 25e-6 * std::sin(2.0 * std::numbers::pi / n) * 0.02,
+              1e-17);
+  EXPECT_TRUE(cylinder.inside(Eigen::Vector3d(0.0048, 0.0, -0.0099)));  // near a vertex of the rim
+  EXPECT_FALSE(cylinder.inside(Eigen::Vector3d(0.0, 0.0, -0.0101)));
+  EXPECT_FALSE(cylinder.inside(Eigen::Vector3d(0.0036, 0.0036, 0.0)));  // outside the 24-gon
+  const Obstacle sphere(sphere_surface(0.05, 2), "sphere");
+  EXPECT_FALSE(sphere.flipped());
+  EXPECT_EQ(sphere.triangles().rows(), 320);
+  EXPECT_LT(sphere.volume(), 4.0 / 3.0 * std::numbers::pi * 1.25e-4);
+  EXPECT_GT(sphere.volume(), 0.95 * 4.0 / 3.0 * std::numbers::pi * 1.25e-4);
 }
 
 TEST(VertexAreas, ThirdOfIncidentTriangles) {

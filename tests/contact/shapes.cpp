@@ -2,124 +2,48 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <map>
 #include <numbers>
 #include <utility>
 #include <vector>
 
 #include "palpa/contact/detail/triangle.hpp"
+#include "palpa/contact/primitives.hpp"
 
 namespace palpa::test {
 
-namespace {
-SurfaceMesh from_lists(const std::vector<Eigen::Vector3d>& v,
-                       const std::vector<Eigen::Vector3i>& f) {
-  SurfaceMesh m;
-  m.V.resize(static_cast<Eigen::Index>(v.size()), 3);
-  m.F.resize(static_cast<Eigen::Index>(f.size()), 3);
-  for (std::size_t i = 0; i < v.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = v[i];
-  for (std::size_t i = 0; i < f.size(); ++i) m.F.row(static_cast<Eigen::Index>(i)) = f[i];
-  return m;
-}
-}  // namespace
-
 SurfaceMesh cube_mesh(double h) {
-  std::vector<Eigen::Vector3d> v;
-  for (int i = 0; i < 8; ++i) v.emplace_back((i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h);
-  // Each face as a quad (counter-clockwise from outside), split in two.
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  std::vector<Eigen::Vector3i> f;
-  for (const auto& q : quads) {
-    f.emplace_back(q[0], q[1], q[2]);
-    f.emplace_back(q[0], q[2], q[3]);
-  }
-  return from_lists(v, f);
+  return contact::box_surface(Eigen::Vector3d::Constant(h));
 }
 
 SurfaceMesh sphere_mesh(double r, int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (auto& p : v) p.normalize();
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back((v[static_cast<std::size_t>(a)] + v[static_cast<std::size_t>(b)]).normalized());
-      const int id = static_cast<int>(v.size()) - 1;
-      mid.emplace(key, id);
-      return id;
-    };
-    std::vector<Eigen::Vector3i> next;
-    for (const auto& tri : f) {
-      const int a = midpoint(tri[0], tri[1]);
-      const int b = midpoint(tri[1], tri[2]);
-      const int c = midpoint(tri[2], tri[0]);
-      next.emplace_back(tri[0], a, c);
-      next.emplace_back(tri[1], b, a);
-      next.emplace_back(tri[2], c, b);
-      next.emplace_back(a, b, c);
-    }
-    f = std::move(next);
-  }
-  for (auto& p : v) p *= r;
-  return from_lists(v, f);
+  return contact::sphere_surface(r, levels);
 }
 
 SurfaceMesh torus_mesh(double R, double r, int nu, int nv) {
-  std::vector<Eigen::Vector3d> v;
-  std::vector<Eigen::Vector3i> f;
-  const double two_pi = 2.0 * std::numbers::pi;
-  for (int i = 0; i < nu; ++i) {
-    for (int j = 0; j < nv; ++j) {
-      const double u = two_pi * i / nu;
-      const double w = two_pi * j / nv;
-      v.emplace_back((R + r * std::cos(w)) * std::cos(u), (R + r * std::cos(w)) * std::sin(u),
-                     r * std::sin(w));
-    }
-  }
-  auto id = [&](int i, int j) { return ((i + nu) % nu) * nv + (j + nv) % nv; };
-  for (int i = 0; i < nu; ++i) {
-    for (int j = 0; j < nv; ++j) {
-      f.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      f.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-    }
-  }
-  return from_lists(v, f);
+  return contact::torus_surface(R, r, nu, nv);
 }
 
 SurfaceMesh bowtie_mesh() {
-  // Tetrahedra (0, 1, 2, 3) and (0, 1, 4, 5) share the edge 0–1.
-  const std::vector<Eigen::Vector3d> v = {{0, 0, 0}, {0, 0, 1},  {1, 0, 0},
-                                          {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
-  std::vector<Eigen::Vector3i> f;
-  for (const auto& t : {Eigen::Vector4i(0, 1, 2, 3), Eigen::Vector4i(0, 1, 4, 5)}) {
-    const Eigen::Vector3d centre =
-        (v[static_cast<std::size_t>(t[0])] + v[static_cast<std::size_t>(t[1])] +
-         v[static_cast<std::size_t>(t[2])] + v[static_cast<std::size_t>(t[3])]) /
-        4.0;
-    const int faces[4][3] = {
-        {t[0], t[1], t[2]}, {t[0], t[1], t[3]}, {t[0], t[2], t[3]}, {t[1], t[2], t[3]}};
-    for (const auto& q : faces) {
-      const Eigen::Vector3d& a = v[static_cast<std::size_t>(q[0])];
+  // Tetrahedra (0, 1, 2, 3) and (0, 1, 4, 5) share the edge 0–1; each face is
+  // wound so that its normal points away from its tetrahedron's centre.
+  SurfaceMesh m;
+  m.V.resize(6, 3);
+  m.V << 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0;
+  m.F.resize(8, 3);
+  int row = 0;
+  for (const Eigen::Vector4i& t : {Eigen::Vector4i(0, 1, 2, 3), Eigen::Vector4i(0, 1, 4, 5)}) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) centre += m.V.row(t[k]).transpose() / 4.0;
+    for (const Eigen::Vector3i& q :
+         {Eigen::Vector3i(t[0], t[1], t[2]), Eigen::Vector3i(t[0], t[1], t[3]),
+          Eigen::Vector3i(t[0], t[2], t[3]), Eigen::Vector3i(t[1], t[2], t[3])}) {
+      const Eigen::Vector3d a = m.V.row(q[0]);
       const Eigen::Vector3d n =
-          (v[static_cast<std::size_t>(q[1])] - a).cross(v[static_cast<std::size_t>(q[2])] - a);
-      if (n.dot(a - centre) > 0.0) {
-        f.emplace_back(q[0], q[1], q[2]);
-      } else {
-        f.emplace_back(q[0], q[2], q[1]);
-      }
+          (m.V.row(q[1]).transpose() - a).cross(m.V.row(q[2]).transpose() - a);
+      m.F.row(row++) = n.dot(a - centre) > 0.0 ? q : Eigen::Vector3i(q[0], q[2], q[1]);
     }
   }
-  return from_lists(v, f);
+  return m;
 }
 
 double winding_number(const SurfaceMesh& mesh, const Eigen::Vector3d& p) {

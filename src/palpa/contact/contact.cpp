@@ -56,6 +56,8 @@ double detected_energy(const Obstacle& obstacle, Points points, std::span<const 
 }
 
 void ContactSet::detect(const Obstacle& obstacle, Points points, std::span<const int> which) {
+  assert(
+      std::all_of(which.begin(), which.end(), [&](int i) { return i >= 0 && i < points.cols(); }));
   slot_.resize(which.size());
   hit_.resize(which.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, which.size(), kGrain),

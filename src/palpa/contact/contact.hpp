@@ -21,6 +21,11 @@
 //                                                        // an elastic pattern
 //   output:      committed.forces(...), obstacle_wrench(...), pressures(...)
 //
+// (System Hessians hold the lower triangle only: add the block's lower
+// triangle, entries (r, c) with r ≥ c.) Several obstacles: one ContactSet per obstacle, energies
+// add. A complete small System wired this way, solved by palpa's Newton, is in
+// tests/contact/newton_contact_test.cpp. k: stiffness_for_penetration() below.
+//
 // gradient/Hessian with the committed set are exact derivatives of
 // committed.energy(x): each contact keeps its feature (vertex, edge or face),
 // and its anchor slides on that feature as the point moves (Appendix A). At the

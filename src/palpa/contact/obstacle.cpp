@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "palpa/contact/detail/bvh.hpp"
+#include "palpa/contact/detail/cgal_checks.hpp"
 #include "palpa/contact/detail/cgal_tree.hpp"
 #include "palpa/core/error.hpp"
 
@@ -24,6 +25,8 @@ using detail::TriangleRegion;
 // diagonal are degenerate; a volume below this fraction of its cube is zero.
 constexpr double kDegenerateFraction = 1e-12;
 constexpr double kRotationTolerance = 1e-9;
+// Self-intersection search stops after this many pairs.
+constexpr std::size_t kMaxReportedIntersections = 100;
 // Triangles per task when the normals are recomputed.
 constexpr std::size_t kNormalsGrain = 2048;
 
@@ -335,6 +338,18 @@ Obstacle::Obstacle(const SurfaceMesh& mesh, std::string name, const ObstacleOpti
     m.volume = -m.volume;
     m.flipped = true;
     m.neighbour = edge_neighbours(m.F, m.name);
+  }
+  if (options.check_self_intersections) {
+    const detail::SelfIntersections crossing =
+        detail::self_intersections(m.V, m.F, kMaxReportedIntersections);
+    if (crossing.pairs > 0) {
+      fail(m.name,
+           fmt::format("the surface intersects itself: {}{} pair(s) of triangles cross, e.g. "
+                       "triangles {} and {}",
+                       crossing.pairs >= kMaxReportedIntersections ? "at least " : "",
+                       crossing.pairs, crossing.first, crossing.second),
+           "a surface that does not cross itself");
+    }
   }
   m.build_vertex_corners();
   m.update_normals();

@@ -11,7 +11,8 @@
 // surface: the sign of (p − c)·N, with c the closest surface point and N the
 // angle-weighted pseudo-normal of the closest feature (face normal; sum of the
 // two face normals for an edge; angle-weighted sum of the incident face normals
-// for a vertex). For a closed, consistently oriented manifold this sign is exact
+// for a vertex). For a closed, consistently oriented manifold that does not
+// cross itself (checked on construction, see ObstacleOptions) this sign is exact
 // whatever feature is closest (Bærentzen & Aanæs, 2005), so there is no ray to
 // shoot through an edge or a vertex and no degenerate case to break; and it
 // comes free with the closest-point query that the penalty needs anyway. Points
@@ -71,8 +72,16 @@ struct ObstacleOptions {
   // (every triangle's winding reversed; flipped() tells) when true, refused
   // (palpa::Error, Input) when false.
   bool flip_inward = true;
+  // Refuse a surface that crosses itself (two triangles intersecting other
+  // than along a shared edge or at a shared vertex; exact predicates). The
+  // inside test is exact only for surfaces that do not: where sheets overlap,
+  // the sign is that of the nearest sheet. Costs about as much as the rest of
+  // the construction; the check is not redone by set_vertices().
+  bool check_self_intersections = true;
 };
 
+// Queries are const and safe to run concurrently; set_pose() and
+// set_vertices() must not run during queries.
 class Obstacle {
  public:
   // mesh: closed, consistently oriented, manifold triangle surface in body
@@ -81,7 +90,8 @@ class Obstacle {
   // index out of range, a degenerate triangle (repeated vertex or area below
   // 1e-12·(bounding-box diagonal)²), a boundary edge (mesh not closed), an edge
   // of more than two triangles, two triangles disagreeing on orientation, a
-  // zero enclosed volume, or an inward orientation when !options.flip_inward.
+  // zero enclosed volume, an inward orientation when !options.flip_inward, or
+  // intersecting triangles when options.check_self_intersections.
   Obstacle(const SurfaceMesh& mesh, std::string name, const ObstacleOptions& options = {});
   ~Obstacle();
   Obstacle(Obstacle&&) noexcept;
@@ -119,9 +129,8 @@ class Obstacle {
   bool penetration(const Eigen::Vector3d& x, ClosestPoint& out) const;
   bool inside(const Eigen::Vector3d& x) const;
 
-  struct Impl;
-
  private:
+  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
