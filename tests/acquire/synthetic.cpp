@@ -1,0 +1,81 @@
+#include "synthetic.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace palpa::test {
+
+namespace {
+
+double smoothstep(double u) { return 0.5 - 0.5 * std::cos(std::numbers::pi * std::clamp(u, 0.0, 1.0)); }
+
+double table_interpolate(const std::vector<double>& x, const std::vector<double>& y, double v) {
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    if (v <= x[i] || i + 1 == x.size()) {
+      const double w = (v - x[i - 1]) / (x[i] - x[i - 1]);
+      return (1.0 - w) * y[i - 1] + w * y[i];
+    }
+  }
+  return y.back();
+}
+
+}  // namespace
+
+double SyntheticPoke::poke(double t) const {
+  if (t < rest_before + ramp_in) return depth * smoothstep((t - rest_before) / ramp_in);
+  return depth * (1.0 - smoothstep((t - rest_before - ramp_in) / ramp_out));
+}
+
+double SyntheticPoke::expected_force(double x) const {
+  auto f = [&](double d) { return stiffness * d + hardening * d * d; };
+  return f(preload + x) - f(preload);
+}
+
+std::vector<double> calibration_volts() {
+  std::vector<double> v;
+  for (int i = 0; i <= 20; ++i) v.push_back(0.5 * i);
+  return v;
+}
+
+std::vector<double> calibration_metres() {
+  std::vector<double> d;
+  for (double v : calibration_volts()) d.push_back(30e-3 + 8e-3 * v + 0.3e-3 * v * v);
+  return d;
+}
+
+SyntheticLogs make_poke_logs(const SyntheticPoke& p) {
+  std::mt19937_64 rng(p.seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double phase = 0.7;
+  auto delta = [&](double t) {
+    return p.preload + p.poke(t) + p.tremor * std::sin(2.0 * std::numbers::pi * p.tremor_hz * t + phase);
+  };
+  SyntheticLogs out;
+  out.force_csv = "# synthetic force gauge log\ntime_s,force_N\n";
+  const double force_start = -p.force_lead;
+  for (double i = 0;; ++i) {
+    const double t = force_start + i / p.force_rate;  // true time
+    if (t > p.total()) break;
+    const double d = delta(t);
+    const double f = p.stiffness * d + p.hardening * d * d + p.force_drift * (t + 1.0) + p.force_noise * unit(rng);
+    out.force_csv += fmt::format("{:.6f},{:.5f}\n", t + p.force_clock, f);
+  }
+  const std::vector<double> volts = calibration_volts();
+  const std::vector<double> metres = calibration_metres();
+  out.laser_csv = "# synthetic laser log\ntime_s,voltage_V\n";
+  for (double i = 0;; ++i) {
+    const double t = i / p.laser_rate;
+    if (t > p.total()) break;
+    const double distance = p.laser_rest - (delta(t) - p.preload) + p.laser_drift * t + p.laser_noise * unit(rng);
+    out.laser_csv += fmt::format("{:.6f},{:.7f}\n", t + p.laser_clock, table_interpolate(metres, volts, distance));
+  }
+  out.calibration_csv = "# synthetic laser calibration\nvoltage_V,distance_mm\n";
+  for (std::size_t i = 0; i < volts.size(); ++i) out.calibration_csv += fmt::format("{},{:.6f}\n", volts[i], metres[i] * 1e3);
+  return out;
+}
+
+}  // namespace palpa::test
