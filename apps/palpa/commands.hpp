@@ -12,5 +12,6 @@ void add_material_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_poke_command(CLI::App& app);
 void add_fit_command(CLI::App& app);
+void add_acquire_command(CLI::App& app);
 
 }  // namespace palpa::cli

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   palpa::cli::add_material_command(app);
   palpa::cli::add_poke_command(app);
   palpa::cli::add_fit_command(app);
+  palpa::cli::add_acquire_command(app);
   palpa::cli::add_convert_command(app);
   palpa::cli::add_units_command(app);
 

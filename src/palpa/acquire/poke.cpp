@@ -253,6 +253,13 @@ report::Figure poke_signals_figure(const PokeResult& r) {
     const auto [lo, hi] = std::minmax_element(r.distance_filtered.v.begin(), r.distance_filtered.v.end());
     p.series.push_back(window_series(r.laser_window, r.clock_shift, *lo, *hi, 1e3));
   }
+  // One time axis for both plots.
+  const double t0 = std::min(r.force_log.signal.t.front(), r.laser_distance_raw.t.front() + r.clock_shift);
+  const double t1 = std::max(r.force_log.signal.t.back(), r.laser_distance_raw.t.back() + r.clock_shift);
+  for (report::Plot& p : fig.plots) {
+    p.x.min = t0;
+    p.x.max = t1;
+  }
   return fig;
 }
 

@@ -1,0 +1,34 @@
+// Writes the synthetic example recordings of examples/acquire from the same
+// generators the tests use:
+//   palpa_acquire_make_examples <examples/acquire folder>
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "synthetic.hpp"
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    fmt::print(stderr, "usage: {} EXAMPLES_ACQUIRE_FOLDER\n", argv[0]);
+    return 2;
+  }
+  const std::filesystem::path out = argv[1];
+  auto write = [&](const std::filesystem::path& rel, const std::string& text) {
+    std::filesystem::create_directories((out / rel).parent_path());
+    std::ofstream f(out / rel, std::ios::binary);
+    f << text;
+    if (!f) {
+      fmt::print(stderr, "cannot write {}\n", (out / rel).string());
+      std::exit(1);
+    }
+  };
+  palpa::test::SyntheticPoke p;
+  p.force_rate = 100.0;
+  p.laser_rate = 500.0;
+  const palpa::test::SyntheticLogs logs = palpa::test::make_poke_logs(p);
+  write("poke/force.csv", logs.force_csv);
+  write("poke/laser.csv", logs.laser_csv);
+  write("poke/laser-calibration.csv", logs.calibration_csv);
+  return 0;
+}
