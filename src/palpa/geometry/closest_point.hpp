@@ -1,0 +1,34 @@
+#pragma once
+// Closest points on a triangle surface.
+
+#include <Eigen/Core>
+
+#include "palpa/io/mesh.hpp"
+
+namespace palpa::geometry {
+
+// A point on a surface: a triangle and barycentric coordinates in it.
+struct SurfacePoint {
+  Eigen::Index face = -1;                                 // row of F
+  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();  // weights of F(face, 0..2), sum 1, ≥ 0
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();     // Σ b_k V(F(face,k)) [m]
+  double distance = 0.0;  // from the query point to `position` [m]
+};
+
+// The closest point of triangle (a, b, c) to p, as barycentric weights of
+// (a, b, c) (non-negative, summing to 1; a degenerate triangle is handled as
+// its longest edge or a point).
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+// The closest point of the surface to p. Exhaustive over the triangles with a
+// bounding-sphere cut (O(#F) per query; a few ms for 100k triangles), ties go
+// to the lowest face index. mesh must have at least one triangle (asserted).
+SurfacePoint closest_point(const SurfaceMesh& mesh, const Eigen::Vector3d& p);
+
+// Σ_k b_k values(F(face,k), :): a per-vertex field (#V×k) evaluated at a
+// surface point, 1×k.
+Eigen::RowVectorXd evaluate_at(const SurfaceMesh& mesh, const SurfacePoint& point,
+                               const Eigen::MatrixXd& vertex_values);
+
+}  // namespace palpa::geometry

@@ -1,0 +1,103 @@
+#include "palpa/geometry/surface_operators.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <vector>
+
+namespace palpa::geometry {
+namespace {
+
+Eigen::Vector3d corner(const SurfaceMesh& mesh, Eigen::Index f, int k) {
+  return mesh.V.row(mesh.F(f, k)).transpose();
+}
+
+// Angle at a between rays to b and c, robust for small angles (atan2).
+double corner_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d u = b - a;
+  const Eigen::Vector3d v = c - a;
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+}  // namespace
+
+Eigen::VectorXd face_areas(const SurfaceMesh& mesh) {
+  Eigen::VectorXd areas(mesh.F.rows());
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = corner(mesh, f, 0);
+    areas(f) = 0.5 * (corner(mesh, f, 1) - a).cross(corner(mesh, f, 2) - a).norm();
+  }
+  return areas;
+}
+
+Eigen::MatrixX3d face_normals(const SurfaceMesh& mesh) {
+  Eigen::MatrixX3d normals(mesh.F.rows(), 3);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = corner(mesh, f, 0);
+    const Eigen::Vector3d n = (corner(mesh, f, 1) - a).cross(corner(mesh, f, 2) - a);
+    const double length = n.norm();
+    normals.row(f) = length > 0.0 ? Eigen::RowVector3d((n / length).transpose())
+                                  : Eigen::RowVector3d::Zero();
+  }
+  return normals;
+}
+
+Eigen::VectorXd vertex_areas(const SurfaceMesh& mesh) {
+  const Eigen::VectorXd fa = face_areas(mesh);
+  Eigen::VectorXd areas = Eigen::VectorXd::Zero(mesh.V.rows());
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) areas(mesh.F(f, k)) += fa(f) / 3.0;
+  }
+  return areas;
+}
+
+Eigen::MatrixX3d vertex_normals(const SurfaceMesh& mesh) {
+  const Eigen::MatrixX3d fn = face_normals(mesh);
+  Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(mesh.V.rows(), 3);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const double angle =
+          corner_angle(corner(mesh, f, k), corner(mesh, f, (k + 1) % 3), corner(mesh, f, (k + 2) % 3));
+      normals.row(mesh.F(f, k)) += angle * fn.row(f);
+    }
+  }
+  for (Eigen::Index i = 0; i < normals.rows(); ++i) {
+    const double length = normals.row(i).norm();
+    if (length > 0.0) normals.row(i) /= length;
+  }
+  return normals;
+}
+
+Eigen::SparseMatrix<double> cotangent_laplacian(const SurfaceMesh& mesh) {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(mesh.F.rows()) * 12);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      // Edge (i, j) opposite corner k.
+      const int i = mesh.F(f, (k + 1) % 3);
+      const int j = mesh.F(f, (k + 2) % 3);
+      const Eigen::Vector3d u = mesh.V.row(i) - mesh.V.row(mesh.F(f, k));
+      const Eigen::Vector3d v = mesh.V.row(j) - mesh.V.row(mesh.F(f, k));
+      const double twice_area = u.cross(v).norm();
+      if (!(twice_area > 0.0)) continue;
+      const double w = 0.5 * u.dot(v) / twice_area;  // ½ cot of the corner angle
+      entries.emplace_back(i, j, -w);
+      entries.emplace_back(j, i, -w);
+      entries.emplace_back(i, i, w);
+      entries.emplace_back(j, j, w);
+    }
+  }
+  Eigen::SparseMatrix<double> L(mesh.V.rows(), mesh.V.rows());
+  L.setFromTriplets(entries.begin(), entries.end());
+  return L;
+}
+
+Eigen::SparseMatrix<double> mass_matrix(const SurfaceMesh& mesh) {
+  const Eigen::VectorXd areas = vertex_areas(mesh);
+  Eigen::SparseMatrix<double> M(areas.size(), areas.size());
+  M.reserve(Eigen::VectorXi::Ones(areas.size()));
+  for (Eigen::Index i = 0; i < areas.size(); ++i) M.insert(i, i) = areas(i);
+  M.makeCompressed();
+  return M;
+}
+
+}  // namespace palpa::geometry

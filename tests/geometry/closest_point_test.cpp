@@ -1,0 +1,72 @@
+// Closest points on a triangle (each Voronoi region) and on a surface.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "common/test_support.hpp"
+#include "geometry/test_surfaces.hpp"
+#include "palpa/geometry/closest_point.hpp"
+
+namespace palpa::geometry {
+namespace {
+
+const Eigen::Vector3d kA(0, 0, 0), kB(2, 0, 0), kC(0, 2, 0);
+
+void expect_weights(const Eigen::Vector3d& p, const Eigen::Vector3d& expected) {
+  const Eigen::Vector3d w = closest_point_on_triangle(p, kA, kB, kC);
+  EXPECT_TRUE(w.isApprox(expected, 1e-14) || (w - expected).norm() < 1e-14)
+      << "p = " << p.transpose() << " got " << w.transpose();
+}
+
+TEST(ClosestPoint, EveryRegionOfATriangle) {
+  expect_weights({0.5, 0.5, 3.0}, {0.5, 0.25, 0.25});  // face
+  expect_weights({-1, -1, 1}, {1, 0, 0});              // vertex a
+  expect_weights({3, -1, 0}, {0, 1, 0});               // vertex b
+  expect_weights({-1, 3, 0}, {0, 0, 1});               // vertex c
+  expect_weights({1, -1, 0}, {0.5, 0.5, 0});           // edge ab
+  expect_weights({-1, 1, 0}, {0.5, 0, 0.5});           // edge ac
+  expect_weights({2, 2, 0}, {0, 0.5, 0.5});            // edge bc
+}
+
+TEST(ClosestPoint, DegenerateTriangleFallsBackToItsEdges) {
+  const Eigen::Vector3d w =
+      closest_point_on_triangle({1, 1, 0}, {0, 0, 0}, {2, 0, 0}, {1, 0, 0});
+  const Eigen::Vector3d q = w(0) * Eigen::Vector3d(0, 0, 0) + w(1) * Eigen::Vector3d(2, 0, 0) +
+                            w(2) * Eigen::Vector3d(1, 0, 0);
+  EXPECT_NEAR((q - Eigen::Vector3d(1, 0, 0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(w.sum(), 1.0, 1e-15);
+}
+
+TEST(ClosestPoint, OnASphereMatchesExhaustiveSearchAndTheRadialDistance) {
+  const double r = 0.05;
+  const SurfaceMesh sphere = test::icosphere(3, r);
+  auto rng = test::make_rng(11);
+  std::normal_distribution<double> normal;
+  for (int trial = 0; trial < 50; ++trial) {
+    const Eigen::Vector3d dir = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    const double radius = r * (0.7 + 0.6 * (trial % 7) / 6.0);
+    const Eigen::Vector3d p = radius * dir;
+    const SurfacePoint q = closest_point(sphere, p);
+    double best = 1e300;
+    for (Eigen::Index f = 0; f < sphere.F.rows(); ++f) {
+      const Eigen::Vector3d w = closest_point_on_triangle(
+          p, sphere.V.row(sphere.F(f, 0)), sphere.V.row(sphere.F(f, 1)), sphere.V.row(sphere.F(f, 2)));
+      const Eigen::Vector3d x = w(0) * sphere.V.row(sphere.F(f, 0)).transpose() +
+                                w(1) * sphere.V.row(sphere.F(f, 1)).transpose() +
+                                w(2) * sphere.V.row(sphere.F(f, 2)).transpose();
+      best = std::min(best, (p - x).norm());
+    }
+    EXPECT_NEAR(q.distance, best, 1e-15);
+    EXPECT_NEAR((q.position - p).norm(), q.distance, 1e-15);
+    // The inscribed polyhedron is within its sagitta (< 0.3 mm here) of the sphere.
+    EXPECT_NEAR(q.distance, std::abs(radius - r), 3e-4);
+    EXPECT_NEAR(q.barycentric.sum(), 1.0, 1e-14);
+    EXPECT_GE(q.barycentric.minCoeff(), 0.0);
+    // evaluate_at of the coordinates is the position itself.
+    const Eigen::RowVectorXd x = evaluate_at(sphere, q, Eigen::MatrixXd(sphere.V));
+    EXPECT_NEAR((x.transpose() - q.position).norm(), 0.0, 1e-15);
+  }
+}
+
+}  // namespace
+}  // namespace palpa::geometry
