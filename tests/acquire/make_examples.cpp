@@ -30,5 +30,13 @@ int main(int argc, char** argv) {
   write("poke/force.csv", logs.force_csv);
   write("poke/laser.csv", logs.laser_csv);
   write("poke/laser-calibration.csv", logs.calibration_csv);
+  // Ultrasound: the probe's clock runs 0.15 s ahead of the gauge's; the fat
+  // layer (8 mm) takes 60% of the indentation, the bone (24 mm) 90%.
+  palpa::test::SyntheticPoke u;
+  u.force_rate = 100.0;
+  u.seed = 2;
+  write("ultrasound/force.csv", palpa::test::make_poke_logs(u).force_csv);
+  write("ultrasound/fat.csv", palpa::test::make_interface_picks(u, 8e-3, 0.6, 0.15));
+  write("ultrasound/bone.csv", palpa::test::make_interface_picks(u, 24e-3, 0.9, 0.15));
   return 0;
 }

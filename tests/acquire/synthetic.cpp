@@ -47,6 +47,19 @@ std::vector<double> calibration_metres() {
   return d;
 }
 
+double interface_depth(const SyntheticPoke& p, double rest_depth, double share, double t) {
+  return rest_depth - share * p.poke(t);
+}
+
+std::string make_interface_picks(const SyntheticPoke& p, double rest_depth, double share, double clock) {
+  std::vector<double> times{0.5, 1.0, 1.5, 1.9};
+  for (int i = 0; i <= 12; ++i) times.push_back(2.0 + 0.1 * i);
+  for (double t : {3.5, 4.0, 4.5}) times.push_back(t);
+  std::string out = "# synthetic ultrasound picks\ntime_s,depth_mm\n";
+  for (double t : times) out += fmt::format("{:.4f},{:.5f}\n", t + clock, interface_depth(p, rest_depth, share, t) * 1e3);
+  return out;
+}
+
 SyntheticLogs make_poke_logs(const SyntheticPoke& p) {
   std::mt19937_64 rng(p.seed);
   std::normal_distribution<double> unit(0.0, 1.0);

@@ -52,6 +52,15 @@ struct SyntheticLogs {
 
 SyntheticLogs make_poke_logs(const SyntheticPoke& p);
 
+// Ultrasound picks of one tissue interface during the poke of `p`: depth below
+// the skin = rest_depth − share·poke(t) (the interface takes `share` of the
+// indentation), picked at 0.5, 1.0, 1.5, 1.9 s, every 0.1 s from 2.0 to 3.2 s,
+// and at 3.5, 4.0, 4.5 s (true time), written on a clock `clock` ahead:
+// time_s,depth_mm.
+std::string make_interface_picks(const SyntheticPoke& p, double rest_depth, double share, double clock);
+// The true depth of such an interface at true time t [m].
+double interface_depth(const SyntheticPoke& p, double rest_depth, double share, double t);
+
 // The laser calibration used: distance = 30 mm + 8 mm/V·V + 0.3 mm/V²·V², V in 0..10 V,
 // as a 21-row table (the logs invert the table itself, so it is exact).
 std::vector<double> calibration_volts();

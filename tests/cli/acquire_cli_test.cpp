@@ -1,6 +1,7 @@
 // `palpa acquire` end to end on the synthetic example recordings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -111,6 +112,63 @@ TEST(AcquireCli, PokeRefusesAClippedForceGauge) {
   EXPECT_NE(r.err.find("force.csv:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("the sensor is saturated"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "curve.csv"));
+}
+
+void copy_ultrasound_example(const ScratchDir& dir) {
+  for (const char* f : {"force.csv", "fat.csv", "bone.csv"}) {
+    std::filesystem::copy_file(test::source_path(std::string("examples/acquire/ultrasound/") + f), dir / f);
+  }
+}
+
+constexpr const char* kUltrasound = "acquire ultrasound --force force.csv --interface fat=fat.csv --interface bone=bone.csv ";
+
+TEST(AcquireCli, UltrasoundWritesDepthsAndBuildsADepthTable) {
+  ScratchDir dir;
+  copy_ultrasound_example(dir);
+  auto r = run_palpa(std::string(kUltrasound) + "-o depths.csv --plots plots --summary s.json "
+                                                "--depth-table table.csv --position 10mm,20mm,300mm",
+                     dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(test::read_text(dir / "depths.csv").find("time_s,force_N,fat_depth_m,bone_depth_m"), std::string::npos);
+  EXPECT_NE(test::read_text(dir / "plots" / "depths.svg").find("<svg"), std::string::npos);
+  EXPECT_NE(r.err.find("rest depths fat 8"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bone 24"), std::string::npos) << r.err;
+  // A second location, then the first again (replaced, not repeated).
+  r = run_palpa(std::string(kUltrasound) + "-o d2.csv --depth-table table.csv --position 10mm,20mm,320mm",
+                dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_palpa(std::string(kUltrasound) + "-o d3.csv --depth-table table.csv --position 10mm,20mm,300mm "
+                                           "--depth-interface fat",
+                dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string table = test::read_text(dir / "table.csv");
+  EXPECT_NE(table.find("x_m,y_m,z_m,depth_m,fat_depth_m,bone_depth_m\n0.01,0.02,0.32,0.024"), std::string::npos)
+      << table;
+  EXPECT_NE(table.find("\n0.01,0.02,0.3,0.008"), std::string::npos) << table;  // depth_m = fat now
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 4) << table;     // comment, header, 2 rows
+}
+
+TEST(AcquireCli, UltrasoundRefusesBadOptionsAndWritesNothing) {
+  struct Bad {
+    const char* args;
+    const char* message;
+  };
+  const Bad cases[] = {
+      {"--interface fat -o d.csv", "is not a new interface NAME=FILE"},
+      {"--interface fat=fat.csv -o d.csv", "is not a new interface"},
+      {"-o d.csv --depth-table t.csv", "--depth-table and --position go together"},
+      {"-o d.csv --depth-table t.csv --position 1mm,2mm", "is not a position"},
+      {"-o d.csv --depth-table t.csv --position 1mm,2mm,3mm --depth-interface skin", "there is no interface 'skin'"},
+      {"-o d.csv --offset 10s --no-align", "cover"},
+  };
+  for (const Bad& b : cases) {
+    ScratchDir dir;
+    copy_ultrasound_example(dir);
+    const auto r = run_palpa(std::string(kUltrasound) + b.args, dir.path());
+    EXPECT_EQ(r.exit_code, 2) << b.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(b.message), std::string::npos) << b.args << "\nstderr: " << r.err;
+    EXPECT_EQ(dir.entry_count(), 3u) << b.args << ": something was written";
+  }
 }
 
 }  // namespace
