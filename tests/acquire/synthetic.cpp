@@ -91,4 +91,61 @@ SyntheticLogs make_poke_logs(const SyntheticPoke& p) {
   return out;
 }
 
+SurfaceMesh plate(int n, double size) {
+  SurfaceMesh m;
+  m.V.resize((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      m.V.row(j * (n + 1) + i) << size * (static_cast<double>(i) / n - 0.5), size * (static_cast<double>(j) / n - 0.5), 0.0;
+    }
+  }
+  m.F.resize(2 * n * n, 3);
+  int f = 0;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      m.F.row(f++) << a, b, d;
+      m.F.row(f++) << a, d, c;
+    }
+  }
+  return m;
+}
+
+std::string obj_text(const SurfaceMesh& mesh) {
+  std::string out = "# synthetic support surface [m]\n";
+  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) {
+    out += fmt::format("v {} {} {}\n", mesh.V(v, 0), mesh.V(v, 1), mesh.V(v, 2));
+  }
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    out += fmt::format("f {} {} {}\n", mesh.F(f, 0) + 1, mesh.F(f, 1) + 1, mesh.F(f, 2) + 1);
+  }
+  return out;
+}
+
+std::string pressure_locations_csv(const SyntheticPressure& s) {
+  std::string out = "# synthetic sensor locations\nlocation,x_mm,y_mm,z_mm\n";
+  for (std::size_t i = 0; i < s.positions.size(); ++i) {
+    const Eigen::Vector3d& p = s.positions[i];
+    out += fmt::format("{},{},{},{}\n", i + 1, p.x() * 1e3, p.y() * 1e3, p.z() * 1e3);
+  }
+  return out;
+}
+
+std::string pressure_samples_csv(const SyntheticPressure& s) {
+  std::mt19937_64 rng(s.seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::string out = "# synthetic pressure-sensor samples (10 Hz)\nlocation,reading_V,reference_V\n";
+  for (std::size_t i = 0; i < s.positions.size(); ++i) {
+    const double posture = 1.0 + 0.2 * std::sin(1.7 * static_cast<double>(i));
+    const double reading = s.ratio(s.positions[i]) * posture;
+    for (std::size_t k = 0; k < s.samples; ++k) {
+      const double level = static_cast<double>(k % 10) - 4.5;
+      const double rk = 1.0 + s.ripple * level / 4.5 + s.noise * unit(rng);
+      const double ek = 1.0 + s.ripple * (static_cast<double>((k + 3) % 10) - 4.5) / 4.5 + s.noise * unit(rng);
+      out += fmt::format("{},{},{}\n", i + 1, reading * rk, posture * ek);
+    }
+  }
+  return out;
+}
+
 }  // namespace palpa::test

@@ -5,9 +5,13 @@
 // reading, hand tremor in the true indentation, and the rest–poke–rest protocol
 // of §3.1. Used by the tests and to make examples/acquire.
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "palpa/io/mesh.hpp"
 
 namespace palpa::test {
 
@@ -65,5 +69,30 @@ double interface_depth(const SyntheticPoke& p, double rest_depth, double share, 
 // as a 21-row table (the logs invert the table itself, so it is exact).
 std::vector<double> calibration_volts();
 std::vector<double> calibration_metres();
+
+// An n×n-cell square grid in the plane z = 0, side `size` [m], centred at the
+// origin (two triangles per cell, counter-clockwise seen from +z).
+SurfaceMesh plate(int n, double size);
+// The mesh as OBJ text (coordinates in metres).
+std::string obj_text(const SurfaceMesh& mesh);
+
+// Pressure-sensor recordings: `samples` readings per location of
+// ratio(position) × posture_i, and the reference sensor reading posture_i
+// (posture_i = 1 + 0.2 sin(1.7 i): the subject leans differently at each
+// location), each with a symmetric deterministic ripple of ±`ripple` relative
+// (ten levels, so the trimmed means are exact) plus Gaussian noise of `noise`
+// relative (0: none).
+struct SyntheticPressure {
+  std::vector<Eigen::Vector3d> positions;  // [m]
+  std::function<double(const Eigen::Vector3d&)> ratio;
+  std::size_t samples = 600;
+  double ripple = 0.01;
+  double noise = 0.0;
+  std::uint64_t seed = 1;
+};
+// locations.csv (location,x_mm,y_mm,z_mm; ids 1..n).
+std::string pressure_locations_csv(const SyntheticPressure& s);
+// samples.csv (location,reading_V,reference_V; locations one after another).
+std::string pressure_samples_csv(const SyntheticPressure& s);
 
 }  // namespace palpa::test
