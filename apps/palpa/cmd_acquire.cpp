@@ -15,12 +15,16 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "palpa/acquire/poke.hpp"
+#include "palpa/acquire/pressure.hpp"
 #include "palpa/acquire/ultrasound.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/core/text.hpp"
 #include "palpa/io/csv.hpp"
+#include "palpa/io/mesh.hpp"
+#include "palpa/io/ply.hpp"
+#include "palpa/io/vtu.hpp"
 
 namespace palpa::cli {
 
@@ -308,6 +312,138 @@ void add_acquire_ultrasound(CLI::App& acquire) {
   cmd->callback([a] { run_acquire_ultrasound(*a); });
 }
 
+struct PressureArgs {
+  std::string mesh, mesh_unit = "m", locations, samples, output, method = "biharmonic";
+  acquire::PressureOptions o;
+  double max_distance = 5e-3;
+  int trim = 50;
+  int clip_run = 10;
+  bool no_clamp = false;
+};
+
+CsvTable location_table(const acquire::PressureMap& m) {
+  CsvTable t;
+  t.add_comment("per sensor location: trimmed readings, reference, compensated and normalized pressure");
+  std::vector<std::vector<double>> cols(12);
+  for (const auto& l : m.locations) {
+    const double row[] = {static_cast<double>(l.id),  l.position.x(),      l.position.y(),      l.position.z(),
+                          static_cast<double>(l.samples), l.reading.mean,  l.reading.std,       l.reference.mean,
+                          l.reference.std,            l.pressure,          l.pressure_std,      l.distance};
+    for (std::size_t c = 0; c < cols.size(); ++c) cols[c].push_back(row[c]);
+  }
+  const char* names[] = {"location",       "x_m",       "y_m",         "z_m",
+                         "samples",        "reading",   "reading-std", "reference",
+                         "reference-std",  "pressure_Pa", "pressure_std_Pa", "distance_m"};
+  for (std::size_t c = 0; c < cols.size(); ++c) t.add_column(names[c], std::move(cols[c]));
+  return t;
+}
+
+void run_acquire_pressure(const PressureArgs& a) {
+  acquire::PressureOptions o = a.o;
+  const ErrorContext unit_where{"", 0, 0, "option --mesh-unit"};
+  const Unit* unit = find_unit(a.mesh_unit);
+  if (unit == nullptr || unit->dimension != Dimension::Length) {
+    throw_input_error(fmt::format("'{}' is not a length unit", a.mesh_unit), unit_where, "a length unit such as m or mm");
+  }
+  if (a.method == "biharmonic") {
+    o.interpolation.method = geometry::SurfaceInterpolation::Biharmonic;
+  } else if (a.method == "harmonic") {
+    o.interpolation.method = geometry::SurfaceInterpolation::Harmonic;
+  } else {
+    throw_input_error(fmt::format("unknown interpolation '{}'", a.method), ErrorContext{"", 0, 0, "option --method"},
+                      "biharmonic or harmonic");
+  }
+  o.interpolation.max_distance = a.max_distance;
+  o.interpolation.clamp_to_sample_range = !a.no_clamp;
+  o.trim = static_cast<std::size_t>(a.trim);
+  o.clip_run = static_cast<std::size_t>(a.clip_run);
+  MeshReadOptions mo;
+  mo.unit_to_si = unit->to_si;
+  const SurfaceMesh mesh = read_surface_mesh(a.mesh, mo);
+  const acquire::PressureMap m = acquire::pressure_map(mesh, a.locations, a.samples, o);
+
+  const std::filesystem::path out = a.output;
+  ensure_directory(out);
+  PlyWriteOptions ply;
+  ply.vertex_scalars = {{"pressure_Pa", m.pressure}, {"pressure_std_Pa", m.pressure_std}};
+  UnstructuredGrid grid = grid_of(mesh);
+  grid.point_data.push_back({"pressure_Pa", m.pressure});
+  grid.point_data.push_back({"pressure_std_Pa", m.pressure_std});
+  Json locations = Json::array();
+  for (const auto& l : m.locations) {
+    locations.push_back({{"location", l.id},
+                         {"position_m", {l.position.x(), l.position.y(), l.position.z()}},
+                         {"samples", l.samples},
+                         {"reading_mean", l.reading.mean},
+                         {"reading_std", l.reading.std},
+                         {"reference_mean", l.reference.mean},
+                         {"pressure_Pa", l.pressure},
+                         {"pressure_std_Pa", l.pressure_std},
+                         {"distance_to_surface_m", l.distance}});
+  }
+  const Json summary{{"mesh", a.mesh},
+                     {"vertices", mesh.V.rows()},
+                     {"locations_file", a.locations},
+                     {"samples_file", a.samples},
+                     {"load_N", o.load},
+                     {"trim", o.trim},
+                     {"posture_compensated", m.compensated},
+                     {"interpolation", a.method},
+                     {"clamped_to_sample_range", !a.no_clamp},
+                     {"constant_Pa", m.constant},
+                     {"net_force_N", {m.net_force.x(), m.net_force.y(), m.net_force.z()}},
+                     {"pressure_min_Pa", m.pressure.minCoeff()},
+                     {"pressure_max_Pa", m.pressure.maxCoeff()},
+                     {"contact_area_m2", m.contact_area},
+                     {"locations", locations}};
+  OutputBatch batch;
+  batch.add(out / "locations.csv") << format_csv(location_table(m));
+  batch.add(out / "summary.json") << summary.dump(2) << "\n";
+  write_ply(out / "pressure.ply", mesh, ply);
+  write_vtu(out / "pressure.vtu", grid);
+  batch.commit();
+  spdlog::info("acquire pressure: {} locations{}, {} interpolation onto {} vertices; C = {}, pressure {} .. {}, net "
+               "force {}; wrote {}",
+               m.locations.size(), m.compensated ? " (posture compensated)" : "", a.method, mesh.V.rows(),
+               format_quantity(m.constant, Dimension::Pressure),
+               format_quantity(m.pressure.minCoeff(), Dimension::Pressure),
+               format_quantity(m.pressure.maxCoeff(), Dimension::Pressure),
+               format_quantity(m.net_force.norm(), Dimension::Force), out.string());
+}
+
+void add_acquire_pressure(CLI::App& acquire) {
+  auto* cmd = acquire.add_subcommand(
+      "pressure",
+      "Pressure-sensor samples per location + reference sensor -> pressure map on the support mesh (PLY, VTU).\n"
+      "  palpa acquire pressure --mesh sole.obj --mesh-unit mm --locations locations.csv --samples samples.csv \\\n"
+      "      --load 343N -o pressure");
+  auto a = std::make_shared<PressureArgs>();
+  cmd->add_option("--mesh", a->mesh, "Support surface (OBJ, PLY, STL, OFF, VTU)")->required();
+  cmd->add_option("--mesh-unit", a->mesh_unit, "Length unit of the mesh file's coordinates (default m)");
+  cmd->add_option("--locations", a->locations, "Sensor locations (CSV location,x_<unit>,y_<unit>,z_<unit>)")
+      ->required();
+  cmd->add_option("--samples", a->samples, "Samples (CSV location,reading[,reference]; one row per sample)")
+      ->required();
+  add_quantity_option(*cmd, "--load", a->o.load, Dimension::Force,
+                      "Net force the map must carry, e.g. half the body weight")
+      ->required();
+  cmd->add_option("-o,--output", a->output, "Output folder: pressure.ply, pressure.vtu, locations.csv, summary.json")
+      ->required();
+  cmd->add_option("--trim", a->trim, "Samples dropped at each end per location (default 50)")
+      ->check(CLI::Range(0, 1000000));
+  cmd->add_option("--clip-run", a->clip_run,
+                  "This many identical samples in a row at a location's maximum mean a saturated sensor (default 10)")
+      ->check(CLI::Range(2, 1000000));
+  cmd->add_option("--method", a->method, "biharmonic (linearly precise, default) or harmonic");
+  add_quantity_option(*cmd, "--max-distance", a->max_distance, Dimension::Length,
+                      "Largest distance of a location from the surface (default 5 mm)");
+  cmd->add_flag("--no-clamp", a->no_clamp, "Do not clamp the interpolated map to the locations' range");
+  cmd->add_option("--reading-column", a->o.reading_column, "Name (or base name) of the reading column (default reading)");
+  cmd->add_option("--reference-column", a->o.reference_column,
+                  "Name (or base name) of the reference sensor's column (default reference; absent: no compensation)");
+  cmd->callback([a] { run_acquire_pressure(*a); });
+}
+
 }  // namespace
 
 void add_acquire_command(CLI::App& app) {
@@ -316,6 +452,7 @@ void add_acquire_command(CLI::App& app) {
   acquire->require_subcommand(1);
   add_acquire_poke(*acquire);
   add_acquire_ultrasound(*acquire);
+  add_acquire_pressure(*acquire);
 }
 
 }  // namespace palpa::cli

@@ -3,6 +3,7 @@
 //   palpa_acquire_make_examples <examples/acquire folder>
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -38,5 +39,21 @@ int main(int argc, char** argv) {
   write("ultrasound/force.csv", palpa::test::make_poke_logs(u).force_csv);
   write("ultrasound/fat.csv", palpa::test::make_interface_picks(u, 8e-3, 0.6, 0.15));
   write("ultrasound/bone.csv", palpa::test::make_interface_picks(u, 24e-3, 0.9, 0.15));
+  // Pressure sensors on a 10 cm square plate (a stand-in for a sole), 12
+  // locations, a peak near one corner; readings in volts with 2% noise.
+  const palpa::SurfaceMesh plate = palpa::test::plate(10, 0.1);
+  write("pressure/support.obj", palpa::test::obj_text(plate));
+  palpa::test::SyntheticPressure s;
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 4; ++i) s.positions.emplace_back(-0.03 + 0.02 * i, -0.02 + 0.02 * j, 0.0);
+  }
+  s.ratio = [](const Eigen::Vector3d& x) {
+    return 0.5 + 2.0 * std::exp(-((x - Eigen::Vector3d(0.02, 0.01, 0.0)).squaredNorm()) / (2 * 0.02 * 0.02));
+  };
+  s.noise = 0.02;
+  s.seed = 3;
+  s.digits = 5;
+  write("pressure/locations.csv", palpa::test::pressure_locations_csv(s));
+  write("pressure/samples.csv", palpa::test::pressure_samples_csv(s));
   return 0;
 }

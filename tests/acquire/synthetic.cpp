@@ -126,7 +126,7 @@ std::string pressure_locations_csv(const SyntheticPressure& s) {
   std::string out = "# synthetic sensor locations\nlocation,x_mm,y_mm,z_mm\n";
   for (std::size_t i = 0; i < s.positions.size(); ++i) {
     const Eigen::Vector3d& p = s.positions[i];
-    out += fmt::format("{},{},{},{}\n", i + 1, p.x() * 1e3, p.y() * 1e3, p.z() * 1e3);
+    out += fmt::format("{},{:.9g},{:.9g},{:.9g}\n", i + 1, p.x() * 1e3, p.y() * 1e3, p.z() * 1e3);
   }
   return out;
 }
@@ -142,7 +142,7 @@ std::string pressure_samples_csv(const SyntheticPressure& s) {
       const double level = static_cast<double>(k % 10) - 4.5;
       const double rk = 1.0 + s.ripple * level / 4.5 + s.noise * unit(rng);
       const double ek = 1.0 + s.ripple * (static_cast<double>((k + 3) % 10) - 4.5) / 4.5 + s.noise * unit(rng);
-      out += fmt::format("{},{},{}\n", i + 1, reading * rk, posture * ek);
+      out += fmt::format("{},{:.{}g},{:.{}g}\n", i + 1, reading * rk, s.digits, posture * ek, s.digits);
     }
   }
   return out;

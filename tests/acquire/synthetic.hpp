@@ -89,6 +89,7 @@ struct SyntheticPressure {
   double ripple = 0.01;
   double noise = 0.0;
   std::uint64_t seed = 1;
+  int digits = 17;  // significant digits written
 };
 // locations.csv (location,x_mm,y_mm,z_mm; ids 1..n).
 std::string pressure_locations_csv(const SyntheticPressure& s);

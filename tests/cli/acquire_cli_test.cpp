@@ -171,5 +171,56 @@ TEST(AcquireCli, UltrasoundRefusesBadOptionsAndWritesNothing) {
   }
 }
 
+void copy_pressure_example(const ScratchDir& dir) {
+  for (const char* f : {"support.obj", "locations.csv", "samples.csv"}) {
+    std::filesystem::copy_file(test::source_path(std::string("examples/acquire/pressure/") + f), dir / f);
+  }
+}
+
+constexpr const char* kPressure =
+    "acquire pressure --mesh support.obj --locations locations.csv --samples samples.csv --load 343N ";
+
+TEST(AcquireCli, PressureWritesPlyVtuAndASummary) {
+  ScratchDir dir;
+  copy_pressure_example(dir);
+  const auto r = run_palpa(std::string(kPressure) + "-o map", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(test::read_text(dir / "map" / "pressure.ply").find("property double pressure_std_Pa"), std::string::npos);
+  const std::string vtu = test::read_text(dir / "map" / "pressure.vtu");
+  EXPECT_NE(vtu.find("Name=\"pressure_Pa\""), std::string::npos);
+  EXPECT_NE(vtu.find("Name=\"pressure_std_Pa\""), std::string::npos);
+  EXPECT_NE(test::read_text(dir / "map" / "locations.csv").find("pressure_Pa,pressure_std_Pa"), std::string::npos);
+  const std::string summary = test::read_text(dir / "map" / "summary.json");
+  EXPECT_NE(summary.find("\"posture_compensated\": true"), std::string::npos) << summary;
+  EXPECT_NE(r.err.find("net force 343 N"), std::string::npos) << r.err;
+}
+
+TEST(AcquireCli, PressureRefusesBadInputAndWritesNothing) {
+  struct Bad {
+    const char* file;
+    const char* from;
+    const char* to;
+    const char* args;
+    const char* message;
+  };
+  const Bad cases[] = {
+      {"locations.csv", "\n7,10,0,0", "\n7,10,0,30", "", "location 7 (locations.csv:9)"},
+      {"samples.csv", "\n1,", "\n13,", "", "samples.csv:3:1: column 'location': location 13 is not in the locations"},
+      {"samples.csv", "\n1,0.", "\n1,nan", "", "samples.csv:3"},
+      {"locations.csv", "", "", "--trim 300", "location 1 has 600 samples"},
+      {"locations.csv", "", "", "--method spline", "unknown interpolation 'spline'"},
+      {"locations.csv", "", "", "--mesh-unit kPa", "'kPa' is not a length unit"},
+  };
+  for (const Bad& b : cases) {
+    ScratchDir dir;
+    copy_pressure_example(dir);
+    if (*b.from != 0) dir.write(b.file, replaced(test::read_text(dir / b.file), b.from, b.to));
+    const auto r = run_palpa(std::string(kPressure) + "-o map " + b.args, dir.path());
+    EXPECT_EQ(r.exit_code, 2) << b.message << "\n" << r.err;
+    EXPECT_NE(r.err.find(b.message), std::string::npos) << b.message << "\nstderr: " << r.err;
+    EXPECT_EQ(dir.entry_count(), 3u) << b.message << ": something was written";
+  }
+}
+
 }  // namespace
 }  // namespace palpa
