@@ -65,6 +65,25 @@ Json window_json(const acquire::PokeWindow& w) {
               {"rest_after_s", {w.after.t0, w.after.t1}}};
 }
 
+// The options of every command that reads time-stamped logs: the low-pass
+// filter, the rest plateaus and the log checks.
+void add_log_options(CLI::App& cmd, int& order, double& cutoff, acquire::PlateauOptions& plateau,
+                     acquire::LogCheck& check, double& saturation) {
+  add_quantity_option(cmd, "--cutoff", cutoff, Dimension::Frequency,
+                      "Low-pass cut-off (default 5 Hz: keeps a ~1 s poke, removes tremor and noise)");
+  cmd.add_option("--order", order, "Butterworth order per pass (default 4)")->check(CLI::Range(1, 12));
+  add_quantity_option(cmd, "--rest", plateau.min_duration, Dimension::Time,
+                      "Shortest rest plateau before and after the poke (default 1 s)");
+  cmd.add_option("--rest-tolerance", plateau.tolerance,
+                 "A plateau stays within this fraction of the poke's amplitude (default 0.05)")
+      ->check(CLI::Range(1e-4, 0.5));
+  cmd.add_option("--max-gap", check.max_gap_steps,
+                 "A time step longer than this many median steps is a gap (error; default 5)")
+      ->check(CLI::Range(1.5, 1e6));
+  add_quantity_option(cmd, "--saturation", saturation, Dimension::Time,
+                      "Identical samples at a log's extreme for this long mean a clipped sensor (default 0.1 s)");
+}
+
 struct PokeArgs {
   std::string force, laser, calibration, output, unloading, plots, summary;
   std::string force_columns, laser_columns, calibration_columns;
@@ -153,22 +172,10 @@ void add_acquire_poke(CLI::App& acquire) {
                   "Time and laser columns (default time,voltage; e.g. t:ms,dist:mm for a distance laser)");
   cmd->add_option("--calibration-columns", a->calibration_columns,
                   "Voltage and distance columns of the calibration (default voltage,distance)");
-  add_quantity_option(*cmd, "--cutoff", a->o.cutoff, Dimension::Frequency,
-                      "Low-pass cut-off (default 5 Hz: keeps a ~1 s poke, removes tremor and noise)");
-  cmd->add_option("--order", a->o.order, "Butterworth order per pass (default 4)")->check(CLI::Range(1, 12));
-  add_quantity_option(*cmd, "--rest", a->o.plateau.min_duration, Dimension::Time,
-                      "Shortest rest plateau before and after the poke (default 1 s)");
-  cmd->add_option("--rest-tolerance", a->o.plateau.tolerance,
-                  "A plateau stays within this fraction of the poke's amplitude (default 0.05)")
-      ->check(CLI::Range(1e-4, 0.5));
+  add_log_options(*cmd, a->o.order, a->o.cutoff, a->o.plateau, a->o.check, a->o.saturation);
   cmd->add_option("--force-window", a->force_window,
                   "Poke start and end on the force log's clock, instead of finding them (e.g. 1.9s,3.3s)");
   cmd->add_option("--laser-window", a->laser_window, "Poke start and end on the laser log's clock");
-  cmd->add_option("--max-gap", a->o.check.max_gap_steps,
-                  "A time step longer than this many median steps is a gap (error; default 5)")
-      ->check(CLI::Range(1.5, 1e6));
-  add_quantity_option(*cmd, "--saturation", a->o.saturation, Dimension::Time,
-                      "Identical samples at a log's extreme for this long mean a clipped sensor (default 0.1 s)");
   cmd->add_option("--points", a->points, "Points of the uniform indentation grid (default 50)");
   cmd->add_flag("--no-tare", a->no_tare, "Keep the force at rest instead of subtracting it");
   cmd->callback([a] { run_acquire_poke(*a); });
@@ -299,16 +306,8 @@ void add_acquire_ultrasound(CLI::App& acquire) {
   cmd->add_flag("--no-align", a->no_align, "Use --offset as is instead of refining it");
   add_quantity_option(*cmd, "--search", a->o.search, Dimension::Time,
                       "The refinement looks this far either side of --offset (default 0.5 s)");
-  add_quantity_option(*cmd, "--cutoff", a->o.cutoff, Dimension::Frequency, "Force low-pass cut-off (default 5 Hz)");
-  cmd->add_option("--order", a->o.order, "Butterworth order per pass (default 4)")->check(CLI::Range(1, 12));
-  add_quantity_option(*cmd, "--rest", a->o.plateau.min_duration, Dimension::Time,
-                      "Shortest rest plateau before and after the poke (default 1 s)");
-  cmd->add_option("--rest-tolerance", a->o.plateau.tolerance,
-                  "A plateau stays within this fraction of the poke's amplitude (default 0.05)")
-      ->check(CLI::Range(1e-4, 0.5));
+  add_log_options(*cmd, a->o.order, a->o.cutoff, a->o.plateau, a->o.check, a->o.saturation);
   cmd->add_option("--force-window", a->force_window, "Poke start and end on the force clock (e.g. 1.9s,3.3s)");
-  add_quantity_option(*cmd, "--saturation", a->o.saturation, Dimension::Time,
-                      "Identical samples at the force maximum for this long mean a clipped gauge (default 0.1 s)");
   cmd->callback([a] { run_acquire_ultrasound(*a); });
 }
 

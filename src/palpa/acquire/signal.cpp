@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <numeric>
 
 #include "palpa/core/error.hpp"

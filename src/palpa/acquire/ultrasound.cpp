@@ -119,6 +119,11 @@ UltrasoundResult process_ultrasound(const std::filesystem::path& force_file,
     r.time.push_back(f.t[i]);
     r.force.push_back(f.v[i] - (o.tare ? fw.rest_level(f.t[i]) : 0.0));
   }
+  if (r.time.size() < 2) {
+    throw_input_error(fmt::format("{}: the poke from {} to its maximum at {} holds fewer than 2 samples", what,
+                                  seconds(fw.start), seconds(f.t[peak])),
+                      ErrorContext{"", 0, 0, "option --force-window"}, "a poke window around the loading");
+  }
   const double load0 = r.time.front() - r.clock_shift, load1 = r.time.back() - r.clock_shift;
   for (std::size_t k = 0; k < splines.size(); ++k) {
     const CatmullRom& s = splines[k];
