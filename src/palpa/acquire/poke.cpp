@@ -25,8 +25,10 @@ PokeWindow find_window(const Signal& s, const std::optional<TimeWindow>& manual,
 }
 
 // The fine alignment looks at the poke and this fraction of its duration on
-// either side.
+// either side, on a grid no finer than kAlignStep [s] (a parabola through the
+// best three grid shifts refines it).
 constexpr double kAlignMargin = 0.1;
+constexpr double kAlignStep = 1e-3;
 
 // Below this fraction of its peak an excursion counts as rest for the
 // alignment: the rest noise then ties instead of adding random ranks.
@@ -149,7 +151,7 @@ PokeResult process_poke(const std::filesystem::path& force_file, const std::file
   // Clocks: laser time + shift = force time.
   r.coarse_shift = fw.start - lw.start;
   const double duration = fw.end - fw.start;
-  const double dt = std::min(1.0 / fl.rate, 1.0 / ll.rate);
+  const double dt = std::max(kAlignStep, std::min(1.0 / fl.rate, 1.0 / ll.rate));
   const double margin = kAlignMargin * duration;
   const double a0 = std::max(fw.start - margin, r.force_filtered.t.front());
   const double a1 = std::min(fw.end + margin, r.force_filtered.t.back());

@@ -144,11 +144,9 @@ PokeWindow detect_poke(const Signal& s, const PlateauOptions& options, const std
   const std::size_t w = std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(options.min_duration / dt)) + 1);
   const double tolerance = options.tolerance * amplitude;
   const std::vector<double> spread = window_spread(s.v, w);
-  auto level_of = [&](std::size_t i) {
-    return std::accumulate(s.v.begin() + static_cast<std::ptrdiff_t>(i),
-                           s.v.begin() + static_cast<std::ptrdiff_t>(i + w), 0.0) /
-           static_cast<double>(w);
-  };
+  std::vector<double> prefix(n + 1, 0.0);  // prefix sums: window means in O(1)
+  for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + s.v[i];
+  auto level_of = [&](std::size_t i) { return (prefix[i + w] - prefix[i]) / static_cast<double>(w); };
   auto is_rest = [&](std::size_t i) {
     return spread[i] <= tolerance && level_of(i) <= lowest + kRestBand * amplitude;
   };
@@ -185,12 +183,13 @@ PokeWindow detect_poke(const Signal& s, const PlateauOptions& options, const std
   };
   const double level0 = median_of(s.v, *before, *before + w);
   const double level1 = median_of(s.v, *after, *after + w);
+  const double band0 = departure_band(*before), band1 = departure_band(*after);
   std::size_t k0 = p;
-  while (k0 > *before && s.v[k0] > level0 + departure_band(*before)) --k0;
+  while (k0 > *before && s.v[k0] > level0 + band0) --k0;
   // Back to where it crossed the rest level, at most a quarter plateau further.
   for (std::size_t left = w / 4; left > 0 && k0 > *before && s.v[k0] > level0; --left) --k0;
   std::size_t k1 = p;
-  while (k1 < *after + w - 1 && s.v[k1] > level1 + departure_band(*after)) ++k1;
+  while (k1 < *after + w - 1 && s.v[k1] > level1 + band1) ++k1;
   for (std::size_t left = w / 4; left > 0 && k1 < *after + w - 1 && s.v[k1] > level1; --left) ++k1;
   PokeWindow win;
   win.peak = s.t[p];

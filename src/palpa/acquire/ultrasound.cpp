@@ -13,7 +13,7 @@ namespace palpa::acquire {
 
 namespace {
 
-// Samples per second of a spline for the clock alignment.
+// Samples per second of a spline, and of the grid, for the clock alignment.
 constexpr double kSplineRate = 1000.0;
 
 std::string seconds(double t) { return fmt::format("{:.4g} s", t); }
@@ -101,7 +101,7 @@ UltrasoundResult process_ultrasound(const std::filesystem::path& force_file,
       compression.v.push_back(-s0(t));
     }
     const double margin = 0.1 * (fw.end - fw.start);
-    const double dt = std::min(1.0 / kSplineRate, 1.0 / r.force_log.rate);
+    const double dt = 1.0 / kSplineRate;
     const Alignment al = align_by_rank(r.force_filtered, compression, std::max(fw.start - margin, fw.before.t0),
                                        std::min(fw.end + margin, fw.after.t1), dt, o.offset, o.search);
     r.clock_shift = al.shift;
