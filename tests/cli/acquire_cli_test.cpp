@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 
 #include "common/test_support.hpp"
@@ -13,11 +14,15 @@ namespace {
 using test::run_palpa;
 using test::ScratchDir;
 
-// Copies the example poke logs into `dir`.
-void copy_poke_example(const ScratchDir& dir) {
-  for (const char* f : {"force.csv", "laser.csv", "laser-calibration.csv"}) {
-    std::filesystem::copy_file(test::source_path(std::string("examples/acquire/poke/") + f), dir / f);
+// Copies the files of examples/acquire/<folder> into `dir`.
+void copy_example(const ScratchDir& dir, const std::string& folder, std::initializer_list<const char*> files) {
+  for (const char* f : files) {
+    std::filesystem::copy_file(test::source_path("examples/acquire/" + folder + "/" + f), dir / f);
   }
+}
+
+void copy_poke_example(const ScratchDir& dir) {
+  copy_example(dir, "poke", {"force.csv", "laser.csv", "laser-calibration.csv"});
 }
 
 // `text` with the first occurrence of `from` replaced by `to`.
@@ -115,9 +120,7 @@ TEST(AcquireCli, PokeRefusesAClippedForceGauge) {
 }
 
 void copy_ultrasound_example(const ScratchDir& dir) {
-  for (const char* f : {"force.csv", "fat.csv", "bone.csv"}) {
-    std::filesystem::copy_file(test::source_path(std::string("examples/acquire/ultrasound/") + f), dir / f);
-  }
+  copy_example(dir, "ultrasound", {"force.csv", "fat.csv", "bone.csv"});
 }
 
 constexpr const char* kUltrasound = "acquire ultrasound --force force.csv --interface fat=fat.csv --interface bone=bone.csv ";
@@ -172,9 +175,7 @@ TEST(AcquireCli, UltrasoundRefusesBadOptionsAndWritesNothing) {
 }
 
 void copy_pressure_example(const ScratchDir& dir) {
-  for (const char* f : {"support.obj", "locations.csv", "samples.csv"}) {
-    std::filesystem::copy_file(test::source_path(std::string("examples/acquire/pressure/") + f), dir / f);
-  }
+  copy_example(dir, "pressure", {"support.obj", "locations.csv", "samples.csv"});
 }
 
 constexpr const char* kPressure =
