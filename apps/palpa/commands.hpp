@@ -14,5 +14,6 @@ void add_poke_command(CLI::App& app);
 void add_fit_command(CLI::App& app);
 void add_sim3d_command(CLI::App& app);
 void add_mesh_command(CLI::App& app);
+void add_acquire_command(CLI::App& app);
 
 }  // namespace palpa::cli

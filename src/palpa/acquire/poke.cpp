@@ -1,0 +1,286 @@
+#include "palpa/acquire/poke.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "palpa/acquire/filter.hpp"
+#include "palpa/core/error.hpp"
+
+namespace palpa::acquire {
+
+namespace {
+
+std::string describe(const Log& log, const char* role) {
+  return fmt::format("{} log '{}' (column {})", role, log.file, log.value.name);
+}
+
+PokeWindow find_window(const Signal& s, const std::optional<TimeWindow>& manual, const PokeOptions& o,
+                       const std::string& what, const std::string& option) {
+  if (manual) return poke_from_window(s, manual->start, manual->end, o.plateau.min_duration, what, option);
+  return detect_poke(s, o.plateau, what, option);
+}
+
+// The fine alignment looks at the poke and this fraction of its duration on
+// either side, on a grid no finer than kAlignStep [s] (a parabola through the
+// best three grid shifts refines it).
+constexpr double kAlignMargin = 0.1;
+constexpr double kAlignStep = 1e-3;
+
+// Below this fraction of its peak an excursion counts as rest for the
+// alignment: the rest noise then ties instead of adding random ranks.
+constexpr double kAlignFloor = 0.02;
+
+// The excursion above the rest levels, with the rest (below kAlignFloor of the
+// peak) flattened.
+Signal above_rest(Signal s, const PokeWindow& w) {
+  double peak = 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    s.v[i] -= w.rest_level(s.t[i]);
+    peak = std::max(peak, s.v[i]);
+  }
+  for (double& v : s.v) v = std::max(v, kAlignFloor * peak);
+  return s;
+}
+
+Signal negated(Signal s) {
+  for (double& v : s.v) v = -v;
+  return s;
+}
+
+// Value of the straight line fitted to (x, y) at x0, or nullopt if the points
+// do not determine one.
+std::optional<double> local_line(std::span<const double> x, std::span<const double> y, double x0) {
+  const double n = static_cast<double>(x.size());
+  double sx = 0.0, sy = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sx += x[i] - x0;
+    sy += y[i];
+  }
+  const double mx = sx / n, my = sy / n;
+  double sxx = 0.0, sxy = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double dx = x[i] - x0 - mx;
+    sxx += dx * dx;
+    sxy += dx * (y[i] - my);
+  }
+  if (!(sxx > 0.0)) return std::nullopt;
+  return my - sxy / sxx * mx;
+}
+
+}  // namespace
+
+Curve uniform_curve(std::span<const double> indentation, std::span<const double> force, double x_max,
+                    std::size_t points) {
+  std::vector<std::size_t> order(indentation.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return indentation[a] < indentation[b]; });
+  std::vector<double> xs(order.size()), ys(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    xs[i] = indentation[order[i]];
+    ys[i] = force[order[i]];
+  }
+  Curve c;
+  const double h = x_max / static_cast<double>(points - 1);
+  for (std::size_t j = 0; j < points; ++j) {
+    const double x0 = static_cast<double>(j) * h;
+    const auto lo = std::lower_bound(xs.begin(), xs.end(), x0 - h);
+    const auto hi = std::upper_bound(xs.begin(), xs.end(), x0 + h);
+    const std::size_t a = static_cast<std::size_t>(lo - xs.begin()), b = static_cast<std::size_t>(hi - xs.begin());
+    std::optional<double> f;
+    if (b >= a + 3) f = local_line(std::span(xs).subspan(a, b - a), std::span(ys).subspan(a, b - a), x0);
+    c.indentation.push_back(x0);
+    c.force.push_back(f ? *f : interpolate(xs, ys, x0));
+  }
+  return c;
+}
+
+PokeResult process_poke(const std::filesystem::path& force_file, const std::filesystem::path& laser_file,
+                        const std::optional<std::filesystem::path>& calibration_file, const PokeOptions& o) {
+  if (o.points < 3) {
+    throw_input_error(fmt::format("{} grid points", o.points), ErrorContext{"", 0, 0, "option --points"},
+                      "at least 3");
+  }
+  PokeResult r;
+  const Dimension force_kind[] = {Dimension::Force};
+  const Dimension laser_kinds[] = {Dimension::Voltage, Dimension::Length};
+  r.force_log = read_log(force_file, o.force_time, o.force_value, force_kind, "force", o.check);
+  r.laser_log = read_log(laser_file, o.laser_time, o.laser_value, laser_kinds, "laser", o.check);
+  const Log& fl = r.force_log;
+  const Log& ll = r.laser_log;
+  check_not_clipped(fl, Extreme::Max, o.saturation);
+
+  // Laser value -> distance; the poke is where the distance is smallest.
+  r.laser_distance_raw.t = ll.signal.t;
+  if (ll.value.dimension == Dimension::Voltage) {
+    if (!calibration_file) {
+      throw_input_error(fmt::format("the laser column '{}' holds voltages", ll.value.name),
+                        ErrorContext{ll.file, 0, 0, "option --calibration"},
+                        "a calibration table (voltage -> distance) or a laser column holding distances");
+    }
+    const Calibration cal = read_calibration(*calibration_file, o.calibration_voltage, Dimension::Voltage,
+                                             o.calibration_distance, Dimension::Length);
+    const bool rising = cal(cal.x_max(), "") > cal(cal.x_min(), "");
+    check_not_clipped(ll, rising ? Extreme::Min : Extreme::Max, o.saturation);
+    for (std::size_t i = 0; i < ll.signal.size(); ++i) {
+      r.laser_distance_raw.v.push_back(
+          cal(ll.signal.v[i], fmt::format("{}:{}: column '{}'", ll.file, ll.lines[i], ll.value.name)));
+    }
+  } else {
+    if (calibration_file) {
+      throw_input_error(fmt::format("the laser column '{}' already holds distances", ll.value.name),
+                        ErrorContext{calibration_file->string(), 0, 0, "option --calibration"},
+                        "no calibration for a distance column");
+    }
+    check_not_clipped(ll, Extreme::Min, o.saturation);
+    r.laser_distance_raw.v = ll.signal.v;
+  }
+
+  // Uniform, filtered; the laser's "activity" is minus the distance (rises with the poke).
+  r.force_filtered = lowpass(fl.signal, o.order, o.cutoff);
+  r.distance_filtered = lowpass(r.laser_distance_raw, o.order, o.cutoff);
+  const Signal activity = negated(r.distance_filtered);
+  r.force_window = find_window(r.force_filtered, o.force_window, o, describe(fl, "force"), "--force-window");
+  r.laser_window = find_window(activity, o.laser_window, o, describe(ll, "laser"), "--laser-window");
+  const PokeWindow& fw = r.force_window;
+  const PokeWindow& lw = r.laser_window;
+
+  // Clocks: laser time + shift = force time.
+  r.coarse_shift = fw.start - lw.start;
+  const double duration = fw.end - fw.start;
+  const double dt = std::max(kAlignStep, std::min(1.0 / fl.rate, 1.0 / ll.rate));
+  const double margin = kAlignMargin * duration;
+  const double a0 = std::max(fw.start - margin, r.force_filtered.t.front());
+  const double a1 = std::min(fw.end + margin, r.force_filtered.t.back());
+  // Align the excursions above the rest levels: a drift of either reading
+  // during the rests would otherwise pull the correlation.
+  const Alignment al = align_by_rank(above_rest(r.force_filtered, fw), above_rest(activity, lw), a0, a1, dt,
+                                     r.coarse_shift, std::max(o.search * duration, 3.0 * dt));
+  r.clock_shift = al.shift;
+  r.correlation = al.correlation;
+  r.rest_distance = -lw.before.level;
+
+  // Common clock (the force clock at the faster rate) from the loading start to the unloading end.
+  r.common_rate = std::max(fl.rate, ll.rate);
+  // A little of each rest is kept: it anchors the curve at zero.
+  const double t_begin = std::max(fw.before.t0, fw.start - kAlignMargin * duration);
+  const double t_end = std::min(fw.after.t1, fw.end + kAlignMargin * duration);
+  const double laser_first = r.distance_filtered.t.front() + r.clock_shift;
+  const double laser_last = r.distance_filtered.t.back() + r.clock_shift;
+  if (t_begin < laser_first || t_end > laser_last) {
+    throw_input_error(fmt::format("after aligning the clocks (laser + {:.4g} s), the laser log covers {:.4g} .. {:.4g} s "
+                                  "of the force clock but the poke lasts from {:.4g} to {:.4g} s",
+                                  r.clock_shift, laser_first, laser_last, t_begin, t_end),
+                      ErrorContext{ll.file, 0, 0, ""}, "a laser log that covers the whole poke");
+  }
+  const std::size_t n = static_cast<std::size_t>(std::floor((t_end - t_begin) * r.common_rate)) + 1;
+  double peak_force = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = t_begin + static_cast<double>(i) / r.common_rate;
+    const double tl = t - r.clock_shift;
+    double f = interpolate(r.force_filtered.t, r.force_filtered.v, t);
+    if (o.tare) f -= fw.rest_level(t);
+    const double d = interpolate(activity.t, activity.v, tl) - lw.rest_level(tl);
+    r.time.push_back(t);
+    r.force.push_back(f);
+    r.indentation.push_back(d);
+    if (f > peak_force) {
+      peak_force = f;
+      r.peak = i;
+    }
+  }
+  const double d_peak = r.indentation[r.peak];
+  if (!(d_peak > 0.0)) {
+    throw_input_error(fmt::format("at the force peak ({:.4g} N at {:.4g} s) the laser is not closer than at rest "
+                                  "(indentation {:.4g} mm)",
+                                  peak_force, r.time[r.peak], d_peak * 1e3),
+                      ErrorContext{ll.file, 0, 0, "column '" + ll.value.name + "'"},
+                      "a laser distance that shrinks while the force rises (check the calibration's direction)");
+  }
+  const auto first = std::span(r.indentation).first(r.peak + 1);
+  r.loading = uniform_curve(first, std::span(r.force).first(r.peak + 1), d_peak, o.points);
+  const auto rest_i = std::span(r.indentation).subspan(r.peak);
+  const auto rest_f = std::span(r.force).subspan(r.peak);
+  r.unloading = uniform_curve(rest_i, rest_f, d_peak, o.points);
+  return r;
+}
+
+report::Figure poke_signals_figure(const PokeResult& r) {
+  report::Figure fig;
+  fig.title = "poke signals (force clock; laser shifted by " + fmt::format("{:.4g} s)", r.clock_shift);
+  fig.columns = 1;
+  fig.plot_width = 720;
+  auto window_series = [](const PokeWindow& w, double shift, double lo, double hi, double scale) {
+    report::Series s{"poke window", {}, {}, report::Mark::Line, 6, true};
+    for (double t : {w.start, w.end}) {
+      s.x.insert(s.x.end(), {t + shift, t + shift, std::numeric_limits<double>::quiet_NaN()});
+      s.y.insert(s.y.end(), {lo * scale, hi * scale, std::numeric_limits<double>::quiet_NaN()});
+    }
+    return s;
+  };
+  {
+    report::Plot& p = fig.plots.emplace_back();
+    p.title = "force";
+    p.x.label = "time [s]";
+    p.y.label = "force [N]";
+    p.series.push_back({"raw", r.force_log.signal.t, r.force_log.signal.v, report::Mark::Dots, 0});
+    p.series.push_back({"filtered", r.force_filtered.t, r.force_filtered.v, report::Mark::Line, 1});
+    const auto [lo, hi] = std::minmax_element(r.force_filtered.v.begin(), r.force_filtered.v.end());
+    p.series.push_back(window_series(r.force_window, 0.0, *lo, *hi, 1.0));
+  }
+  {
+    report::Plot& p = fig.plots.emplace_back();
+    p.title = "laser distance";
+    p.x.label = "time [s]";
+    p.y.label = "distance [mm]";
+    auto shifted_mm = [&](const Signal& s) {
+      report::Series out;
+      for (std::size_t i = 0; i < s.size(); ++i) {
+        out.x.push_back(s.t[i] + r.clock_shift);
+        out.y.push_back(s.v[i] * 1e3);
+      }
+      return out;
+    };
+    report::Series raw = shifted_mm(r.laser_distance_raw);
+    raw.label = "raw";
+    raw.mark = report::Mark::Dots;
+    raw.color = 0;
+    report::Series filt = shifted_mm(r.distance_filtered);
+    filt.label = "filtered";
+    filt.color = 1;
+    p.series.push_back(std::move(raw));
+    p.series.push_back(std::move(filt));
+    const auto [lo, hi] = std::minmax_element(r.distance_filtered.v.begin(), r.distance_filtered.v.end());
+    p.series.push_back(window_series(r.laser_window, r.clock_shift, *lo, *hi, 1e3));
+  }
+  // One time axis for both plots.
+  const double t0 = std::min(r.force_log.signal.t.front(), r.laser_distance_raw.t.front() + r.clock_shift);
+  const double t1 = std::max(r.force_log.signal.t.back(), r.laser_distance_raw.t.back() + r.clock_shift);
+  for (report::Plot& p : fig.plots) {
+    p.x.min = t0;
+    p.x.max = t1;
+  }
+  return fig;
+}
+
+report::Figure poke_curve_figure(const PokeResult& r) {
+  report::Figure fig;
+  report::Plot& p = fig.plots.emplace_back();
+  p.title = "force-indentation";
+  p.x.label = "indentation [mm]";
+  p.y.label = "force [N]";
+  auto mm = [](std::span<const double> v) {
+    std::vector<double> out(v.begin(), v.end());
+    for (double& x : out) x *= 1e3;
+    return out;
+  };
+  p.series.push_back({"filtered samples", mm(r.indentation), r.force, report::Mark::Dots, 5});
+  p.series.push_back({"loading", mm(r.loading.indentation), r.loading.force, report::Mark::Line, 1});
+  p.series.push_back({"unloading", mm(r.unloading.indentation), r.unloading.force, report::Mark::Line, 2, true});
+  return fig;
+}
+
+}  // namespace palpa::acquire
