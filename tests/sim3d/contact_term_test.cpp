@@ -69,7 +69,7 @@ TEST_P(ContactTermRegions, SystemDerivativesMatchFiniteDifferences) {
   const tet::ElasticModel model(box.mesh, {tet::BodyMaterial{std::make_shared<material::NeoHookean>(5e3, 0.3), 1000.0}});
   contact::Obstacle obstacle(notched_cube(), "notch");
   obstacle.set_pose({Eigen::Matrix3d::Identity(), -c.corner});  // obstacle frame origin at −corner
-  RigidContactTerm term(obstacle, tet::boundary_of(box.mesh).vertices, 2e3);
+  RigidContactTerm term(obstacle, box.mesh.V, tet::boundary_of(box.mesh).faces, 2e3);
   tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0));
   sys.add_term(&term);
   sys.set_gravity(Eigen::Vector3d(0.0, 0.0, -9.81));

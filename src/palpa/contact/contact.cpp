@@ -41,14 +41,16 @@ Eigen::Matrix3d hessian_block(const Obstacle& obstacle, const Contact& contact, 
 }
 
 double detected_energy(const Obstacle& obstacle, Points points, std::span<const int> which,
-                       double k) {
+                       double k, std::span<const double> scale) {
   return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, which.size(), kGrain), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double sum) {
         ClosestPoint c;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          if (obstacle.penetration(point_of(points, which[i]), c))
-            sum += k * c.distance * c.distance;
+          if (obstacle.penetration(point_of(points, which[i]), c)) {
+            const double ki = scale.empty() ? k : k * scale[static_cast<std::size_t>(which[i])];
+            sum += ki * c.distance * c.distance;
+          }
         }
         return sum;
       },
@@ -81,6 +83,12 @@ void ContactSet::detect(const Obstacle& obstacle, Points points) {
   detect(obstacle, points, all_);
 }
 
+void ContactSet::set_scale(std::vector<double> scale) { scale_ = std::move(scale); }
+
+double ContactSet::stiffness_of(const Contact& c, double k) const {
+  return scale_.empty() ? k : k * scale_[static_cast<std::size_t>(c.point)];
+}
+
 double ContactSet::max_depth() const {
   double m = 0.0;
   for (const Contact& c : contacts_) m = std::max(m, c.closest.distance);
@@ -90,7 +98,7 @@ double ContactSet::max_depth() const {
 double ContactSet::energy(const Obstacle& obstacle, Points points, double k) const {
   double e = 0.0;
   for (const Contact& c : contacts_) {
-    e += penalty_energy(point_of(points, c.point), feature_geometry(obstacle, c.closest), k);
+    e += penalty_energy(point_of(points, c.point), feature_geometry(obstacle, c.closest), stiffness_of(c, k));
   }
   return e;
 }
@@ -99,8 +107,8 @@ void ContactSet::add_gradient(const Obstacle& obstacle, Points points, double k,
                               Eigen::Ref<Eigen::Matrix3Xd> grad) const {
   assert(grad.cols() == points.cols());
   for (const Contact& c : contacts_) {
-    grad.col(c.point) +=
-        penalty_gradient(point_of(points, c.point), feature_geometry(obstacle, c.closest), k);
+    grad.col(c.point) += penalty_gradient(point_of(points, c.point), feature_geometry(obstacle, c.closest),
+                                          stiffness_of(c, k));
   }
 }
 
@@ -109,7 +117,7 @@ void ContactSet::add_obstacle_gradient(const Obstacle& obstacle, Points points, 
   assert(grad.cols() == obstacle.vertices().rows());
   for (const Contact& c : contacts_) {
     const FeatureGeometry g = feature_geometry(obstacle, c.closest);
-    const Vector12d full = penalty_gradient_full(point_of(points, c.point), g, k);
+    const Vector12d full = penalty_gradient_full(point_of(points, c.point), g, stiffness_of(c, k));
     for (int i = 0; i < g.m; ++i) {
       grad.col(c.closest.vertices[static_cast<std::size_t>(i)]) += full.segment<3>(3 * (i + 1));
     }
@@ -120,8 +128,8 @@ void ContactSet::forces(const Obstacle& obstacle, Points points, double k,
                         Eigen::Matrix3Xd& forces) const {
   forces.setZero(3, points.cols());
   for (const Contact& c : contacts_) {
-    forces.col(c.point) -=
-        penalty_gradient(point_of(points, c.point), feature_geometry(obstacle, c.closest), k);
+    forces.col(c.point) -= penalty_gradient(point_of(points, c.point), feature_geometry(obstacle, c.closest),
+                                            stiffness_of(c, k));
   }
 }
 
@@ -132,7 +140,7 @@ Wrench ContactSet::obstacle_wrench(const Obstacle& obstacle, Points points, doub
     const Eigen::Vector3d p = point_of(points, c.point);
     const FeatureGeometry g = feature_geometry(obstacle, c.closest);
     const Eigen::Vector3d a = sliding_anchor(p, g).point;
-    const Eigen::Vector3d reaction = 2.0 * k * (p - a);  // −f
+    const Eigen::Vector3d reaction = 2.0 * stiffness_of(c, k) * (p - a);  // −f
     w.force += reaction;
     w.torque += (a - about).cross(reaction);
   }

@@ -65,9 +65,11 @@ Eigen::Matrix3d hessian_block(const Obstacle& obstacle, const Contact& contact, 
 
 // Σ k·depth² over the points `which` (columns of `points`) inside the obstacle,
 // detected afresh [J]. Parallel (TBB), deterministic sum, allocation-free;
-// safe to call concurrently.
+// safe to call concurrently. scale: empty, or one factor per column of
+// `points`: point i's stiffness is k·scale[i] (e.g. its vertex area over the
+// mean, so that a uniform penetration means a uniform pressure).
 double detected_energy(const Obstacle& obstacle, Points points, std::span<const int> which,
-                       double k);
+                       double k, std::span<const double> scale = {});
 
 struct Wrench {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   // [N]
@@ -83,6 +85,12 @@ class ContactSet {
   void detect(const Obstacle& obstacle, Points points, std::span<const int> which);
   void detect(const Obstacle& obstacle, Points points);
   void clear() { contacts_.clear(); }
+  // Per-point stiffness factors (one per column of the positions; empty: 1):
+  // every method below then uses k·scale[point] for that point's spring.
+  void set_scale(std::vector<double> scale);
+  const std::vector<double>& scale() const noexcept { return scale_; }
+  // k·scale[c.point] (k without a scale).
+  double stiffness_of(const Contact& c, double k) const;
 
   const std::vector<Contact>& contacts() const { return contacts_; }
   std::size_t size() const { return contacts_.size(); }
@@ -111,6 +119,7 @@ class ContactSet {
 
  private:
   std::vector<Contact> contacts_;
+  std::vector<double> scale_;        // per-point stiffness factors (empty: none)
   std::vector<ClosestPoint> slot_;  // scratch: one per queried point
   std::vector<unsigned char> hit_;  // scratch: inside or not
   std::vector<int> all_;            // 0 … N−1, for detect() without a list

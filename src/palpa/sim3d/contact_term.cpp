@@ -1,5 +1,6 @@
 #include "palpa/sim3d/contact_term.hpp"
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
@@ -33,9 +34,32 @@ class Timer {
 
 }  // namespace
 
-RigidContactTerm::RigidContactTerm(const contact::Obstacle& obstacle, std::vector<int> surface, double k)
-    : obstacle_(&obstacle), surface_(std::move(surface)), k_(0.0) {
+RigidContactTerm::RigidContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX3d& rest,
+                                   Eigen::MatrixX3i faces, double k)
+    : obstacle_(&obstacle), faces_(std::move(faces)), k_(0.0) {
   set_stiffness(k);
+  skin_area_ = contact::vertex_areas(rest, faces_);
+  face_area_.resize(faces_.rows());
+  for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
+    const Eigen::Vector3d a = rest.row(faces_(f, 0)), b = rest.row(faces_(f, 1)), c = rest.row(faces_(f, 2));
+    face_area_[f] = 0.5 * (b - a).cross(c - a).norm();
+  }
+  std::vector<char> on(static_cast<std::size_t>(rest.rows()), 0);
+  for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) on[static_cast<std::size_t>(faces_(f, c))] = 1;
+  }
+  for (std::size_t v = 0; v < on.size(); ++v) {
+    if (on[v]) {
+      surface_.push_back(static_cast<int>(v));
+      mean_area_ += skin_area_[static_cast<Eigen::Index>(v)];
+    }
+  }
+  if (surface_.empty()) throw Error(ErrorKind::Input, fmt::format("{}: the body has no skin to touch it", obstacle_->name()));
+  mean_area_ /= static_cast<double>(surface_.size());
+  area_.assign(skin_area_.data(), skin_area_.data() + skin_area_.size());
+  scale_.resize(area_.size());
+  for (std::size_t v = 0; v < area_.size(); ++v) scale_[v] = area_[v] / mean_area_;
+  committed_.set_scale(scale_);
 }
 
 void RigidContactTerm::set_stiffness(double k) {
@@ -47,7 +71,7 @@ void RigidContactTerm::set_stiffness(double k) {
 
 double RigidContactTerm::energy(const Eigen::VectorXd& x) const {
   const Timer t(detection_ns_, detections_);
-  return contact::detected_energy(*obstacle_, as_points(x), surface_, k_);
+  return contact::detected_energy(*obstacle_, as_points(x), surface_, k_, scale_);
 }
 
 double RigidContactTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
@@ -62,13 +86,43 @@ void RigidContactTerm::add_hessian(const Eigen::VectorXd&, bool,
   // 2k P⊥ is the true Hessian of the committed energy in p (positive
   // semi-definite), so both modes use it.
   for (const contact::Contact& c : committed_.contacts()) {
-    blocks.emplace_back(c.point, contact::hessian_block(*obstacle_, c, k_));
+    blocks.emplace_back(c.point, contact::hessian_block(*obstacle_, c, committed_.stiffness_of(c, k_)));
   }
 }
 
 void RigidContactTerm::prepare(const Eigen::VectorXd& x) {
   const Timer t(detection_ns_, detections_);
   committed_.detect(*obstacle_, as_points(x), surface_);
+  // Spring areas: the full skin share off contact; in contact, the share of
+  // the triangles wholly in contact (the full share if there is none).
+  std::vector<char> touching(area_.size(), 0);
+  for (const contact::Contact& c : committed_.contacts()) touching[static_cast<std::size_t>(c.point)] = 1;
+  std::vector<double> contact_area(area_.size(), 0.0);
+  for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
+    const int a = faces_(f, 0), b = faces_(f, 1), c = faces_(f, 2);
+    if (!touching[static_cast<std::size_t>(a)] || !touching[static_cast<std::size_t>(b)] ||
+        !touching[static_cast<std::size_t>(c)]) {
+      continue;
+    }
+    const double third = face_area_[f] / 3.0;
+    contact_area[static_cast<std::size_t>(a)] += third;
+    contact_area[static_cast<std::size_t>(b)] += third;
+    contact_area[static_cast<std::size_t>(c)] += third;
+  }
+  for (std::size_t v = 0; v < area_.size(); ++v) {
+    area_[v] = touching[v] && contact_area[v] > 0.0 ? contact_area[v] : skin_area_[static_cast<Eigen::Index>(v)];
+    scale_[v] = area_[v] / mean_area_;
+  }
+  committed_.set_scale(scale_);
+}
+
+Eigen::VectorXd RigidContactTerm::pressures(const Eigen::VectorXd& x) const {
+  const Eigen::Matrix3Xd f = vertex_forces(x);
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(f.cols());
+  for (Eigen::Index v = 0; v < f.cols(); ++v) {
+    if (area_[static_cast<std::size_t>(v)] > 0.0) p[v] = f.col(v).norm() / area_[static_cast<std::size_t>(v)];
+  }
+  return p;
 }
 
 Eigen::Matrix3Xd RigidContactTerm::vertex_forces(const Eigen::VectorXd& x) const {

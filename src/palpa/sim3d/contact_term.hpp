@@ -19,8 +19,21 @@ namespace palpa::sim3d {
 class RigidContactTerm final : public tet::VertexTerm {
  public:
   // obstacle: must outlive the term; its pose may change between solves.
-  // surface: the body vertices that can touch (boundary vertices). k [N/m].
-  RigidContactTerm(const contact::Obstacle& obstacle, std::vector<int> surface, double k);
+  // rest: the body's rest positions (#V×3) [m]; faces: its skin triangles
+  // (rows of rest, outward), whose vertices are the ones that can touch.
+  // k [N/m]: the spring of a vertex of mean skin area.
+  //
+  // Springs follow the area each vertex presses with: a vertex's spring is
+  // k·A_i/Ā, with A_i its share (a third) of the skin triangles whose three
+  // corners are all in contact (its full skin share before it touches, or if
+  // none of its triangles is wholly in contact), Ā the mean skin share. So a
+  // uniform penetration δ is a uniform pressure 2kδ/Ā, the nodal forces are
+  // the consistent loads of that pressure, and a vertex on a sharp rim is not
+  // loaded through the sides that do not touch. Areas are rest areas (the
+  // pressures are nominal), chosen at every committed iterate (prepare) and
+  // held at line-search trials.
+  RigidContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX3d& rest, Eigen::MatrixX3i faces,
+                   double k);
 
   double stiffness() const noexcept { return k_; }
   void set_stiffness(double k);
@@ -38,6 +51,12 @@ class RigidContactTerm final : public tet::VertexTerm {
   // Contact force on every body vertex at positions x (3×N) [N], and the
   // wrench on the obstacle about `about` [m].
   Eigen::Matrix3Xd vertex_forces(const Eigen::VectorXd& x) const;
+  // Contact pressure per body vertex at x [Pa]: |f_i| over its contact area
+  // (2kδ_i/Ā), 0 off contact.
+  Eigen::VectorXd pressures(const Eigen::VectorXd& x) const;
+  // The mean skin vertex area Ā [m²] and each vertex's current spring area.
+  double mean_area() const noexcept { return mean_area_; }
+  const std::vector<double>& spring_area() const noexcept { return area_; }
   contact::Wrench obstacle_wrench(const Eigen::VectorXd& x, const Eigen::Vector3d& about) const;
 
   // Seconds spent in collision detection since construction (or reset).
@@ -51,6 +70,12 @@ class RigidContactTerm final : public tet::VertexTerm {
  private:
   const contact::Obstacle* obstacle_;
   std::vector<int> surface_;
+  Eigen::MatrixX3i faces_;
+  Eigen::VectorXd face_area_;   // per skin triangle, at rest [m²]
+  Eigen::VectorXd skin_area_;   // per vertex, full skin share at rest [m²]
+  double mean_area_ = 0.0;
+  std::vector<double> area_;    // per vertex, current spring area [m²]
+  std::vector<double> scale_;   // area_/Ā
   double k_;
   contact::ContactSet committed_;
   mutable std::atomic<std::int64_t> detection_ns_{0};

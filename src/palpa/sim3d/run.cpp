@@ -101,7 +101,7 @@ Simulation::Simulation(const Scene& scene) : scene_(&scene) {
   // Automatic start: a vertex under a pressure of E0/10 sits at the target depth.
   const double k0 = automatic_stiffness_ ? 0.1 * young * mean_area / (2.0 * target_penetration_) : scene.contact.stiffness;
   for (const auto& o : obstacles_) {
-    terms_.push_back(std::make_unique<RigidContactTerm>(*o, boundary.vertices, k0));
+    terms_.push_back(std::make_unique<RigidContactTerm>(*o, model_->mesh().V, boundary.faces, k0));
     system_->add_term(terms_.back().get());
   }
 
@@ -247,9 +247,13 @@ UnstructuredGrid Simulation::body_grid() const {
   const Eigen::MatrixXd disp = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(u.data(), mesh.V.rows(), 3);
   grid.point_data.push_back(DataArray{"displacement_m", disp});
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, mesh.V.rows());
-  for (const auto& t : terms_) f += t->vertex_forces(p);
+  Eigen::VectorXd pressure = Eigen::VectorXd::Zero(mesh.V.rows());
+  for (const auto& t : terms_) {
+    f += t->vertex_forces(p);
+    pressure += t->pressures(p);
+  }
   grid.point_data.push_back(DataArray{"contact_force_N", f.transpose()});
-  grid.point_data.push_back(DataArray{"contact_pressure_Pa", contact::pressures(f, boundary_area_)});
+  grid.point_data.push_back(DataArray{"contact_pressure_Pa", pressure});
   const Eigen::MatrixXd s = model_->cauchy_stress(u);
   grid.cell_data.push_back(DataArray{"cauchy_stress_xx_yy_zz_Pa", s.leftCols(3)});
   grid.cell_data.push_back(DataArray{"cauchy_stress_yz_xz_xy_Pa", s.rightCols(3)});

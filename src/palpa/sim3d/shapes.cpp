@@ -3,9 +3,9 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
-#include <numbers>
 #include <vector>
 
+#include "palpa/contact/primitives.hpp"
 #include "palpa/core/error.hpp"
 
 namespace palpa::sim3d {
@@ -31,28 +31,9 @@ SurfaceMesh make_cylinder(double radius, double height, int segments) {
   require(std::isfinite(radius) && radius > 0.0, fmt::format("cylinder radius must be > 0 m, got {}", radius));
   require(std::isfinite(height) && height > 0.0, fmt::format("cylinder height must be > 0 m, got {}", height));
   require(segments >= 8, fmt::format("a cylinder needs at least 8 segments, got {}", segments));
-  std::vector<Eigen::Vector3d> v;
-  std::vector<Eigen::Vector3i> f;
-  const int n = segments;
-  for (int ring = 0; ring < 2; ++ring) {
-    for (int i = 0; i < n; ++i) {
-      const double a = 2.0 * std::numbers::pi * i / n;
-      v.emplace_back(radius * std::cos(a), radius * std::sin(a), ring == 0 ? 0.0 : height);
-    }
-  }
-  const int bottom = static_cast<int>(v.size());
-  v.emplace_back(0.0, 0.0, 0.0);
-  const int top = static_cast<int>(v.size());
-  v.emplace_back(0.0, 0.0, height);
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    // Side: outward normals (counter-clockwise seen from outside).
-    f.emplace_back(i, j, n + j);
-    f.emplace_back(i, n + j, n + i);
-    f.emplace_back(bottom, j, i);       // normal −z
-    f.emplace_back(top, n + i, n + j);  // normal +z
-  }
-  return from_lists(v, f);
+  SurfaceMesh m = contact::cylinder_surface(radius, height, segments);
+  m.V.col(2).array() += 0.5 * height;
+  return m;
 }
 
 SurfaceMesh make_box_surface(const Eigen::Vector3d& size, int n) {
@@ -100,35 +81,9 @@ SurfaceMesh make_box_surface(const Eigen::Vector3d& size, int n) {
 SurfaceMesh make_sphere(double radius, int level) {
   require(std::isfinite(radius) && radius > 0.0, fmt::format("sphere radius must be > 0 m, got {}", radius));
   require(level >= 0 && level <= 7, fmt::format("sphere subdivision level must be 0…7, got {}", level));
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                                    {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (auto& p : v) p.normalize();
-  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int l = 0; l < level; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    const auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto [it, inserted] = mid.try_emplace({key.first, key.second}, static_cast<int>(v.size()));
-      if (inserted) v.push_back((v[static_cast<std::size_t>(a)] + v[static_cast<std::size_t>(b)]).normalized());
-      return it->second;
-    };
-    std::vector<Eigen::Vector3i> next;
-    next.reserve(4 * f.size());
-    for (const auto& tri : f) {
-      const int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
-      next.emplace_back(tri[0], a, c);
-      next.emplace_back(tri[1], b, a);
-      next.emplace_back(tri[2], c, b);
-      next.emplace_back(a, b, c);
-    }
-    f = std::move(next);
-  }
-  for (auto& p : v) p = radius * p + Eigen::Vector3d(0.0, 0.0, radius);
-  return from_lists(v, f);
+  SurfaceMesh m = contact::sphere_surface(radius, level);
+  m.V.col(2).array() += radius;
+  return m;
 }
 
 }  // namespace palpa::sim3d

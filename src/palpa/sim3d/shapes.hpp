@@ -1,5 +1,6 @@
 #pragma once
-// Closed triangle surfaces of rigid indenters, outward-oriented, in their own
+// Closed triangle surfaces of rigid indenters (contact/primitives.hpp moved
+// to stand on their lowest point), outward-oriented, in their own
 // frame: the contact face down, its lowest point at the origin, the axis +z.
 // A pose then places that point where the indenter starts.
 

@@ -1,0 +1,120 @@
+#pragma once
+// A body resting on a support (thesis §7.3): the soft layer on its rigid core
+// (body/core_system.hpp) under gravity and an external wrench, pressed onto a
+// rigid, fixed, closed support surface by penalty contact with sliding
+// anchors, solved for static equilibrium; then the contact pressures on the
+// body and — by the reverse query, the support's vertices against the
+// deformed body surface — on the support (bidirectional, Fig. 7.4).
+//
+// The body starts slightly above the support and falls onto it: while nothing
+// touches, the Newton system is K + αM (§7.3.4). With an automatic penalty
+// stiffness (a target maximum penetration, 0.3 mm by default as in the thesis)
+// k starts from the load shared by a tenth of the body's surface vertices,
+// and the equilibrium is solved again with k scaled by depth/target until the
+// deepest penetration is within 15% of the target.
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "palpa/body/core_system.hpp"
+#include "palpa/contact/obstacle.hpp"
+#include "palpa/io/vtu.hpp"
+#include "palpa/sim3d/contact_term.hpp"
+#include "palpa/solve/newton.hpp"
+#include "palpa/tet/model.hpp"
+
+namespace palpa::rest {
+
+struct RestBody {
+  TetMesh mesh;                             // the layer, positively oriented [m]
+  std::vector<int> attached;                // vertices on the core surface
+  std::vector<tet::BodyMaterial> materials;
+  Eigen::VectorXi element_material;         // empty: all materials[0]
+};
+
+struct RestOptions {
+  body::CoreSpec core;  // attached is taken from the body; centre: see below
+  bool core_centre_given = false;  // else c0 = the mean of the attached vertices
+  Eigen::Vector3d gravity{0.0, 0.0, -9.81};
+  double target_penetration = 3e-4;  // [m]
+  double stiffness = 0.0;            // k [N/m]; > 0 fixes it (no automatic rule)
+  LineSearchKind line_search = LineSearchKind::BacktrackingThenBrent;
+  int max_iterations = 300;
+  double force_tolerance = 0.0;      // [N]; 0: 1e-6 of the load over the surface vertices
+  double regularization = 1e4;       // α [1/s²] before landing
+  std::string support_name = "support";
+};
+
+struct RestResult {
+  Eigen::Vector3d core_translation = Eigen::Vector3d::Zero();  // [m]
+  Eigen::Matrix3d core_rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d contact_force = Eigen::Vector3d::Zero();   // support on body [N]
+  Eigen::Vector3d contact_torque = Eigen::Vector3d::Zero();  // about the core's centre, deformed [N·m]
+  Eigen::Vector3d load = Eigen::Vector3d::Zero();            // gravity on body + core + external force [N]
+  double balance_error = 0.0;        // |contact + load| / |load| (free directions only)
+  double max_penetration = 0.0;      // [m]
+  double stiffness = 0.0;            // k [N/m]
+  int contacts = 0;
+  int support_contacts = 0;
+  int newton_iterations = 0;
+  int solves = 0;
+  double seconds = 0.0;
+  double detection_seconds = 0.0;
+  double residual = 0.0;             // ‖g‖∞ [N]
+  double min_det_f = 0.0;
+  Eigen::VectorXd body_pressure;     // per body vertex [Pa] (0 off contact)
+  Eigen::VectorXd support_pressure;  // per support vertex [Pa]
+  std::string message;
+};
+
+class RestSimulation {
+ public:
+  // support: closed surface in world coordinates. Throws palpa::Error (Input)
+  // for a support that is not a closed, manifold, outward surface, a core
+  // without attached vertices or with nothing free, and a body that starts
+  // inside the support (it must start above it).
+  RestSimulation(RestBody body, const SurfaceMesh& support, RestOptions options);
+  ~RestSimulation();
+  RestSimulation(const RestSimulation&) = delete;
+  RestSimulation& operator=(const RestSimulation&) = delete;
+
+  // Solves for the equilibrium (warm-started from the current state). Throws
+  // palpa::Error (Solver) when Newton fails, (Interrupted) on Ctrl-C.
+  RestResult solve();
+
+  const tet::ElasticModel& model() const noexcept { return *model_; }
+  body::CoreSystem& system() noexcept { return *system_; }
+  const contact::Obstacle& support() const noexcept { return *support_; }
+  const Eigen::VectorXd& state() const noexcept { return x_; }
+  const std::vector<int>& surface_vertices() const noexcept { return surface_; }
+  const Eigen::MatrixX3i& surface_faces() const noexcept { return surface_faces_; }  // outer skin, tet-mesh rows
+
+  // The deformed body (tets, point data displacement_m, contact_force_N,
+  // pressure_Pa; cell data von_mises_stress_Pa) and the support with
+  // pressure_Pa, for the result r.
+  UnstructuredGrid body_grid(const RestResult& r) const;
+  UnstructuredGrid support_grid(const RestResult& r) const;
+  // The deformed outer skin with pressure_Pa (tet-mesh vertex numbering kept).
+  SurfaceMesh deformed_skin() const;
+
+ private:
+  RestBody body_;
+  RestOptions options_;
+  std::unique_ptr<tet::ElasticModel> model_;
+  std::unique_ptr<body::CoreSystem> system_;
+  std::unique_ptr<contact::Obstacle> support_;
+  std::unique_ptr<sim3d::RigidContactTerm> term_;
+  std::unique_ptr<NewtonSolver> newton_;
+  std::vector<int> surface_;          // body boundary vertices not attached to the core
+  Eigen::MatrixX3i surface_faces_;    // boundary faces without attached corners
+  Eigen::MatrixX3i boundary_faces_;   // the whole boundary (skin and core shells)
+  Eigen::VectorXd body_area_;         // per vertex [m²]
+  Eigen::VectorXd support_area_;      // per support vertex [m²]
+  double mean_area_ = 0.0;            // mean skin vertex area Ā [m²]
+  Eigen::VectorXd x_;
+  bool automatic_ = true;
+};
+
+}  // namespace palpa::rest

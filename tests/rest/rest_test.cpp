@@ -1,0 +1,130 @@
+// A soft block hanging from a rigid core (its top face) falls onto a flat
+// support: the contact force carries the weight, the pressure under the block
+// is ρgH, the penetration lands at the target, locked core DOFs stay put, a
+// torque on the core is balanced by the contact moment; bad setups refused.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "common/test_support.hpp"
+#include "palpa/material/models.hpp"
+#include "palpa/rest/rest.hpp"
+#include "palpa/sim3d/shapes.hpp"
+#include "palpa/tet/mesh.hpp"
+
+namespace palpa::rest {
+namespace {
+
+constexpr double kRho = 1000.0, kG = 9.81, kH = 0.02, kW = 0.04;
+
+struct Block {
+  RestBody body;
+  std::vector<int> bottom;
+};
+
+Block block(int n = 8, double nu = 0.0) {
+  Block b;
+  tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d(-kW / 2, -kW / 2, 0.0), Eigen::Vector3d(kW / 2, kW / 2, kH),
+                                        Eigen::Vector3i(n, n, n / 2));
+  b.body.mesh = box.mesh;
+  b.body.attached = box.vertex_sets.at("top");
+  b.body.materials = {{std::make_shared<material::NeoHookean>(20e3, nu), kRho}};
+  b.bottom = box.vertex_sets.at("bottom");
+  return b;
+}
+
+// A 200 × 200 × 50 mm slab whose top face lies `gap` below z = 0.
+SurfaceMesh slab(double gap, int divisions = 40) {
+  SurfaceMesh s = sim3d::make_box_surface(Eigen::Vector3d(0.2, 0.2, 0.05), divisions);
+  s.V.col(2).array() -= 0.05 + gap;
+  return s;
+}
+
+RestOptions vertical_only() {
+  RestOptions o;
+  o.core.locked = {true, true, false, true, true, true};
+  return o;
+}
+
+TEST(Rest, BlockOnASlabCarriesItsWeightWithPressureRhoGH) {
+  Block b = block();
+  RestSimulation sim(b.body, slab(5e-4), vertical_only());
+  const RestResult r = sim.solve();
+  const double weight = kRho * kW * kW * kH * kG;
+  EXPECT_NEAR(r.contact_force.z(), weight, 0.005 * weight);
+  EXPECT_LT(r.balance_error, 0.005);
+  EXPECT_NEAR(r.contact_force.x(), 0.0, 1e-6 * weight);
+  // Pressure under the block, away from its rim: ρgH.
+  const double rho_g_h = kRho * kG * kH;
+  const TetMesh& mesh = sim.model().mesh();
+  int interior = 0;
+  for (int v : b.bottom) {
+    if (std::abs(mesh.V(v, 0)) < 0.3 * kW && std::abs(mesh.V(v, 1)) < 0.3 * kW) {
+      EXPECT_NEAR(r.body_pressure[v], rho_g_h, 0.05 * rho_g_h) << v;
+      ++interior;
+    }
+  }
+  EXPECT_GE(interior, 9);
+  // The support sees the same pressure under the block (its own vertices
+  // against the deformed body), and none away from it.
+  int under = 0;
+  for (Eigen::Index v = 0; v < sim.support().vertices().rows(); ++v) {
+    const Eigen::Vector3d q = sim.support().world_vertex(static_cast<int>(v));
+    if (std::abs(q.x()) < 0.3 * kW && std::abs(q.y()) < 0.3 * kW && q.z() > -1e-3) {
+      EXPECT_NEAR(r.support_pressure[v], rho_g_h, 0.05 * rho_g_h) << v;
+      ++under;
+    }
+    if (std::abs(q.x()) > 0.6 * kW || std::abs(q.y()) > 0.6 * kW) {
+      EXPECT_EQ(r.support_pressure[v], 0.0);
+    }
+  }
+  EXPECT_GE(under, 9);
+  // The automatic stiffness put the deepest penetration at the 0.3 mm target.
+  EXPECT_GT(r.max_penetration, 0.85 * 3e-4);
+  EXPECT_LT(r.max_penetration, 1.15 * 3e-4);
+  // Locked DOFs stayed locked; the free one fell through the gap.
+  EXPECT_EQ(r.core_translation.x(), 0.0);
+  EXPECT_EQ(r.core_translation.y(), 0.0);
+  EXPECT_TRUE(r.core_rotation.isIdentity(0.0));
+  EXPECT_LT(r.core_translation.z(), -5e-4);
+  EXPECT_GT(r.min_det_f, 0.0);
+}
+
+TEST(Rest, TorqueOnTheCoreIsBalancedByTheContactMoment) {
+  // Vertical translation and pitch free (the foot of §7.5.2), a core mass and
+  // a pitch torque.
+  Block b = block();
+  RestOptions o;
+  o.core.locked = {true, true, false, true, false, true};
+  o.core.mass = 0.1;
+  o.core.torque = Eigen::Vector3d(0.0, 2e-3, 0.0);
+  o.core.force = Eigen::Vector3d(0.0, 0.0, -0.5);
+  RestSimulation sim(b.body, slab(5e-4), o);
+  const RestResult r = sim.solve();
+  const double load = (kRho * kW * kW * kH + 0.1) * kG + 0.5;
+  EXPECT_NEAR(r.contact_force.z(), load, 0.005 * load);
+  // Moment balance about the core's centre (pitch): contact moment = −torque.
+  EXPECT_NEAR(r.contact_torque.y(), -2e-3, 0.02 * 2e-3);
+  EXPECT_GT(std::abs(r.core_rotation(0, 2)), 1e-5);  // it pitched
+  EXPECT_NEAR(r.core_rotation(1, 1), 1.0, 1e-15);    // about y only
+}
+
+TEST(Rest, RefusesBadSetups) {
+  Block b = block(4);
+  // A body starting inside the support.
+  EXPECT_TRUE(palpa::test::throws_error([&] { RestSimulation s(b.body, slab(-1e-3, 8), vertical_only()); },
+                                        ErrorKind::Input, {"starts inside support", "place it slightly above"}));
+  // A support that is not closed.
+  SurfaceMesh open = slab(1e-3, 1);
+  open.F.conservativeResize(open.F.rows() - 2, 3);
+  EXPECT_TRUE(palpa::test::throws_error([&] { RestSimulation s(b.body, open, vertical_only()); }, ErrorKind::Input,
+                                        {"support", "not closed"}));
+  // A core with no attached vertex.
+  RestBody loose = b.body;
+  loose.attached.clear();
+  EXPECT_TRUE(palpa::test::throws_error([&] { RestSimulation s(loose, slab(1e-3, 8), vertical_only()); },
+                                        ErrorKind::Input, {"no attached vertices"}));
+}
+
+}  // namespace
+}  // namespace palpa::rest
