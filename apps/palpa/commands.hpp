@@ -13,6 +13,7 @@ void add_demo_command(CLI::App& app);
 void add_poke_command(CLI::App& app);
 void add_fit_command(CLI::App& app);
 void add_sim3d_command(CLI::App& app);
+void add_rest_command(CLI::App& app);
 void add_mesh_command(CLI::App& app);
 void add_acquire_command(CLI::App& app);
 

@@ -116,7 +116,7 @@ RestResult RestSimulation::solve() {
   const auto t0 = std::chrono::steady_clock::now();
   term_->reset_timers();
   RestResult r;
-  constexpr int kMaxSolves = 8;
+  constexpr int kMaxSolves = 12;
   for (;;) {
     const NewtonResult res = newton_->solve(*system_, x_);
     r.newton_iterations += res.iterations;
@@ -131,6 +131,9 @@ RestResult RestSimulation::solve() {
     if (term_->contacts().empty()) {
       throw Error(ErrorKind::Solver, "the body is in equilibrium without touching the support: nothing presses it on");
     }
+    // Spring areas follow the contact set; re-solve while they change (the
+    // last solve always runs with the areas it ends with).
+    if (r.solves < kMaxSolves && term_->update_areas()) continue;
     if (!automatic_) break;
     const double ratio = term_->contacts().max_depth() / options_.target_penetration;
     if (ratio > 0.85 && ratio < 1.15) break;

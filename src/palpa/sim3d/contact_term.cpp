@@ -93,8 +93,11 @@ void RigidContactTerm::add_hessian(const Eigen::VectorXd&, bool,
 void RigidContactTerm::prepare(const Eigen::VectorXd& x) {
   const Timer t(detection_ns_, detections_);
   committed_.detect(*obstacle_, as_points(x), surface_);
-  // Spring areas: the full skin share off contact; in contact, the share of
-  // the triangles wholly in contact (the full share if there is none).
+}
+
+bool RigidContactTerm::update_areas() {
+  // The full skin share off contact; in contact, the share of the triangles
+  // wholly in contact (the full share if there is none).
   std::vector<char> touching(area_.size(), 0);
   for (const contact::Contact& c : committed_.contacts()) touching[static_cast<std::size_t>(c.point)] = 1;
   std::vector<double> contact_area(area_.size(), 0.0);
@@ -109,11 +112,15 @@ void RigidContactTerm::prepare(const Eigen::VectorXd& x) {
     contact_area[static_cast<std::size_t>(b)] += third;
     contact_area[static_cast<std::size_t>(c)] += third;
   }
+  bool changed = false;
   for (std::size_t v = 0; v < area_.size(); ++v) {
-    area_[v] = touching[v] && contact_area[v] > 0.0 ? contact_area[v] : skin_area_[static_cast<Eigen::Index>(v)];
-    scale_[v] = area_[v] / mean_area_;
+    const double a = touching[v] && contact_area[v] > 0.0 ? contact_area[v] : skin_area_[static_cast<Eigen::Index>(v)];
+    if (std::abs(a - area_[v]) > 1e-9 * mean_area_) changed = true;
+    area_[v] = a;
+    scale_[v] = a / mean_area_;
   }
   committed_.set_scale(scale_);
+  return changed;
 }
 
 Eigen::VectorXd RigidContactTerm::pressures(const Eigen::VectorXd& x) const {

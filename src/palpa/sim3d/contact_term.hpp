@@ -30,8 +30,9 @@ class RigidContactTerm final : public tet::VertexTerm {
   // uniform penetration δ is a uniform pressure 2kδ/Ā, the nodal forces are
   // the consistent loads of that pressure, and a vertex on a sharp rim is not
   // loaded through the sides that do not touch. Areas are rest areas (the
-  // pressures are nominal), chosen at every committed iterate (prepare) and
-  // held at line-search trials.
+  // pressures are nominal). They change only in update_areas(), which the
+  // driver calls between equilibrium solves (re-solving while they change),
+  // so that within one Newton solve the energy is one fixed function.
   RigidContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX3d& rest, Eigen::MatrixX3i faces,
                    double k);
 
@@ -47,6 +48,10 @@ class RigidContactTerm final : public tet::VertexTerm {
                    std::vector<std::pair<int, Eigen::Matrix3d>>& blocks) const override;
   void prepare(const Eigen::VectorXd& x) override;
   bool active() const override { return !committed_.empty(); }
+
+  // Sets each vertex's spring area from the committed contacts (see above).
+  // Returns whether any area changed.
+  bool update_areas();
 
   // Contact force on every body vertex at positions x (3×N) [N], and the
   // wrench on the obstacle about `about` [m].

@@ -190,13 +190,20 @@ StepRecord Simulation::solve_step(int s) {
   StepRecord r;
   r.step = s;
   pose(s);
-  constexpr int kMaxCorrections = 8;
+  constexpr int kMaxCorrections = 12;
   for (int attempt = 0;; ++attempt) {
     if (scene_->dynamics.enabled) {
       solve_dynamic(r);
     } else {
       solve_static(r);
       ++r.solves;
+    }
+    // Spring areas follow the contact set; re-solve while they change (the
+    // last solve always runs with the areas it ends with).
+    if (attempt + 1 < kMaxCorrections) {
+      bool areas_changed = false;
+      for (auto& t : terms_) areas_changed = t->update_areas() || areas_changed;
+      if (areas_changed) continue;
     }
     if (!automatic_stiffness_) break;
     bool raised = false;

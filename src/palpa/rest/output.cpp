@@ -1,0 +1,119 @@
+#include "palpa/rest/output.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "palpa/core/atomic_file.hpp"
+#include "palpa/io/ply.hpp"
+#include "palpa/io/vtu.hpp"
+#include "palpa/report/plot.hpp"
+
+namespace palpa::rest {
+
+namespace {
+
+// A histogram of the positive values as a step line: x = bin edges [kPa].
+report::Series histogram(const std::string& label, const Eigen::VectorXd& v, double top, int bins) {
+  std::vector<double> counts(static_cast<std::size_t>(bins), 0.0);
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (!(v[i] > 0.0)) continue;
+    const int b = std::min(bins - 1, static_cast<int>(v[i] / top * bins));
+    counts[static_cast<std::size_t>(b)] += 1.0;
+  }
+  report::Series s;
+  s.label = label;
+  for (int b = 0; b < bins; ++b) {
+    const double lo = top * b / bins * 1e-3, hi = top * (b + 1) / bins * 1e-3;
+    s.x.insert(s.x.end(), {lo, hi});
+    s.y.insert(s.y.end(), {counts[static_cast<std::size_t>(b)], counts[static_cast<std::size_t>(b)]});
+  }
+  return s;
+}
+
+Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
+
+}  // namespace
+
+Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene, const RestSimulation& sim,
+                        const RestResult& r) {
+  ensure_directory(out);
+  write_vtu(out / "body.vtu", sim.body_grid(r));
+  write_vtu(out / "support.vtu", sim.support_grid(r));
+  // The skin, compacted, with its pressures.
+  const SurfaceMesh skin = sim.deformed_skin();
+  std::vector<int> to_new(static_cast<std::size_t>(skin.V.rows()), -1);
+  std::vector<int> used;
+  for (Eigen::Index f = 0; f < skin.F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = skin.F(f, c);
+      if (to_new[static_cast<std::size_t>(v)] < 0) {
+        to_new[static_cast<std::size_t>(v)] = static_cast<int>(used.size());
+        used.push_back(v);
+      }
+    }
+  }
+  SurfaceMesh compact;
+  compact.V.resize(static_cast<Eigen::Index>(used.size()), 3);
+  Eigen::VectorXd pressure(static_cast<Eigen::Index>(used.size()));
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    compact.V.row(static_cast<Eigen::Index>(i)) = skin.V.row(used[i]);
+    pressure[static_cast<Eigen::Index>(i)] = r.body_pressure[used[i]];
+  }
+  compact.F.resize(skin.F.rows(), 3);
+  for (Eigen::Index f = 0; f < skin.F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) compact.F(f, c) = to_new[static_cast<std::size_t>(skin.F(f, c))];
+  }
+  write_ply(out / "skin.ply", compact, {.vertex_scalars = {{"pressure_Pa", pressure}}});
+  SurfaceMesh support;
+  support.V.resize(sim.support().vertices().rows(), 3);
+  for (Eigen::Index v = 0; v < support.V.rows(); ++v) support.V.row(v) = sim.support().world_vertex(static_cast<int>(v)).transpose();
+  support.F = sim.support().triangles();
+  write_ply(out / "support.ply", support, {.vertex_scalars = {{"pressure_Pa", r.support_pressure}}});
+
+  const double top = std::max({r.body_pressure.maxCoeff(), r.support_pressure.maxCoeff(), 1e-12});
+  report::Plot plot;
+  plot.title = "contact pressure";
+  plot.x.label = "pressure [kPa]";
+  plot.y.label = "vertices";
+  plot.series.push_back(histogram("body", r.body_pressure, top, 20));
+  plot.series.push_back(histogram("support", r.support_pressure, top, 20));
+  report::Figure fig;
+  fig.plots.push_back(plot);
+  report::write_svg(out / "pressure_histogram.svg", fig);
+
+  const double deg = 180.0 / 3.14159265358979323846;
+  const Eigen::AngleAxisd aa(r.core_rotation);
+  Json s = {{"palpa_rest", 1},
+            {"scene", scene.file.string()},
+            {"body", {{"source", scene.body_source},
+                      {"vertices", sim.model().num_vertices()},
+                      {"tetrahedra", sim.model().num_elements()},
+                      {"skin_vertices", sim.surface_vertices().size()},
+                      {"attached_vertices", scene.body.attached.size()},
+                      {"mass_kg", sim.model().total_mass()}}},
+            {"support", {{"source", scene.support_source}, {"vertices", sim.support().vertices().rows()}}},
+            {"core", {{"translation_m", vec(r.core_translation)},
+                      {"rotation_axis", vec(aa.axis())},
+                      {"rotation_deg", aa.angle() * deg}}},
+            {"load_N", vec(r.load)},
+            {"contact_force_N", vec(r.contact_force)},
+            {"contact_torque_Nm", vec(r.contact_torque)},
+            {"balance_error", r.balance_error},
+            {"max_penetration_m", r.max_penetration},
+            {"stiffness_N_per_m", r.stiffness},
+            {"contacts", {{"body_vertices", r.contacts}, {"support_vertices", r.support_contacts}}},
+            {"peak_pressure_Pa", {{"body", r.body_pressure.maxCoeff()}, {"support", r.support_pressure.maxCoeff()}}},
+            {"newton_iterations", r.newton_iterations},
+            {"solves", r.solves},
+            {"residual_N", r.residual},
+            {"min_det_F", r.min_det_f},
+            {"seconds", r.seconds},
+            {"detection_seconds", r.detection_seconds}};
+  if (!r.message.empty()) s["note"] = r.message;
+  write_json_file(out / "summary.json", s);
+  return s;
+}
+
+}  // namespace palpa::rest

@@ -1,0 +1,51 @@
+#pragma once
+// Scenes of `palpa rest` (JSON, every quantity with its unit):
+//
+// {
+//   "palpa_rest": 1,
+//   "body": {
+//     "surface": "foot.obj", "unit": "m", "depth": "10 mm", "edge": "10 mm",
+//        // or "layer": "foot.vtu" (from palpa mesh layer: point data "attached")
+//        // or "generate": {"shape": "foot", "length": "260 mm"}, "depth", "edge"
+//     "material": "tissue.json",          // or an inline material object
+//     "density": "1000 kg/m^3",
+//     "position": ["0 mm", "0 mm", "2 mm"],             // moves the body
+//     "rotation": {"axis": [0, 0, 1], "angle": "0 deg"}
+//   },
+//   "core": {"mass": "1 kg", "free": ["z", "ry"],      // of x y z rx ry rz
+//            "force": ["0 N", "0 N", "-343 N"], "torque": ["0 N*m", "4 N*m", "0 N*m"],
+//            "centre": ["0 mm", "0 mm", "40 mm"]},     // default: mean of the attached vertices
+//   "support": {"box": {"size": ["300 mm", "150 mm", "20 mm"], "divisions": 60},
+//               "position": ["130 mm", "0 mm", "0 mm"]},  // box: top face centre
+//              // or {"spheres": [{"centre": [...], "radius": "20 mm"}, ...], "level": 3}
+//              // or {"file": "chair.obj", "unit": "m"}
+//   "gravity": ["0 m/s^2", "0 m/s^2", "-9.81 m/s^2"],
+//   "contact": {"max_penetration": "0.3 mm"},          // or {"stiffness": "5000 N/m"}
+//   "solver": {"line_search": "backtracking+brent", "max_iterations": 300}
+// }
+//
+// Several spheres make one support only if they do not overlap (each is its
+// own closed shell). Relative paths resolve against the scene's folder.
+
+#include <filesystem>
+#include <string>
+
+#include "palpa/io/mesh.hpp"
+#include "palpa/rest/rest.hpp"
+
+namespace palpa::rest {
+
+struct RestScene {
+  std::filesystem::path file;
+  RestBody body;
+  std::string body_source;        // what the body was made from, for the summary
+  SurfaceMesh support;            // world coordinates
+  std::string support_source;
+  RestOptions options;
+};
+
+// Reads a scene and builds the body (meshing a surface with mesh::make_layer
+// when asked). Throws palpa::Error (Input) naming the file and field.
+RestScene read_rest_scene(const std::filesystem::path& path);
+
+}  // namespace palpa::rest
