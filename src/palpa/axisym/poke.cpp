@@ -193,13 +193,7 @@ PokeModel::PokeModel(const material::Material& material, const PokeSetup& setup)
   pattern_.resize(n_free, n_free);
   pattern_.setFromTriplets(trip.begin(), trip.end());
   pattern_.makeCompressed();
-  const auto slot = [&](int row, int col) {
-    if (row < col) std::swap(row, col);
-    const int* begin = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[col];
-    const int* end = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[col + 1];
-    const int* it = std::lower_bound(begin, end, row);
-    return static_cast<int>(it - pattern_.innerIndexPtr());
-  };
+  const auto slot = [&](int row, int col) { return lower_slot(pattern_, row, col); };
   element_slots_.resize(static_cast<std::size_t>(mesh_.num_elements()));
   for (Eigen::Index e = 0; e < mesh_.num_elements(); ++e) {
     auto& s = element_slots_[static_cast<std::size_t>(e)];

@@ -10,43 +10,25 @@
 #include "palpa/material/material_file.hpp"
 #include "palpa/mesh/bodies.hpp"
 #include "palpa/mesh/layer.hpp"
+#include "palpa/sim3d/scene_json.hpp"
 #include "palpa/sim3d/shapes.hpp"
 
 namespace palpa::rest {
+
+using sim3d::read_count;
+using sim3d::read_line_search;
+using sim3d::read_positive;
+using sim3d::read_quantity3;
+using sim3d::read_rotation;
+using sim3d::resolve_scene_path;
 
 namespace {
 
 namespace fs = std::filesystem;
 
-Eigen::Vector3d quantity3(const JsonView& v, Dimension d) {
-  if (!v.is_array() || v.size() != 3) v.fail("expected 3 values", fmt::format("[x, y, z] in {}", si_unit(d)));
-  return {v.at(std::size_t{0}).as_quantity(d), v.at(std::size_t{1}).as_quantity(d), v.at(std::size_t{2}).as_quantity(d)};
-}
-
-double positive(const JsonView& v, Dimension d) {
-  const double x = v.as_quantity(d);
-  if (!(x > 0.0)) v.fail("must be > 0", fmt::format("a positive {}", dimension_name(d)));
-  return x;
-}
-
-fs::path resolve(const fs::path& base, const std::string& p) {
-  const fs::path q(p);
-  return q.is_absolute() ? q : base.parent_path() / q;
-}
-
 double unit_of(const JsonView& parent) {
   if (const auto u = parent.find("unit")) return parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
   return 1.0;
-}
-
-Eigen::Matrix3d rotation_of(const JsonView& r) {
-  r.expect_only({"axis", "angle"});
-  const std::vector<double> a = r.at("axis").as_number_array();
-  if (a.size() != 3 || !(Eigen::Vector3d(a[0], a[1], a[2]).norm() > 0.0)) {
-    r.at("axis").fail("not a direction", "three numbers, not all zero");
-  }
-  return Eigen::AngleAxisd(r.at("angle").as_quantity(Dimension::Angle), Eigen::Vector3d(a[0], a[1], a[2]).normalized())
-      .toRotationMatrix();
 }
 
 SurfaceMesh append(const SurfaceMesh& a, const SurfaceMesh& b) {
@@ -63,7 +45,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   const int sources = int(b.has("surface")) + int(b.has("layer")) + int(b.has("generate"));
   if (sources != 1) b.fail("give exactly one of \"surface\", \"layer\", \"generate\"");
   if (const auto layer = b.find("layer")) {
-    const fs::path p = resolve(file, layer->as_string());
+    const fs::path p = resolve_scene_path(file, layer->as_string());
     const UnstructuredGrid g = read_vtu(p);
     const double unit = unit_of(b);
     const DataArray* att = g.find_point_data("attached");
@@ -84,24 +66,24 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     if (const auto surf = b.find("surface")) {
       MeshReadOptions o;
       o.unit_to_si = unit_of(b);
-      scan = read_surface_mesh(resolve(file, surf->as_string()), o);
-      s.body_source = resolve(file, surf->as_string()).string();
+      scan = read_surface_mesh(resolve_scene_path(file, surf->as_string()), o);
+      s.body_source = resolve_scene_path(file, surf->as_string()).string();
     } else {
       const JsonView gen = b.at("generate");
       gen.expect_only({"shape", "length", "width", "height"});
       mesh::BodyOptions o;
       o.shape = mesh::parse_body_shape(gen.at("shape").as_string());
-      if (const auto v = gen.find("length")) o.size.x() = positive(*v, Dimension::Length);
-      if (const auto v = gen.find("width")) o.size.y() = positive(*v, Dimension::Length);
-      if (const auto v = gen.find("height")) o.size.z() = positive(*v, Dimension::Length);
-      o.edge_length = b.has("edge") ? positive(b.at("edge"), Dimension::Length) : 10e-3;
+      if (const auto v = gen.find("length")) o.size.x() = read_positive(*v, Dimension::Length);
+      if (const auto v = gen.find("width")) o.size.y() = read_positive(*v, Dimension::Length);
+      if (const auto v = gen.find("height")) o.size.z() = read_positive(*v, Dimension::Length);
+      o.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
       scan = mesh::make_body(o);
       s.body_source = fmt::format("generated {}", gen.at("shape").as_string());
     }
     mesh::DepthSpec depth;
-    depth.uniform = positive(b.at("depth"), Dimension::Length);
+    depth.uniform = read_positive(b.at("depth"), Dimension::Length);
     mesh::LayerOptions lo;
-    lo.edge_length = b.has("edge") ? positive(b.at("edge"), Dimension::Length) : 10e-3;
+    lo.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
     lo.source = s.body_source;
     const mesh::LayerMesh made = mesh::make_layer(scan, depth, std::nullopt, lo);
     s.body.mesh = made.tets;
@@ -111,14 +93,14 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   // Placement.
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  if (const auto r = b.find("rotation")) R = rotation_of(*r);
-  if (const auto p = b.find("position")) t = quantity3(*p, Dimension::Length);
+  if (const auto r = b.find("rotation")) R = read_rotation(*r);
+  if (const auto p = b.find("position")) t = read_quantity3(*p, Dimension::Length);
   s.body.mesh.V = ((s.body.mesh.V * R.transpose()).rowwise() + t.transpose()).eval();
 
   tet::BodyMaterial bm;
   const JsonView mv = b.at("material");
   bm.material = mv.is_object() ? std::shared_ptr<material::Material>(material::material_from_json(mv))
-                               : std::shared_ptr<material::Material>(material::read_material_file(resolve(file, mv.as_string())).material);
+                               : std::shared_ptr<material::Material>(material::read_material_file(resolve_scene_path(file, mv.as_string())).material);
   bm.density = b.has("density") ? b.at("density").as_quantity(Dimension::Density) : 1000.0;
   if (!(bm.density >= 0.0)) b.at("density").fail("must be ≥ 0", "a density such as \"1000 kg/m^3\"");
   s.body.materials = {bm};
@@ -129,7 +111,7 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
   SurfaceMesh m;
   if (const auto box = sp.find("box")) {
     box->expect_only({"size", "divisions"});
-    const Eigen::Vector3d size = quantity3(box->at("size"), Dimension::Length);
+    const Eigen::Vector3d size = read_quantity3(box->at("size"), Dimension::Length);
     const int n = box->has("divisions") ? static_cast<int>(box->at("divisions").as_integer()) : 40;
     if (n < 1 || n > 1000) box->at("divisions").fail(fmt::format("{}", n), "1 to 1000");
     m = sim3d::make_box_surface(size, n);
@@ -140,10 +122,10 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
     for (std::size_t i = 0; i < spheres->size(); ++i) {
       const JsonView si = spheres->at(i);
       si.expect_only({"centre", "radius"});
-      const double r = positive(si.at("radius"), Dimension::Length);
+      const double r = read_positive(si.at("radius"), Dimension::Length);
       SurfaceMesh ball = sim3d::make_sphere(r, level);
       ball.V.col(2).array() -= r;
-      ball.V.rowwise() += quantity3(si.at("centre"), Dimension::Length).transpose();
+      ball.V.rowwise() += read_quantity3(si.at("centre"), Dimension::Length).transpose();
       m = i == 0 ? ball : append(m, ball);
     }
     if (m.V.rows() == 0) spheres->fail("no sphere given", "at least one {\"centre\", \"radius\"}");
@@ -151,15 +133,15 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
   } else if (const auto f = sp.find("file")) {
     MeshReadOptions o;
     o.unit_to_si = unit_of(sp);
-    m = read_surface_mesh(resolve(file, f->as_string()), o);
-    s.support_source = resolve(file, f->as_string()).string();
+    m = read_surface_mesh(resolve_scene_path(file, f->as_string()), o);
+    s.support_source = resolve_scene_path(file, f->as_string()).string();
   } else {
     sp.fail("no support shape", "\"box\", \"spheres\" or \"file\"");
   }
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  if (const auto r = sp.find("rotation")) R = rotation_of(*r);
-  if (const auto p = sp.find("position")) t = quantity3(*p, Dimension::Length);
+  if (const auto r = sp.find("rotation")) R = read_rotation(*r);
+  if (const auto p = sp.find("position")) t = read_quantity3(*p, Dimension::Length);
   m.V = ((m.V * R.transpose()).rowwise() + t.transpose()).eval();
   s.support = m;
 }
@@ -198,10 +180,10 @@ RestScene read_rest_scene(const fs::path& path) {
     } else {
       o.core.locked[2] = false;  // vertical only
     }
-    if (const auto f = core->find("force")) o.core.force = quantity3(*f, Dimension::Force);
-    if (const auto t = core->find("torque")) o.core.torque = quantity3(*t, Dimension::Torque);
+    if (const auto f = core->find("force")) o.core.force = read_quantity3(*f, Dimension::Force);
+    if (const auto t = core->find("torque")) o.core.torque = read_quantity3(*t, Dimension::Torque);
     if (const auto c = core->find("centre")) {
-      o.core.centre = quantity3(*c, Dimension::Length);
+      o.core.centre = read_quantity3(*c, Dimension::Length);
       o.core_centre_given = true;
     }
   } else {
@@ -211,27 +193,16 @@ RestScene read_rest_scene(const fs::path& path) {
     root.at("core").at("free").fail("every core DOF is locked: the body cannot come to rest on anything",
                                     "at least one of x, y, z, rx, ry, rz");
   }
-  if (const auto g = root.find("gravity")) o.gravity = quantity3(*g, Dimension::Acceleration);
+  if (const auto g = root.find("gravity")) o.gravity = read_quantity3(*g, Dimension::Acceleration);
   if (const auto c = root.find("contact")) {
     c->expect_only({"stiffness", "max_penetration"});
-    if (const auto k = c->find("stiffness")) o.stiffness = positive(*k, Dimension::Stiffness);
-    if (const auto p = c->find("max_penetration")) o.target_penetration = positive(*p, Dimension::Length);
+    if (const auto k = c->find("stiffness")) o.stiffness = read_positive(*k, Dimension::Stiffness);
+    if (const auto p = c->find("max_penetration")) o.target_penetration = read_positive(*p, Dimension::Length);
   }
   if (const auto sv = root.find("solver")) {
     sv->expect_only({"line_search", "max_iterations"});
-    if (const auto ls = sv->find("line_search")) {
-      const std::string n = ls->as_string();
-      if (n == "backtracking") o.line_search = LineSearchKind::Backtracking;
-      else if (n == "golden") o.line_search = LineSearchKind::GoldenSection;
-      else if (n == "brent") o.line_search = LineSearchKind::Brent;
-      else if (n == "backtracking+brent") o.line_search = LineSearchKind::BacktrackingThenBrent;
-      else ls->fail(fmt::format("unknown line search '{}'", n), "backtracking, golden, brent or backtracking+brent");
-    }
-    if (const auto m = sv->find("max_iterations")) {
-      const long long n = m->as_integer();
-      if (n < 1 || n > 100000) m->fail(fmt::format("{}", n), "1 to 100000");
-      o.max_iterations = static_cast<int>(n);
-    }
+    if (const auto ls = sv->find("line_search")) o.line_search = read_line_search(*ls);
+    if (const auto m = sv->find("max_iterations")) o.max_iterations = read_count(*m, 1, 100000);
   }
   return s;
 }

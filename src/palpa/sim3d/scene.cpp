@@ -9,6 +9,7 @@
 
 #include "palpa/core/json.hpp"
 #include "palpa/material/material_file.hpp"
+#include "palpa/sim3d/scene_json.hpp"
 #include "palpa/sim3d/shapes.hpp"
 #include "palpa/tet/mesh.hpp"
 
@@ -17,28 +18,6 @@ namespace palpa::sim3d {
 namespace {
 
 namespace fs = std::filesystem;
-
-Eigen::Vector3d quantity3(const JsonView& v, Dimension d) {
-  if (!v.is_array() || v.size() != 3) v.fail("expected 3 values", fmt::format("[x, y, z] in {}", si_unit(d)));
-  return {v.at(std::size_t{0}).as_quantity(d), v.at(std::size_t{1}).as_quantity(d), v.at(std::size_t{2}).as_quantity(d)};
-}
-
-Eigen::Vector3d number3(const JsonView& v) {
-  const std::vector<double> a = v.as_number_array();
-  if (a.size() != 3) v.fail(fmt::format("expected 3 numbers, got {}", a.size()), "[x, y, z]");
-  return {a[0], a[1], a[2]};
-}
-
-double positive(const JsonView& v, Dimension d) {
-  const double x = v.as_quantity(d);
-  if (!(x > 0.0)) v.fail("must be > 0", fmt::format("a positive {}", dimension_name(d)));
-  return x;
-}
-
-fs::path resolve(const fs::path& base, const std::string& p) {
-  const fs::path q(p);
-  return q.is_absolute() ? q : base.parent_path() / q;
-}
 
 int axis_of(const JsonView& v) {
   const std::string a = v.as_string();
@@ -64,22 +43,22 @@ SurfaceMesh read_shape(const JsonView& shape, const fs::path& scene_file) {
   if (const auto c = shape.find("cylinder")) {
     c->expect_only({"radius", "height", "segments"});
     const int seg = c->has("segments") ? static_cast<int>(c->at("segments").as_integer()) : 64;
-    return make_cylinder(positive(c->at("radius"), Dimension::Length), positive(c->at("height"), Dimension::Length), seg);
+    return make_cylinder(read_positive(c->at("radius"), Dimension::Length), read_positive(c->at("height"), Dimension::Length), seg);
   }
   if (const auto b = shape.find("box")) {
     b->expect_only({"size", "divisions"});
     const int n = b->has("divisions") ? static_cast<int>(b->at("divisions").as_integer()) : 4;
-    return make_box_surface(quantity3(b->at("size"), Dimension::Length), n);
+    return make_box_surface(read_quantity3(b->at("size"), Dimension::Length), n);
   }
   if (const auto s = shape.find("sphere")) {
     s->expect_only({"radius", "level"});
     const int level = s->has("level") ? static_cast<int>(s->at("level").as_integer()) : 3;
-    return make_sphere(positive(s->at("radius"), Dimension::Length), level);
+    return make_sphere(read_positive(s->at("radius"), Dimension::Length), level);
   }
   if (const auto f = shape.find("file")) {
     MeshReadOptions opt;
     if (const auto u = shape.find("unit")) opt.unit_to_si = parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
-    return read_surface_mesh(resolve(scene_file, f->as_string()), opt);
+    return read_surface_mesh(resolve_scene_path(scene_file, f->as_string()), opt);
   }
   shape.fail("no shape given", "one of \"cylinder\", \"box\", \"sphere\", \"file\"");
 }
@@ -102,7 +81,7 @@ Scene read_scene(const fs::path& path) {
   if (const auto box = body.find("box")) {
     if (body.has("mesh")) body.fail("both \"box\" and \"mesh\" given", "one of them");
     box->expect_only({"size", "cells"});
-    const Eigen::Vector3d size = quantity3(box->at("size"), Dimension::Length);
+    const Eigen::Vector3d size = read_quantity3(box->at("size"), Dimension::Length);
     if (!(size.minCoeff() > 0.0)) box->at("size").fail("sizes must be > 0", "three positive lengths");
     const std::vector<double> cells = box->at("cells").as_number_array();
     if (cells.size() != 3 || std::any_of(cells.begin(), cells.end(), [](double c) { return c < 1 || c != std::floor(c) || c > 1000; })) {
@@ -119,7 +98,7 @@ Scene read_scene(const fs::path& path) {
     const JsonView m = body.at("mesh");
     MeshReadOptions opt;
     if (const auto u = body.find("unit")) opt.unit_to_si = parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
-    const fs::path mesh_path = resolve(path, m.as_string());
+    const fs::path mesh_path = resolve_scene_path(path, m.as_string());
     s.mesh = read_tet_mesh(mesh_path, opt);
     s.mesh_name = mesh_path.string();
   }
@@ -140,7 +119,7 @@ Scene read_scene(const fs::path& path) {
     if (mv.is_object()) {
       bm.material = material::material_from_json(mv);
     } else {
-      bm.material = material::read_material_file(resolve(path, mv.as_string())).material;
+      bm.material = material::read_material_file(resolve_scene_path(path, mv.as_string())).material;
     }
     bm.density = mk.has("density") ? mk.at("density").as_quantity(Dimension::Density) : 1000.0;
     if (!(bm.density >= 0.0)) mk.at("density").fail("must be ≥ 0", "a density such as \"1000 kg/m^3\"");
@@ -215,7 +194,7 @@ Scene read_scene(const fs::path& path) {
     }
   }
 
-  if (const auto g = root.find("gravity")) s.gravity = quantity3(*g, Dimension::Acceleration);
+  if (const auto g = root.find("gravity")) s.gravity = read_quantity3(*g, Dimension::Acceleration);
 
   // ---- obstacles
   bool any_path = false;
@@ -231,16 +210,13 @@ Scene read_scene(const fs::path& path) {
                            "a unique name usable in file names");
       }
       o.mesh = read_shape(oi.at("shape"), path);
-      if (const auto p = oi.find("position")) o.position = quantity3(*p, Dimension::Length);
+      if (const auto p = oi.find("position")) o.position = read_quantity3(*p, Dimension::Length);
       if (const auto r = oi.find("rotation")) {
-        r->expect_only({"axis", "angle"});
-        const Eigen::Vector3d axis = number3(r->at("axis"));
-        if (!(axis.norm() > 0.0)) r->at("axis").fail("zero axis", "a non-zero direction");
-        o.rotation = Eigen::AngleAxisd(r->at("angle").as_quantity(Dimension::Angle), axis.normalized()).toRotationMatrix();
+        o.rotation = read_rotation(*r);
       }
       if (const auto p = oi.find("path")) {
         p->expect_only({"direction", "depth"});
-        const Eigen::Vector3d dir = number3(p->at("direction"));
+        const Eigen::Vector3d dir = read_number3(p->at("direction"));
         if (!(dir.norm() > 0.0)) p->at("direction").fail("zero direction", "a non-zero direction");
         o.direction = dir.normalized();
         o.depth = p->at("depth").as_quantity(Dimension::Length);
@@ -261,33 +237,22 @@ Scene read_scene(const fs::path& path) {
 
   if (const auto c = root.find("contact")) {
     c->expect_only({"stiffness", "max_penetration"});
-    if (const auto k = c->find("stiffness")) s.contact.stiffness = positive(*k, Dimension::Stiffness);
-    if (const auto p = c->find("max_penetration")) s.contact.max_penetration = positive(*p, Dimension::Length);
+    if (const auto k = c->find("stiffness")) s.contact.stiffness = read_positive(*k, Dimension::Stiffness);
+    if (const auto p = c->find("max_penetration")) s.contact.max_penetration = read_positive(*p, Dimension::Length);
     if (s.contact.stiffness > 0.0 && s.contact.max_penetration > 0.0) {
       c->fail("both \"stiffness\" and \"max_penetration\" given", "one of them");
     }
   }
   if (const auto sv = root.find("solver")) {
     sv->expect_only({"line_search", "max_iterations", "force_tolerance"});
-    if (const auto ls = sv->find("line_search")) {
-      const std::string n = ls->as_string();
-      if (n == "backtracking") s.solver.line_search = LineSearchKind::Backtracking;
-      else if (n == "golden") s.solver.line_search = LineSearchKind::GoldenSection;
-      else if (n == "brent") s.solver.line_search = LineSearchKind::Brent;
-      else if (n == "backtracking+brent") s.solver.line_search = LineSearchKind::BacktrackingThenBrent;
-      else ls->fail(fmt::format("unknown line search '{}'", n), "backtracking, golden, brent or backtracking+brent");
-    }
-    if (const auto m = sv->find("max_iterations")) {
-      const long long n = m->as_integer();
-      if (n < 1 || n > 100000) m->fail(fmt::format("{}", n), "1 to 100000");
-      s.solver.max_iterations = static_cast<int>(n);
-    }
-    if (const auto t = sv->find("force_tolerance")) s.solver.force_tolerance = positive(*t, Dimension::Force);
+    if (const auto ls = sv->find("line_search")) s.solver.line_search = read_line_search(*ls);
+    if (const auto m = sv->find("max_iterations")) s.solver.max_iterations = read_count(*m, 1, 100000);
+    if (const auto t = sv->find("force_tolerance")) s.solver.force_tolerance = read_positive(*t, Dimension::Force);
   }
   if (const auto d = root.find("dynamics")) {
     d->expect_only({"time_step", "mass_damping", "stiffness_damping", "max_steps", "settle"});
     s.dynamics.enabled = true;
-    if (const auto v = d->find("time_step")) s.dynamics.time_step = positive(*v, Dimension::Time);
+    if (const auto v = d->find("time_step")) s.dynamics.time_step = read_positive(*v, Dimension::Time);
     if (const auto v = d->find("mass_damping")) s.dynamics.mass_damping = v->as_quantity(Dimension::Frequency);
     if (const auto v = d->find("stiffness_damping")) s.dynamics.stiffness_damping = v->as_quantity(Dimension::Time);
     if (s.dynamics.mass_damping < 0.0 || s.dynamics.stiffness_damping < 0.0) d->fail("damping must be ≥ 0");
@@ -296,12 +261,12 @@ Scene read_scene(const fs::path& path) {
       if (n < 1 || n > 1000000) v->fail(fmt::format("{}", n), "1 to 1000000");
       s.dynamics.max_steps = static_cast<int>(n);
     }
-    if (const auto v = d->find("settle")) s.dynamics.settle = positive(*v, Dimension::Length);
+    if (const auto v = d->find("settle")) s.dynamics.settle = read_positive(*v, Dimension::Length);
   }
   if (const auto l = root.find("local")) {
     l->expect_only({"margin"});
     s.local.enabled = true;
-    if (const auto m = l->find("margin")) s.local.margin = positive(*m, Dimension::Length);
+    if (const auto m = l->find("margin")) s.local.margin = read_positive(*m, Dimension::Length);
     if (s.obstacles.empty()) l->fail("a local simulation needs an obstacle to be local to");
   }
   if (const auto o = root.find("output")) {

@@ -84,4 +84,10 @@ class System {
   System& operator=(const System&) = default;
 };
 
+// The index into pattern.valuePtr() of entry (row, col) of a compressed,
+// lower-triangular pattern (row and col are swapped when row < col), or −1
+// if the pattern has no such entry. Systems use it once per topology to map
+// element matrix entries to their slots.
+int lower_slot(const Eigen::SparseMatrix<double>& pattern, int row, int col);
+
 }  // namespace palpa

@@ -61,14 +61,7 @@ StaticSystem::StaticSystem(const ElasticModel& model, std::vector<char> fixed)
   pattern_.resize(nf, nf);
   pattern_.setFromTriplets(trip.begin(), trip.end());
   pattern_.makeCompressed();
-  const auto slot = [&](int row, int col) {
-    if (row < col) std::swap(row, col);
-    const int* begin = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[col];
-    const int* end = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[col + 1];
-    const int* it = std::lower_bound(begin, end, row);
-    if (it == end || *it != row) return -1;
-    return static_cast<int>(it - pattern_.innerIndexPtr());
-  };
+  const auto slot = [&](int row, int col) { return lower_slot(pattern_, row, col); };
   element_slots_.resize(static_cast<std::size_t>(mesh.T.rows()));
   for (Eigen::Index e = 0; e < mesh.T.rows(); ++e) {
     auto& s = element_slots_[static_cast<std::size_t>(e)];

@@ -1,0 +1,29 @@
+#pragma once
+// Reading the pieces scene files share (`palpa sim3d`, `palpa rest`): 3-vectors
+// of quantities, positive quantities, rotations, solver settings, paths
+// relative to the scene. Every error names the file and field (JsonView).
+
+#include <Eigen/Core>
+#include <filesystem>
+
+#include "palpa/core/json.hpp"
+#include "palpa/solve/newton.hpp"
+
+namespace palpa::sim3d {
+
+// [x, y, z], each a quantity of dimension d, in SI.
+Eigen::Vector3d read_quantity3(const JsonView& v, Dimension d);
+// [x, y, z] of plain numbers.
+Eigen::Vector3d read_number3(const JsonView& v);
+// A quantity that must be > 0.
+double read_positive(const JsonView& v, Dimension d);
+// {"axis": [x, y, z], "angle": "30 deg"}.
+Eigen::Matrix3d read_rotation(const JsonView& v);
+// A path in the scene, relative to the scene file's folder unless absolute.
+std::filesystem::path resolve_scene_path(const std::filesystem::path& scene_file, const std::string& p);
+// "backtracking" | "golden" | "brent" | "backtracking+brent".
+LineSearchKind read_line_search(const JsonView& v);
+// A whole number in [lo, hi].
+int read_count(const JsonView& v, int lo, int hi);
+
+}  // namespace palpa::sim3d
