@@ -123,6 +123,22 @@ bool RigidContactTerm::update_areas() {
   return changed;
 }
 
+void RigidContactTerm::set_areas(const std::vector<double>& areas) {
+  if (areas.size() != area_.size()) {
+    throw Error(ErrorKind::Input, fmt::format("{}: {} saved spring areas for {} vertices", obstacle_->name(),
+                                              areas.size(), area_.size()));
+  }
+  for (int v : surface_) {
+    const double a = areas[static_cast<std::size_t>(v)];
+    if (!std::isfinite(a) || !(a > 0.0)) {
+      throw Error(ErrorKind::Input, fmt::format("{}: saved spring area of vertex {} is {}", obstacle_->name(), v, a));
+    }
+  }
+  area_ = areas;
+  for (std::size_t v = 0; v < area_.size(); ++v) scale_[v] = area_[v] / mean_area_;
+  committed_.set_scale(scale_);
+}
+
 Eigen::VectorXd RigidContactTerm::pressures(const Eigen::VectorXd& x) const {
   const Eigen::Matrix3Xd f = vertex_forces(x);
   Eigen::VectorXd p = Eigen::VectorXd::Zero(f.cols());

@@ -52,6 +52,9 @@ class RigidContactTerm final : public tet::VertexTerm {
   // Sets each vertex's spring area from the committed contacts (see above).
   // Returns whether any area changed.
   bool update_areas();
+  // Restores spring areas saved from spring_area() (one per body vertex,
+  // each > 0 on the skin); palpa::Error (Input) otherwise.
+  void set_areas(const std::vector<double>& areas);
 
   // Contact force on every body vertex at positions x (3×N) [N], and the
   // wrench on the obstacle about `about` [m].

@@ -130,12 +130,17 @@ void Simulation::pose(int s) {
   }
 }
 
-void Simulation::set_state(const Eigen::VectorXd& x, const std::vector<double>& stiffness) {
-  if (x.size() != system_->num_dofs() || stiffness.size() != terms_.size()) {
+void Simulation::set_state(const Eigen::VectorXd& x, const std::vector<double>& stiffness,
+                           const std::vector<std::vector<double>>& spring_areas) {
+  if (x.size() != system_->num_dofs() || stiffness.size() != terms_.size() ||
+      spring_areas.size() != terms_.size()) {
     throw Error(ErrorKind::Input, "the saved state does not fit this scene's mesh");
   }
   x_ = x;
-  for (std::size_t i = 0; i < terms_.size(); ++i) terms_[i]->set_stiffness(stiffness[i]);
+  for (std::size_t i = 0; i < terms_.size(); ++i) {
+    terms_[i]->set_stiffness(stiffness[i]);
+    terms_[i]->set_areas(spring_areas[i]);
+  }
 }
 
 int Simulation::solve_static(StepRecord& r) {
@@ -368,8 +373,12 @@ Json run(const Scene& scene, const RunOptions& options) {
       v.at("fingerprint").fail("the scene differs from the interrupted run's", "the same scene file and mesh");
     }
     const std::vector<double> x = v.at("state").as_number_array();
+    std::vector<std::vector<double>> areas;
+    for (std::size_t i = 0; i < v.at("spring_areas").size(); ++i) {
+      areas.push_back(v.at("spring_areas").at(i).as_number_array());
+    }
     sim.set_state(Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())),
-                  v.at("stiffness").as_number_array());
+                  v.at("stiffness").as_number_array(), areas);
     start = static_cast<int>(v.at("next_step").as_integer());
     for (const Json& r : doc.at("records")) records.push_back(r);
     for (const Json& e : doc.at("body_frames")) body_frames.push_back({e.at(0).get<double>(), e.at(1).get<std::string>()});
@@ -447,13 +456,18 @@ Json run(const Scene& scene, const RunOptions& options) {
       Json ofr = Json::array();
       for (const auto& f : obstacle_frames) ofr.push_back(frame_pair(f));
       std::vector<double> k;
-      for (std::size_t i = 0; i < sim.num_obstacles(); ++i) k.push_back(sim.contact_term(i).stiffness());
+      Json areas = Json::array();
+      for (std::size_t i = 0; i < sim.num_obstacles(); ++i) {
+        k.push_back(sim.contact_term(i).stiffness());
+        areas.push_back(sim.contact_term(i).spring_area());
+      }
       const Eigen::VectorXd& x = sim.state();
       write_json_file(state_path, Json{{"palpa_sim3d_state", 1},
                                        {"fingerprint", fp},
                                        {"next_step", s + 1},
                                        {"state", std::vector<double>(x.data(), x.data() + x.size())},
                                        {"stiffness", k},
+                                       {"spring_areas", areas},
                                        {"records", records},
                                        {"body_frames", frame_pair(body_frames)},
                                        {"obstacle_frames", ofr}});

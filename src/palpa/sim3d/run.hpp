@@ -89,7 +89,9 @@ class Simulation {
 
   // The free DOFs and the full displacement (3N) of the current state.
   const Eigen::VectorXd& state() const noexcept { return x_; }
-  void set_state(const Eigen::VectorXd& x, const std::vector<double>& stiffness);
+  // Restores a saved state: free DOFs, each obstacle's k and spring areas.
+  void set_state(const Eigen::VectorXd& x, const std::vector<double>& stiffness,
+                 const std::vector<std::vector<double>>& spring_areas);
   Eigen::VectorXd displacement() const { return system_->full_displacement(x_); }
 
   // The body at the current state, for output.
