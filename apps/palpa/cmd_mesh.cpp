@@ -47,6 +47,7 @@ struct LayerArgs {
   double depth = 0.0;
   std::string depth_samples;
   std::string depth_column = "depth";
+  bool clamp_depth = false;
   std::string stiffness_samples;
   std::string stiffness_column = "youngs_modulus";
   double edge = 5e-3;
@@ -196,6 +197,7 @@ void run_layer(const LayerArgs& a) {
   }
   o.quality = quality_from(a.quality);
   o.source = a.surface;
+  o.clamp_depth = a.clamp_depth;
   auto started = std::chrono::steady_clock::now();
   std::string current;
   Json timings = Json::object();
@@ -258,6 +260,7 @@ void run_layer(const LayerArgs& a) {
       {"volume_m3", {{"outer", s.outer_volume}, {"core", s.core_volume}, {"layer", s.layer_volume}}},
       {"thickness_m", {{"min", s.thickness_min}, {"mean", s.thickness_mean}, {"max", s.thickness_max}}},
       {"requested_depth_m", {{"min", s.depth_min}, {"mean", s.depth_mean}, {"max", s.depth_max}}},
+      {"depth_clamped_vertices", layer.depth_clamped},
       {"youngs_modulus_Pa",
        layer.youngs_modulus.size() > 0 ? Json{{"min", s.youngs_min}, {"max", s.youngs_max}}
                                        : Json(nullptr)},
@@ -332,6 +335,9 @@ void add_mesh_command(CLI::App& app) {
   layer->add_option("--depth-column", la->depth_column,
                     "Base name of the depth column (e.g. bone_distance or fat_depth)")
       ->capture_default_str();
+  layer->add_flag("--clamp-depth", la->clamp_depth,
+                  "Thin the layer where the depth does not fit the local thickness (folds, toes, "
+                  "the rim of a clipped body) instead of refusing");
   layer->add_option("--stiffness-samples", la->stiffness_samples,
                     "CSV of Young's moduli: x_<unit>,y_<unit>,z_<unit>,youngs_modulus_<unit>; "
                     "each tet gets the value interpolated at the skin above it")

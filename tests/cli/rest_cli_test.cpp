@@ -1,6 +1,8 @@
 // `palpa rest` end to end: outputs and bad scenes.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "common/test_support.hpp"
 
 namespace palpa {
@@ -49,6 +51,60 @@ TEST(RestCli, RefusesABodyInsideTheSupportAndUnknownDofs) {
   const auto b = run_palpa("rest dof.json -o out", dir.path());
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("unknown DOF 'up'"), std::string::npos) << b.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+TEST(RestCli, ANegativeImageSupportSpreadsThePressure) {
+  // The same sphere on a flat box and on the box with its negative image
+  // (pressed 10 mm in): the hollow carries the same load with a lower peak.
+  ScratchDir dir;
+  dir.write("flat.json", kScene);
+  std::string hollow = kScene;
+  const std::string box = R"({"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}})";
+  hollow.replace(hollow.find(box), box.size(),
+                 R"({"negative_image": {"box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 15},
+                     "press": "10 mm", "edge": "5 mm", "smoothing": 5, "band": "10 mm"}})");
+  dir.write("hollow.json", hollow);
+  const auto a = run_palpa("rest flat.json -o flat", dir.path());
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto b = run_palpa("rest hollow.json -o hollow", dir.path());
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const auto flat = nlohmann::json::parse(test::read_text(dir / "flat" / "summary.json"));
+  const auto neg = nlohmann::json::parse(test::read_text(dir / "hollow" / "summary.json"));
+  EXPECT_NE(neg["support"]["source"].get<std::string>().find("negative image"), std::string::npos);
+  EXPECT_LT(neg["balance_error"].get<double>(), 5e-3);
+  EXPECT_NEAR(neg["contact_force_N"][2].get<double>(), flat["contact_force_N"][2].get<double>(),
+              1e-3 * flat["contact_force_N"][2].get<double>());
+  EXPECT_LT(neg["peak_pressure_Pa"]["body"].get<double>(), 0.7 * flat["peak_pressure_Pa"]["body"].get<double>());
+  EXPECT_GT(neg["contacts"]["body_vertices"].get<int>(), 2 * flat["contacts"]["body_vertices"].get<int>());
+}
+
+TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
+  ScratchDir dir;
+  const std::string box = R"({"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}})";
+  const auto with_support = [&](const std::string& support) {
+    std::string s = kScene;
+    s.replace(s.find(box), box.size(), support);
+    return s;
+  };
+  dir.write("deep.json", with_support(R"({"negative_image": {"box": {"size": ["150 mm", "150 mm", "20 mm"]},
+                                           "press": "30 mm"}})"));
+  const auto a = run_palpa("rest deep.json -o out", dir.path());
+  EXPECT_EQ(a.exit_code, 2);
+  EXPECT_NE(a.err.find("cut through"), std::string::npos) << a.err;
+  dir.write("bevel.json", with_support(R"({"box": {"size": ["150 mm", "150 mm", "20 mm"],
+                                           "bevel": {"radius": "30 mm", "side": "+x"}}})"));
+  const auto b = run_palpa("rest bevel.json -o out", dir.path());
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("bevel.radius"), std::string::npos) << b.err;
+  std::string cut = kScene;
+  const std::string edge = "\"edge\": \"7 mm\"";
+  cut.replace(cut.find(edge), edge.size(),
+              R"("cut": [{"min": ["0 mm", "0 mm", "0 mm"], "max": ["0 mm", "1 mm", "1 mm"]}], "edge": "7 mm")");
+  dir.write("cut.json", cut);
+  const auto c = run_palpa("rest cut.json -o out", dir.path());
+  EXPECT_EQ(c.exit_code, 2);
+  EXPECT_NE(c.err.find("min is not below max"), std::string::npos) << c.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 

@@ -15,6 +15,7 @@
 #include "palpa/geometry/format.hpp"
 #include "palpa/geometry/closest_point.hpp"
 #include "palpa/geometry/surface_operators.hpp"
+#include "palpa/mesh/csg.hpp"
 #include "palpa/mesh/detail/cgal_surface.hpp"
 #include "palpa/mesh/surface_check.hpp"
 
@@ -23,9 +24,6 @@ namespace {
 
 using geometry::format_point;
 
-// Taubin smoothing factors (λ, μ): smooth without shrinking.
-constexpr double kTaubinLambda = 0.5;
-constexpr double kTaubinMu = -0.53;
 // Rays start this fraction of an edge inside the surface.
 constexpr double kRayOffset = 1e-3;
 
@@ -35,35 +33,6 @@ ErrorContext in_file(const std::string& source) {
   ErrorContext c;
   c.file = source;
   return c;
-}
-
-std::vector<std::vector<int>> vertex_neighbours(const SurfaceMesh& m) {
-  std::vector<std::vector<int>> nb(static_cast<std::size_t>(m.V.rows()));
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) nb[m.F(f, k)].push_back(m.F(f, (k + 1) % 3));
-  }
-  for (auto& list : nb) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
-  return nb;
-}
-
-void taubin_smooth(SurfaceMesh& m, int rounds) {
-  const auto nb = vertex_neighbours(m);
-  for (int r = 0; r < rounds; ++r) {
-    for (double factor : {kTaubinLambda, kTaubinMu}) {
-      Eigen::MatrixX3d next = m.V;
-      for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
-        if (nb[i].empty()) continue;
-        Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
-        for (int j : nb[i]) mean += m.V.row(j);
-        mean /= double(nb[i].size());
-        next.row(i) += factor * (mean - m.V.row(i));
-      }
-      m.V = next;
-    }
-  }
 }
 
 // One point strictly inside each connected component of a closed surface.
@@ -175,24 +144,58 @@ Eigen::VectorXd stiffness_field(const SurfaceMesh& outer, const Samples& samples
 // The core must stay at least this many edge lengths thick to be meshed.
 constexpr double kMinCoreEdges = 2.0;
 
-void check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& normals,
-                     const Eigen::VectorXd& depth, double edge, const std::string& source) {
+// Checks the depth against the local thickness; with `clamp`, thins the
+// layer where it does not fit instead (to half of the thickness minus a core
+// of one edge, as the far side is pushed in too; never below half an edge;
+// eased over a few rings so the core has no step) and returns how many
+// vertices were thinned.
+Eigen::Index check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& normals,
+                             Eigen::VectorXd& depth, double edge, bool clamp,
+                             const std::string& source) {
   const detail::SurfaceQueries queries(outer);
   const double delta = kRayOffset * edge;
   const double core = kMinCoreEdges * edge;
+  // Thinned spots may keep a core of one edge length and a layer of half one.
+  const double thin_core = 1.0 * edge;
+  const double thinnest = 0.5 * edge;
+  Eigen::Index clamped = 0;
   for (Eigen::Index i = 0; i < outer.V.rows(); ++i) {
     const Eigen::Vector3d p = outer.V.row(i).transpose();
     const Eigen::Vector3d n = normals.row(i).transpose();
     const auto hit = queries.ray_hit(p - delta * n, -n, -1);
     const double thickness = hit ? delta + *hit : 0.0;
-    if (depth(i) + core > thickness) {
-      throw_input_error(
-          fmt::format("the layer depth {} at {} does not fit: the body is {} thick there along "
-                      "the inward normal, and the core needs at least two edge lengths ({})",
-                      length(depth(i)), format_point(p), length(thickness), length(core)),
-          in_file(source), "a depth smaller than the local thickness minus two edge lengths");
+    if (depth(i) + core <= thickness) continue;
+    // Thinned, the layer may take half of what the core leaves: the skin
+    // on the far side is pushed inward too.
+    if (clamp && 0.5 * (thickness - thin_core) >= thinnest) {
+      depth(i) = std::min(depth(i), 0.5 * (thickness - thin_core));
+      ++clamped;
+      continue;
+    }
+    throw_input_error(
+        fmt::format("the layer depth {} at {} does not fit: the body is {} thick there along "
+                    "the inward normal, and the core needs at least two edge lengths ({}){}",
+                    length(depth(i)), format_point(p), length(thickness), length(core),
+                    clamp ? fmt::format(", leaving less than the thinnest layer ({})", length(thinnest)) : ""),
+        in_file(source),
+        clamp ? "a body at least two edge lengths thick everywhere (a smaller edge length)"
+              : "a depth smaller than the local thickness minus two edge lengths, or clamping");
+  }
+  if (clamped > 0) {
+    // Ease the thinned spots: a vertex keeps at most the mean of itself and
+    // its neighbours, for a few rounds (depths only decrease).
+    const auto nb = vertex_neighbours(outer);
+    for (int round = 0; round < 3; ++round) {
+      Eigen::VectorXd next = depth;
+      for (Eigen::Index i = 0; i < depth.size(); ++i) {
+        double sum = depth(i);
+        for (int j : nb[std::size_t(i)]) sum += depth(j);
+        next(i) = std::max(thinnest, std::min(depth(i), sum / double(nb[std::size_t(i)].size() + 1)));
+      }
+      depth = next;
     }
   }
+  return clamped;
 }
 
 SurfaceMesh inner_surface(const SurfaceMesh& outer, const Eigen::MatrixX3d& normals,
@@ -248,7 +251,8 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
   stage("depth");
   const Eigen::MatrixX3d normals = geometry::vertex_normals(layer.outer);
   layer.depth = depth_field(layer.outer, depth, options);
-  check_thickness(layer.outer, normals, layer.depth, edge, options.source);
+  layer.depth_clamped =
+      check_thickness(layer.outer, normals, layer.depth, edge, options.clamp_depth, options.source);
   // Stiffness samples are located now, so bad ones fail before the meshing.
   const Eigen::VectorXd E =
       stiffness ? stiffness_field(layer.outer, *stiffness, options) : Eigen::VectorXd();

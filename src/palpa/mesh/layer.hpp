@@ -56,6 +56,9 @@ struct LayerOptions {
   geometry::SurfaceInterpolation interpolation = geometry::SurfaceInterpolation::Biharmonic;
   // Largest accepted distance from a sample to the outer surface [m].
   double max_sample_distance = 5e-3;
+  // Where the depth does not fit the local thickness (folds, thin parts, the
+  // rim of a clipped body): thin the layer there (true) or refuse (false).
+  bool clamp_depth = false;
   // Taubin smoothing rounds of the pushed inner surface.
   int smoothing_rounds = 3;
   // Tet quality; max_volume 0 means a regular tet of edge_length.
@@ -80,6 +83,7 @@ struct LayerMesh {
   std::vector<Eigen::Index> attached;  // rows of tets.V on the core surface, ascending
   Eigen::VectorXd youngs_modulus;  // #T [Pa], empty without stiffness samples
   Eigen::Index dropped_in_core = 0;  // tets removed because their centroid was in the core
+  Eigen::Index depth_clamped = 0;    // outer vertices whose depth was thinned to fit (clamp_depth)
   TetQuality quality;                // the bounds TetGen was given (max_volume filled in)
 };
 

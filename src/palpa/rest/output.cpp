@@ -92,6 +92,8 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
                       {"tetrahedra", sim.model().num_elements()},
                       {"skin_vertices", sim.surface_vertices().size()},
                       {"attached_vertices", scene.body.attached.size()},
+                      {"self_intersections_removed", scene.body_repaired_pairs},
+                      {"depth_clamped_vertices", scene.body_depth_clamped},
                       {"mass_kg", sim.model().total_mass()}}},
             {"support", {{"source", scene.support_source}, {"vertices", sim.support().vertices().rows()}}},
             {"core", {{"translation_m", vec(r.core_translation)},

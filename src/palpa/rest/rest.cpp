@@ -20,6 +20,41 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+Eigen::MatrixX3i skin_faces(const TetMesh& mesh, const std::vector<int>& attached) {
+  const tet::Boundary boundary = tet::boundary_of(mesh);
+  std::vector<char> on_core(static_cast<std::size_t>(mesh.V.rows()), 0);
+  for (int v : attached) on_core[static_cast<std::size_t>(v)] = 1;
+  std::vector<Eigen::Index> skin;
+  for (Eigen::Index f = 0; f < boundary.faces.rows(); ++f) {
+    bool touches = false;
+    for (int c = 0; c < 3; ++c) touches = touches || on_core[static_cast<std::size_t>(boundary.faces(f, c))];
+    if (!touches) skin.push_back(f);
+  }
+  Eigen::MatrixX3i out(static_cast<Eigen::Index>(skin.size()), 3);
+  for (std::size_t i = 0; i < skin.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = boundary.faces.row(skin[i]);
+  return out;
+}
+
+SurfaceMesh body_skin(const RestBody& body) {
+  const Eigen::MatrixX3i faces = skin_faces(body.mesh, body.attached);
+  std::vector<int> index(static_cast<std::size_t>(body.mesh.V.rows()), -1);
+  SurfaceMesh s;
+  s.F.resize(faces.rows(), 3);
+  int next = 0;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      int& i = index[static_cast<std::size_t>(faces(f, c))];
+      if (i < 0) i = next++;
+      s.F(f, c) = i;
+    }
+  }
+  s.V.resize(next, 3);
+  for (std::size_t v = 0; v < index.size(); ++v) {
+    if (index[v] >= 0) s.V.row(index[v]) = body.mesh.V.row(static_cast<Eigen::Index>(v));
+  }
+  return s;
+}
+
 RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOptions options)
     : body_(std::move(body)), options_(std::move(options)) {
   tet::prepare_tet_mesh(body_.mesh, "body");
@@ -39,22 +74,11 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
   system_->set_gravity(options_.gravity);
   system_->set_regularization(options_.regularization);
 
-  // The skin: boundary faces with no corner on the core.
-  const tet::Boundary boundary = tet::boundary_of(mesh);
-  boundary_faces_ = boundary.faces;
-  std::vector<char> attached(static_cast<std::size_t>(mesh.V.rows()), 0);
-  for (int v : body_.attached) attached[static_cast<std::size_t>(v)] = 1;
-  std::vector<Eigen::Index> skin;
-  for (Eigen::Index f = 0; f < boundary.faces.rows(); ++f) {
-    bool on_core = false;
-    for (int c = 0; c < 3; ++c) on_core = on_core || attached[static_cast<std::size_t>(boundary.faces(f, c))];
-    if (!on_core) skin.push_back(f);
-  }
-  surface_faces_.resize(static_cast<Eigen::Index>(skin.size()), 3);
+  boundary_faces_ = tet::boundary_of(mesh).faces;
+  surface_faces_ = skin_faces(mesh, body_.attached);
   std::vector<char> on_skin(static_cast<std::size_t>(mesh.V.rows()), 0);
-  for (std::size_t i = 0; i < skin.size(); ++i) {
-    surface_faces_.row(static_cast<Eigen::Index>(i)) = boundary.faces.row(skin[i]);
-    for (int c = 0; c < 3; ++c) on_skin[static_cast<std::size_t>(boundary.faces(skin[i], c))] = 1;
+  for (Eigen::Index f = 0; f < surface_faces_.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) on_skin[static_cast<std::size_t>(surface_faces_(f, c))] = 1;
   }
   for (std::size_t v = 0; v < on_skin.size(); ++v) {
     if (on_skin[v]) surface_.push_back(static_cast<int>(v));

@@ -34,6 +34,12 @@ struct RestBody {
   Eigen::VectorXi element_material;         // empty: all materials[0]
 };
 
+// The body's skin: the boundary faces of the layer with no corner on the core
+// (outward, rows of the tet mesh's V).
+Eigen::MatrixX3i skin_faces(const TetMesh& mesh, const std::vector<int>& attached);
+// The skin as a closed surface of its own (vertices renumbered).
+SurfaceMesh body_skin(const RestBody& body);
+
 struct RestOptions {
   body::CoreSpec core;  // attached is taken from the body; centre: see below
   bool core_centre_given = false;  // else c0 = the mean of the attached vertices

@@ -9,6 +9,8 @@
 #include "palpa/io/vtu.hpp"
 #include "palpa/material/material_file.hpp"
 #include "palpa/mesh/bodies.hpp"
+#include "palpa/mesh/csg.hpp"
+#include "palpa/mesh/surface_check.hpp"
 #include "palpa/mesh/layer.hpp"
 #include "palpa/sim3d/scene_json.hpp"
 #include "palpa/sim3d/shapes.hpp"
@@ -31,20 +33,16 @@ double unit_of(const JsonView& parent) {
   return 1.0;
 }
 
-SurfaceMesh append(const SurfaceMesh& a, const SurfaceMesh& b) {
-  SurfaceMesh m;
-  m.V.resize(a.V.rows() + b.V.rows(), 3);
-  m.V << a.V, b.V;
-  m.F.resize(a.F.rows() + b.F.rows(), 3);
-  m.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
-  return m;
-}
-
 void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
-  b.expect_only({"surface", "layer", "generate", "unit", "depth", "edge", "material", "density", "position", "rotation"});
+  b.expect_only({"surface", "layer", "generate", "unit", "remove_self_intersections", "clip", "cut", "depth",
+                 "clamp_depth",
+                 "edge", "material", "density", "position", "rotation"});
   const int sources = int(b.has("surface")) + int(b.has("layer")) + int(b.has("generate"));
   if (sources != 1) b.fail("give exactly one of \"surface\", \"layer\", \"generate\"");
   if (const auto layer = b.find("layer")) {
+    for (const char* k : {"remove_self_intersections", "clip", "cut", "depth", "clamp_depth", "edge"}) {
+      if (b.has(k)) b.at(k).fail("applies to a surface that is meshed here, not to a ready layer", "no such key with \"layer\"");
+    }
     const fs::path p = resolve_scene_path(file, layer->as_string());
     const UnstructuredGrid g = read_vtu(p);
     const double unit = unit_of(b);
@@ -80,14 +78,49 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
       scan = mesh::make_body(o);
       s.body_source = fmt::format("generated {}", gen.at("shape").as_string());
     }
+    if (const auto fix = b.find("remove_self_intersections"); fix && fix->as_bool()) {
+      scan = mesh::remove_self_intersections(mesh::repair_surface(scan), s.body_source,
+                                             &s.body_repaired_pairs);
+    }
+    if (const auto clip = b.find("clip")) {
+      clip->expect_only({"min", "max"});
+      const Eigen::AlignedBox3d box(read_quantity3(clip->at("min"), Dimension::Length),
+                                    read_quantity3(clip->at("max"), Dimension::Length));
+      if (box.isEmpty()) clip->fail("min is not below max in every coordinate");
+      scan = mesh::clip_to_box(mesh::repair_surface(scan), box, s.body_source);
+    }
+    // Boxes cut away (CSG difference): folds and webs outside the region
+    // of interest, such as the groin between seated thighs.
+    if (const auto cuts = b.find("cut")) {
+      for (std::size_t i = 0; i < cuts->size(); ++i) {
+        const JsonView c = cuts->at(i);
+        c.expect_only({"min", "max"});
+        const Eigen::Vector3d lo = read_quantity3(c.at("min"), Dimension::Length);
+        const Eigen::Vector3d hi = read_quantity3(c.at("max"), Dimension::Length);
+        if (!(lo.array() < hi.array()).all()) c.fail("min is not below max in every coordinate");
+        SurfaceMesh cutter = sim3d::make_box_surface(hi - lo, 1);
+        cutter.V.rowwise() += Eigen::RowVector3d(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
+        scan = mesh::boolean(mesh::repair_surface(scan), cutter, mesh::BooleanOp::Difference,
+                             s.body_source + " (" + c.path() + ")");
+      }
+    }
     mesh::DepthSpec depth;
-    depth.uniform = read_positive(b.at("depth"), Dimension::Length);
+    if (const JsonView dv = b.at("depth"); dv.is_object()) {
+      dv.expect_only({"samples", "column"});
+      const std::string column = dv.has("column") ? dv.at("column").as_string() : "depth";
+      depth.samples = mesh::read_samples(resolve_scene_path(file, dv.at("samples").as_string()), column,
+                                         Dimension::Length);
+    } else {
+      depth.uniform = read_positive(dv, Dimension::Length);
+    }
     mesh::LayerOptions lo;
     lo.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
     lo.source = s.body_source;
+    if (const auto c = b.find("clamp_depth")) lo.clamp_depth = c->as_bool();
     const mesh::LayerMesh made = mesh::make_layer(scan, depth, std::nullopt, lo);
     s.body.mesh = made.tets;
     for (Eigen::Index v : made.attached) s.body.attached.push_back(static_cast<int>(v));
+    s.body_depth_clamped = made.depth_clamped;
   }
   s.body.mesh.region.resize(0);
   // Placement.
@@ -106,19 +139,63 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   s.body.materials = {bm};
 }
 
+// A box support with its top face centred at the origin; "bevel" rounds the
+// top edge on one side (the knee edge of a block chair, §7.3.2) into a
+// quarter cylinder of the given radius.
+SurfaceMesh read_box(const JsonView& box) {
+  box.expect_only({"size", "divisions", "bevel"});
+  const Eigen::Vector3d size = read_quantity3(box.at("size"), Dimension::Length);
+  const int n = box.has("divisions") ? static_cast<int>(box.at("divisions").as_integer()) : 40;
+  if (n < 1 || n > 1000) box.at("divisions").fail(fmt::format("{}", n), "1 to 1000");
+  SurfaceMesh m = sim3d::make_box_surface(size, n);
+  m.V.col(2).array() -= size.z();  // the top face at the origin
+  if (const auto bevel = box.find("bevel")) {
+    bevel->expect_only({"radius", "side"});
+    const double r = read_positive(bevel->at("radius"), Dimension::Length);
+    const std::string side = bevel->has("side") ? bevel->at("side").as_string() : "+x";
+    int axis = 0;
+    double sign = 1.0;
+    if (side == "+x" || side == "-x" || side == "+y" || side == "-y") {
+      axis = side[1] == 'x' ? 0 : 1;
+      sign = side[0] == '+' ? 1.0 : -1.0;
+    } else {
+      bevel->at("side").fail(fmt::format("unknown side '{}'", side), "+x, -x, +y or -y");
+    }
+    const double half = 0.5 * size(axis);
+    if (r > half || r > size.z()) {
+      bevel->at("radius").fail("larger than the box", "a radius below half the box's length and its height");
+    }
+    // Points of the quadrant beyond the arc's centre move onto the arc along
+    // the direction from the centre (monotone, so the mesh stays valid).
+    const double cu = half - r;  // along sign·axis
+    const double cz = -r;
+    for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
+      const double u = sign * m.V(i, axis) - cu;
+      const double w = m.V(i, 2) - cz;
+      if (u <= 0.0 || w <= 0.0) continue;
+      const double len = std::hypot(u, w);
+      m.V(i, axis) = sign * (cu + r * u / len);
+      m.V(i, 2) = cz + r * w / len;
+    }
+  }
+  return m;
+}
+
 void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
-  sp.expect_only({"box", "spheres", "level", "file", "unit", "position", "rotation"});
+  sp.expect_only({"box", "spheres", "level", "smoothing", "negative_image", "file", "unit", "position", "rotation"});
   SurfaceMesh m;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  if (const auto r = sp.find("rotation")) R = read_rotation(*r);
+  if (const auto p = sp.find("position")) t = read_quantity3(*p, Dimension::Length);
+  const auto place = [&](SurfaceMesh& mesh) { mesh.V = ((mesh.V * R.transpose()).rowwise() + t.transpose()).eval(); };
+  const std::string name = file.filename().string();
   if (const auto box = sp.find("box")) {
-    box->expect_only({"size", "divisions"});
-    const Eigen::Vector3d size = read_quantity3(box->at("size"), Dimension::Length);
-    const int n = box->has("divisions") ? static_cast<int>(box->at("divisions").as_integer()) : 40;
-    if (n < 1 || n > 1000) box->at("divisions").fail(fmt::format("{}", n), "1 to 1000");
-    m = sim3d::make_box_surface(size, n);
-    m.V.col(2).array() -= size.z();  // the top face at the origin
-    s.support_source = "box";
+    m = read_box(*box);
+    s.support_source = box->has("bevel") ? "bevelled box" : "box";
+    place(m);
   } else if (const auto spheres = sp.find("spheres")) {
-    const int level = sp.has("level") ? static_cast<int>(sp.at("level").as_integer()) : 3;
+    const int level = sp.has("level") ? read_count(sp.at("level"), 1, 7) : 3;
     for (std::size_t i = 0; i < spheres->size(); ++i) {
       const JsonView si = spheres->at(i);
       si.expect_only({"centre", "radius"});
@@ -126,23 +203,43 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
       SurfaceMesh ball = sim3d::make_sphere(r, level);
       ball.V.col(2).array() -= r;
       ball.V.rowwise() += read_quantity3(si.at("centre"), Dimension::Length).transpose();
-      m = i == 0 ? ball : append(m, ball);
+      // Overlapping spheres are joined into one solid (CSG union).
+      m = i == 0 ? ball : mesh::boolean(m, ball, mesh::BooleanOp::Union, name + ": support.spheres");
     }
     if (m.V.rows() == 0) spheres->fail("no sphere given", "at least one {\"centre\", \"radius\"}");
+    if (const auto sm = sp.find("smoothing")) mesh::taubin_smooth(m, read_count(*sm, 0, 1000));
     s.support_source = fmt::format("{} sphere(s)", spheres->size());
+    place(m);
+  } else if (const auto neg = sp.find("negative_image")) {
+    // The block with the body, as placed, pressed into it (§7.5.1); the
+    // body is then lowered into the hollow to start `clearance` above it.
+    neg->expect_only({"box", "press", "edge", "smoothing", "band", "clearance"});
+    SurfaceMesh block = read_box(neg->at("box"));
+    place(block);
+    mesh::NegativeImageOptions o;
+    const double g = s.options.gravity.norm();
+    if (g > 0.0) o.down = s.options.gravity / g;
+    if (const auto v = neg->find("press")) o.press = read_positive(*v, Dimension::Length);
+    if (const auto v = neg->find("edge")) o.edge_length = read_positive(*v, Dimension::Length);
+    if (const auto v = neg->find("smoothing")) o.smoothing_rounds = read_count(*v, 0, 1000);
+    if (const auto v = neg->find("band")) o.smoothing_band = read_positive(*v, Dimension::Length);
+    const double clearance = neg->has("clearance") ? read_positive(neg->at("clearance"), Dimension::Length) : 2e-3;
+    const SurfaceMesh skin = body_skin(s.body);
+    const mesh::NegativeImage made = mesh::negative_image(block, skin, o, name + ": support.negative_image");
+    m = made.support;
+    const Eigen::Vector3d shift = made.body_shift - clearance * o.down.normalized();
+    s.body.mesh.V.rowwise() += shift.transpose();
+    s.support_source = fmt::format("negative image of the body pressed {} into a box",
+                                   format_quantity(o.press, Dimension::Length));
   } else if (const auto f = sp.find("file")) {
     MeshReadOptions o;
     o.unit_to_si = unit_of(sp);
     m = read_surface_mesh(resolve_scene_path(file, f->as_string()), o);
     s.support_source = resolve_scene_path(file, f->as_string()).string();
+    place(m);
   } else {
-    sp.fail("no support shape", "\"box\", \"spheres\" or \"file\"");
+    sp.fail("no support shape", "\"box\", \"spheres\", \"negative_image\" or \"file\"");
   }
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  if (const auto r = sp.find("rotation")) R = read_rotation(*r);
-  if (const auto p = sp.find("position")) t = read_quantity3(*p, Dimension::Length);
-  m.V = ((m.V * R.transpose()).rowwise() + t.transpose()).eval();
   s.support = m;
 }
 
@@ -155,9 +252,10 @@ RestScene read_rest_scene(const fs::path& path) {
   if (root.at("palpa_rest").as_integer() != 1) root.at("palpa_rest").fail("unsupported version", "1");
   RestScene s;
   s.file = path;
+  RestOptions& o = s.options;
+  if (const auto g = root.find("gravity")) o.gravity = read_quantity3(*g, Dimension::Acceleration);
   read_body(root.at("body"), path, s);
   read_support(root.at("support"), path, s);
-  RestOptions& o = s.options;
   o.support_name = fmt::format("{}: support", path.filename().string());
   if (const auto core = root.find("core")) {
     core->expect_only({"mass", "free", "force", "torque", "centre"});
@@ -193,7 +291,6 @@ RestScene read_rest_scene(const fs::path& path) {
     root.at("core").at("free").fail("every core DOF is locked: the body cannot come to rest on anything",
                                     "at least one of x, y, z, rx, ry, rz");
   }
-  if (const auto g = root.find("gravity")) o.gravity = read_quantity3(*g, Dimension::Acceleration);
   if (const auto c = root.find("contact")) {
     c->expect_only({"stiffness", "max_penetration"});
     if (const auto k = c->find("stiffness")) o.stiffness = read_positive(*k, Dimension::Stiffness);

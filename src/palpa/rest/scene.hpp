@@ -5,6 +5,9 @@
 //   "palpa_rest": 1,
 //   "body": {
 //     "surface": "foot.obj", "unit": "m", "depth": "10 mm", "edge": "10 mm",
+//        // depth may be {"samples": "depths.csv", "column": "depth"}; optional
+//        // "clamp_depth": true, "remove_self_intersections": true,
+//        // "clip": {"min": [...], "max": [...]}, "cut": [{"min", "max"}, ...]
 //        // or "layer": "foot.vtu" (from palpa mesh layer: point data "attached")
 //        // or "generate": {"shape": "foot", "length": "260 mm"}, "depth", "edge"
 //     "material": "tissue.json",          // or an inline material object
@@ -17,15 +20,18 @@
 //            "centre": ["0 mm", "0 mm", "40 mm"]},     // default: mean of the attached vertices
 //   "support": {"box": {"size": ["300 mm", "150 mm", "20 mm"], "divisions": 60},
 //               "position": ["130 mm", "0 mm", "0 mm"]},  // box: top face centre
-//              // or {"spheres": [{"centre": [...], "radius": "20 mm"}, ...], "level": 3}
+//              // box: optional "bevel": {"radius": "60 mm", "side": "-y"}
+//              // or {"spheres": [{"centre": [...], "radius": "20 mm"}, ...], "level": 3,
+//              //     "smoothing": 4}                 (overlapping spheres are united)
+//              // or {"negative_image": {"box": {...}, "press": "50 mm", "edge": "10 mm",
+//              //     "smoothing": 10, "band": "20 mm", "clearance": "2 mm"}}
 //              // or {"file": "chair.obj", "unit": "m"}
 //   "gravity": ["0 m/s^2", "0 m/s^2", "-9.81 m/s^2"],
 //   "contact": {"max_penetration": "0.3 mm"},          // or {"stiffness": "5000 N/m"}
 //   "solver": {"line_search": "backtracking+brent", "max_iterations": 300}
 // }
 //
-// Several spheres make one support only if they do not overlap (each is its
-// own closed shell). Relative paths resolve against the scene's folder.
+// Relative paths resolve against the scene's folder.
 
 #include <filesystem>
 #include <string>
@@ -39,6 +45,8 @@ struct RestScene {
   std::filesystem::path file;
   RestBody body;
   std::string body_source;        // what the body was made from, for the summary
+  Eigen::Index body_repaired_pairs = 0;  // crossing triangle pairs removed from the scan
+  Eigen::Index body_depth_clamped = 0;   // skin vertices whose depth was thinned to fit
   SurfaceMesh support;            // world coordinates
   std::string support_source;
   RestOptions options;

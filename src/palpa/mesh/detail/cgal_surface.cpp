@@ -5,8 +5,12 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/clip.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/detect_features.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
@@ -70,13 +74,70 @@ Eigen::Vector3d to_eigen(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
 }  // namespace
 
-SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterations) {
+SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterations,
+                        double feature_angle_deg) {
   Mesh m = to_cgal(mesh);
-  PMP::split_long_edges(edges(m), edge_length, m);
-  PMP::isotropic_remeshing(faces(m), edge_length, m,
-                           PMP::parameters::number_of_iterations(iterations)
-                               .number_of_relaxation_steps(3));
+  if (feature_angle_deg > 0.0) {
+    auto sharp = m.add_property_map<Mesh::Edge_index, bool>("e:palpa_sharp", false).first;
+    PMP::detect_sharp_edges(m, feature_angle_deg, sharp);
+    PMP::split_long_edges(edges(m), edge_length, m, PMP::parameters::edge_is_constrained_map(sharp));
+    PMP::isotropic_remeshing(faces(m), edge_length, m,
+                             PMP::parameters::number_of_iterations(iterations)
+                                 .number_of_relaxation_steps(3)
+                                 .edge_is_constrained_map(sharp)
+                                 .protect_constraints(true));
+  } else {
+    PMP::split_long_edges(edges(m), edge_length, m);
+    PMP::isotropic_remeshing(faces(m), edge_length, m,
+                             PMP::parameters::number_of_iterations(iterations)
+                                 .number_of_relaxation_steps(3));
+  }
   m.collect_garbage();
+  return from_cgal(m);
+}
+
+std::optional<SurfaceMesh> cgal_boolean(const SurfaceMesh& a, const SurfaceMesh& b,
+                                        CgalBoolean op) {
+  Mesh ma = to_cgal(a);
+  Mesh mb = to_cgal(b);
+  Mesh out;
+  bool ok = false;
+  switch (op) {
+    case CgalBoolean::Union: ok = PMP::corefine_and_compute_union(ma, mb, out); break;
+    case CgalBoolean::Difference: ok = PMP::corefine_and_compute_difference(ma, mb, out); break;
+    case CgalBoolean::Intersection: ok = PMP::corefine_and_compute_intersection(ma, mb, out); break;
+  }
+  if (!ok) return std::nullopt;
+  out.collect_garbage();
+  return from_cgal(out);
+}
+
+std::optional<SurfaceMesh> cgal_clip_to_box(const SurfaceMesh& mesh, const Eigen::Vector3d& lo,
+                                            const Eigen::Vector3d& hi) {
+  Mesh m = to_cgal(mesh);
+  const Kernel::Iso_cuboid_3 box(Point(lo.x(), lo.y(), lo.z()), Point(hi.x(), hi.y(), hi.z()));
+  if (!PMP::clip(m, box, PMP::parameters::clip_volume(true))) return std::nullopt;
+  m.collect_garbage();
+  if (m.number_of_faces() == 0 || !CGAL::is_closed(m)) return std::nullopt;
+  return from_cgal(m);
+}
+
+std::optional<SurfaceMesh> cgal_remove_self_intersections(const SurfaceMesh& mesh,
+                                                          Eigen::Index* pairs) {
+  Mesh m = to_cgal(mesh);
+  std::size_t found = 0;
+  PMP::self_intersections(faces(m), m,
+                          boost::make_function_output_iterator(
+                              [&found](const std::pair<Mesh::Face_index, Mesh::Face_index>&) {
+                                ++found;
+                              }));
+  if (pairs != nullptr) *pairs = static_cast<Eigen::Index>(found);
+  if (found == 0) return mesh;
+  if (!PMP::experimental::remove_self_intersections(m, PMP::parameters::preserve_genus(false))) {
+    return std::nullopt;
+  }
+  m.collect_garbage();
+  if (!CGAL::is_closed(m) || PMP::does_self_intersect(m)) return std::nullopt;
   return from_cgal(m);
 }
 

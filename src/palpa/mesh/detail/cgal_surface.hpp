@@ -15,7 +15,30 @@ namespace palpa::mesh::detail {
 // Isotropic remeshing (split long edges, collapse short ones, flip, tangential
 // relaxation, project back onto the input) to `edge_length` [m], `iterations`
 // rounds. The input must be a closed, consistently oriented 2-manifold.
-SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterations);
+// With feature_angle_deg > 0, edges whose dihedral angle deviates from flat
+// by more than that are kept (split, never collapsed or flipped), so box
+// corners stay sharp.
+SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterations,
+                        double feature_angle_deg = 0.0);
+
+// Boolean operations on closed, self-intersection-free, outward surfaces by
+// corefinement. nullopt when the result would not be a 2-manifold.
+enum class CgalBoolean { Union, Difference, Intersection };
+std::optional<SurfaceMesh> cgal_boolean(const SurfaceMesh& a, const SurfaceMesh& b,
+                                        CgalBoolean op);
+
+// The part of a closed surface inside the axis-aligned box [lo, hi], closed
+// again along the cut (clip_volume). nullopt when nothing is left or the cut
+// would not be manifold.
+std::optional<SurfaceMesh> cgal_clip_to_box(const SurfaceMesh& mesh, const Eigen::Vector3d& lo,
+                                             const Eigen::Vector3d& hi);
+
+// Removes self-intersections by deleting the crossing triangles with a small
+// neighbourhood and filling the holes smoothly (CGAL's local repair). Returns
+// the repaired surface, or nullopt if some intersection could not be removed.
+// `pairs` receives the number of intersecting triangle pairs found first.
+std::optional<SurfaceMesh> cgal_remove_self_intersections(const SurfaceMesh& mesh,
+                                                          Eigen::Index* pairs);
 
 // A pair of intersecting triangles (rows of F) of a surface, if any: triangles
 // that share a vertex or an edge only intersect if they overlap beyond it.

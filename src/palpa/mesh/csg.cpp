@@ -1,0 +1,152 @@
+#include "palpa/mesh/csg.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "palpa/core/error.hpp"
+#include "palpa/core/units.hpp"
+#include "palpa/geometry/format.hpp"
+#include "palpa/mesh/detail/cgal_surface.hpp"
+#include "palpa/mesh/surface_check.hpp"
+
+namespace palpa::mesh {
+namespace {
+
+constexpr double kTaubinLambda = 0.5;
+constexpr double kTaubinMu = -0.53;
+// Edges more than this far from flat are the block's features, kept sharp.
+constexpr double kFeatureAngleDeg = 60.0;
+
+ErrorContext in_file(const std::string& source) {
+  ErrorContext c;
+  c.file = source;
+  return c;
+}
+
+}  // namespace
+
+SurfaceMesh boolean(const SurfaceMesh& a, const SurfaceMesh& b, BooleanOp op,
+                    const std::string& source) {
+  check_closed_surface(a, source);
+  check_closed_surface(b, source);
+  const auto kind = op == BooleanOp::Union        ? detail::CgalBoolean::Union
+                    : op == BooleanOp::Difference ? detail::CgalBoolean::Difference
+                                                  : detail::CgalBoolean::Intersection;
+  const char* name = op == BooleanOp::Union ? "union" : op == BooleanOp::Difference ? "difference" : "intersection";
+  auto out = detail::cgal_boolean(a, b, kind);
+  if (!out || out->F.rows() == 0) {
+    throw_input_error(fmt::format("the {} of the two solids is {}", name,
+                                  out ? "empty" : "not a 2-manifold (they touch along an edge or at a point)"),
+                      in_file(source), "solids that overlap in a volume or are apart");
+  }
+  SurfaceMesh r = repair_surface(*out);
+  check_closed_surface(r, source);
+  return r;
+}
+
+SurfaceMesh clip_to_box(const SurfaceMesh& mesh, const Eigen::AlignedBox3d& keep,
+                        const std::string& source) {
+  if (keep.isEmpty()) {
+    throw_input_error("the clipping box is empty", in_file(source), "min < max in every coordinate");
+  }
+  check_closed_surface(mesh, source);
+  auto out = detail::cgal_clip_to_box(mesh, keep.min(), keep.max());
+  if (!out) {
+    throw_input_error(fmt::format("clipping to the box {} – {} leaves nothing or a non-manifold piece",
+                                  geometry::format_point(keep.min()), geometry::format_point(keep.max())),
+                      in_file(source), "a box that cuts the body cleanly");
+  }
+  SurfaceMesh r = repair_surface(*out);
+  check_closed_surface(r, source);
+  return r;
+}
+
+SurfaceMesh remove_self_intersections(const SurfaceMesh& mesh, const std::string& source,
+                                      Eigen::Index* pairs_found) {
+  Eigen::Index pairs = 0;
+  auto out = detail::cgal_remove_self_intersections(mesh, &pairs);
+  if (pairs_found != nullptr) *pairs_found = pairs;
+  if (!out) {
+    throw_input_error(fmt::format("{} pairs of crossing triangles were found and could not all be "
+                                  "removed by local repair",
+                                  pairs),
+                      in_file(source), "a surface whose self-intersections are small skin folds");
+  }
+  return repair_surface(*out);
+}
+
+std::vector<std::vector<int>> vertex_neighbours(const SurfaceMesh& m) {
+  std::vector<std::vector<int>> nb(static_cast<std::size_t>(m.V.rows()));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) nb[m.F(f, k)].push_back(m.F(f, (k + 1) % 3));
+  }
+  for (auto& list : nb) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  return nb;
+}
+
+void taubin_smooth(SurfaceMesh& m, int rounds, const std::vector<bool>* movable) {
+  const auto nb = vertex_neighbours(m);
+  for (int r = 0; r < rounds; ++r) {
+    for (double factor : {kTaubinLambda, kTaubinMu}) {
+      Eigen::MatrixX3d next = m.V;
+      for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
+        if (nb[i].empty() || (movable != nullptr && !(*movable)[std::size_t(i)])) continue;
+        Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+        for (int j : nb[i]) mean += m.V.row(j);
+        mean /= double(nb[i].size());
+        next.row(i) += factor * (mean - m.V.row(i));
+      }
+      m.V = next;
+    }
+  }
+}
+
+NegativeImage negative_image(const SurfaceMesh& block, const SurfaceMesh& body,
+                             const NegativeImageOptions& o, const std::string& source) {
+  const ErrorContext where = in_file(source);
+  const double down_norm = o.down.norm();
+  if (!(down_norm > 0.0) || !std::isfinite(down_norm)) {
+    throw_input_error("the pressing direction is zero or not finite", where, "a direction such as gravity");
+  }
+  const Eigen::Vector3d d = o.down / down_norm;
+  if (!(o.press > 0.0) || !(o.edge_length > 0.0) || o.smoothing_rounds < 0 || !(o.smoothing_band >= 0.0)) {
+    throw_input_error("press depth, edge length and smoothing band must be positive", where,
+                      "press > 0, edge > 0, band ≥ 0, rounds ≥ 0");
+  }
+  // Heights measured against the pressing direction.
+  const double block_top = (-block.V * d).maxCoeff();
+  const double block_bottom = (-block.V * d).minCoeff();
+  const double body_low = (-body.V * d).minCoeff();
+  if (o.press >= block_top - block_bottom) {
+    throw_input_error(fmt::format("pressing {} into a block {} thick would cut through it",
+                                  format_quantity(o.press, Dimension::Length),
+                                  format_quantity(block_top - block_bottom, Dimension::Length)),
+                      where, "a press depth smaller than the block's height");
+  }
+  NegativeImage result;
+  result.body_shift = (body_low - block_top + o.press) * d;
+  SurfaceMesh pressed = body;
+  pressed.V.rowwise() += result.body_shift.transpose();
+  SurfaceMesh cut = boolean(block, pressed, BooleanOp::Difference, source);
+  cut = detail::cgal_remesh(cut, o.edge_length, 5, kFeatureAngleDeg);
+  // Smooth the vertices near the pressed body (the hollow and its rim).
+  if (o.smoothing_rounds > 0) {
+    const double band = std::max(o.smoothing_band, o.edge_length);
+    detail::SurfaceQueries near(pressed);
+    std::vector<bool> movable(static_cast<std::size_t>(cut.V.rows()));
+    for (Eigen::Index i = 0; i < cut.V.rows(); ++i) {
+      movable[std::size_t(i)] = near.distance(cut.V.row(i).transpose()) <= band;
+    }
+    taubin_smooth(cut, o.smoothing_rounds, &movable);
+  }
+  check_closed_surface(cut, source);
+  result.support = cut;
+  return result;
+}
+
+}  // namespace palpa::mesh
