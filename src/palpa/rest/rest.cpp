@@ -1,5 +1,9 @@
 #include "palpa/rest/rest.hpp"
 
+#include <spdlog/spdlog.h>
+
+#include "palpa/core/units.hpp"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -73,6 +77,7 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
   system_ = std::make_unique<body::CoreSystem>(*model_, core);
   system_->set_gravity(options_.gravity);
   system_->set_regularization(options_.regularization);
+  system_->set_true_hessian(true);
 
   boundary_faces_ = tet::boundary_of(mesh).faces;
   surface_faces_ = skin_faces(mesh, body_.attached);
@@ -141,6 +146,12 @@ RestResult RestSimulation::solve() {
   term_->reset_timers();
   RestResult r;
   constexpr int kMaxSolves = 12;
+  // Spring areas are updated while they change by more than 1% of the
+  // contact area, at most three times for one stiffness: a rim vertex that
+  // touches in one solve and not the next must not cycle the re-solves.
+  constexpr double kAreaTolerance = 0.01;
+  constexpr int kMaxAreaUpdates = 3;
+  int area_updates = 0;
   for (;;) {
     const NewtonResult res = newton_->solve(*system_, x_);
     r.newton_iterations += res.iterations;
@@ -155,17 +166,25 @@ RestResult RestSimulation::solve() {
     if (term_->contacts().empty()) {
       throw Error(ErrorKind::Solver, "the body is in equilibrium without touching the support: nothing presses it on");
     }
-    // Spring areas follow the contact set; re-solve while they change (the
-    // last solve always runs with the areas it ends with).
-    if (r.solves < kMaxSolves && term_->update_areas()) continue;
-    if (!automatic_) break;
     const double ratio = term_->contacts().max_depth() / options_.target_penetration;
-    if (ratio > 0.85 && ratio < 1.15) break;
+    spdlog::info("rest: solve {}: {} Newton iterations, {} contacts, k = {:.4g} N/m, deepest penetration {} ({:.2f}× the target)",
+                 r.solves, res.iterations, term_->contacts().size(), term_->stiffness(),
+                 format_quantity(term_->contacts().max_depth(), Dimension::Length), ratio);
+    const bool k_ok = !automatic_ || (ratio > 0.85 && ratio < 1.15);
     if (r.solves == kMaxSolves) {
-      r.message = fmt::format("the penetration is {:.2f}× the target after {} stiffness corrections", ratio, kMaxSolves);
+      if (!k_ok) {
+        r.message = fmt::format("the penetration is {:.2f}× the target after {} solves", ratio, kMaxSolves);
+      }
       break;
     }
-    term_->set_stiffness(term_->stiffness() * std::clamp(ratio, 0.1, 10.0));
+    // The last solve always runs with the spring areas it ends with.
+    const bool areas_changed = area_updates < kMaxAreaUpdates && term_->update_areas(kAreaTolerance) > 0.0;
+    if (areas_changed) ++area_updates;
+    if (k_ok && !areas_changed) break;
+    if (!k_ok) {
+      term_->set_stiffness(term_->stiffness() * std::clamp(ratio, 0.1, 10.0));
+      area_updates = 0;
+    }
   }
 
   const Eigen::VectorXd p = system_->positions(x_);

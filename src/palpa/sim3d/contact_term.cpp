@@ -95,7 +95,7 @@ void RigidContactTerm::prepare(const Eigen::VectorXd& x) {
   committed_.detect(*obstacle_, as_points(x), surface_);
 }
 
-bool RigidContactTerm::update_areas() {
+double RigidContactTerm::update_areas(double min_change) {
   // The full skin share off contact; in contact, the share of the triangles
   // wholly in contact (the full share if there is none).
   std::vector<char> touching(area_.size(), 0);
@@ -112,15 +112,21 @@ bool RigidContactTerm::update_areas() {
     contact_area[static_cast<std::size_t>(b)] += third;
     contact_area[static_cast<std::size_t>(c)] += third;
   }
-  bool changed = false;
+  std::vector<double> next(area_.size());
+  double changed = 0.0, total = 0.0;
   for (std::size_t v = 0; v < area_.size(); ++v) {
-    const double a = touching[v] && contact_area[v] > 0.0 ? contact_area[v] : skin_area_[static_cast<Eigen::Index>(v)];
-    if (std::abs(a - area_[v]) > 1e-9 * mean_area_) changed = true;
-    area_[v] = a;
-    scale_[v] = a / mean_area_;
+    next[v] = touching[v] && contact_area[v] > 0.0 ? contact_area[v] : skin_area_[static_cast<Eigen::Index>(v)];
+    const double d = std::abs(next[v] - area_[v]);
+    if (d > 1e-9 * mean_area_) changed += d;
+    if (touching[v]) total += next[v];
   }
+  // Relative to the area in contact (to the mean share when nothing touches).
+  const double change = changed / std::max(total, mean_area_);
+  if (!(change > min_change)) return 0.0;
+  area_ = next;
+  for (std::size_t v = 0; v < area_.size(); ++v) scale_[v] = area_[v] / mean_area_;
   committed_.set_scale(scale_);
-  return changed;
+  return change;
 }
 
 void RigidContactTerm::set_areas(const std::vector<double>& areas) {

@@ -49,9 +49,12 @@ class RigidContactTerm final : public tet::VertexTerm {
   void prepare(const Eigen::VectorXd& x) override;
   bool active() const override { return !committed_.empty(); }
 
-  // Sets each vertex's spring area from the committed contacts (see above).
-  // Returns whether any area changed.
-  bool update_areas();
+  // Sets each vertex's spring area from the committed contacts (see above)
+  // if they change by more than `min_change` (Σ|ΔA_i| over the total spring
+  // area); returns that change when applied, else 0 (nothing changed). A
+  // small threshold stops a rim vertex that touches in one solve and not in
+  // the next from cycling the re-solves forever.
+  double update_areas(double min_change = 0.0);
   // Restores spring areas saved from spring_area() (one per body vertex,
   // each > 0 on the skin); palpa::Error (Input) otherwise.
   void set_areas(const std::vector<double>& areas);

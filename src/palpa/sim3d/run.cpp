@@ -207,7 +207,7 @@ StepRecord Simulation::solve_step(int s) {
     // last solve always runs with the areas it ends with).
     if (attempt + 1 < kMaxCorrections) {
       bool areas_changed = false;
-      for (auto& t : terms_) areas_changed = t->update_areas() || areas_changed;
+      for (auto& t : terms_) areas_changed = t->update_areas() > 0.0 || areas_changed;
       if (areas_changed) continue;
     }
     if (!automatic_stiffness_) break;
