@@ -48,6 +48,7 @@ struct LayerArgs {
   std::string depth_samples;
   std::string depth_column = "depth";
   bool clamp_depth = false;
+  std::string core_offset = "normals";
   std::string stiffness_samples;
   std::string stiffness_column = "youngs_modulus";
   double edge = 5e-3;
@@ -198,6 +199,12 @@ void run_layer(const LayerArgs& a) {
   o.quality = quality_from(a.quality);
   o.source = a.surface;
   o.clamp_depth = a.clamp_depth;
+  try {
+    o.core_offset = mesh::parse_core_offset(a.core_offset);
+  } catch (const Error&) {
+    throw_input_error(fmt::format("unknown core offset '{}'", a.core_offset), option("--core-offset"),
+                      "normals or distance");
+  }
   auto started = std::chrono::steady_clock::now();
   std::string current;
   Json timings = Json::object();
@@ -338,6 +345,11 @@ void add_mesh_command(CLI::App& app) {
   layer->add_flag("--clamp-depth", la->clamp_depth,
                   "Thin the layer where the depth does not fit the local thickness (folds, toes, "
                   "the rim of a clipped body) instead of refusing");
+  layer->add_option("--core-offset", la->core_offset,
+                    "How the core surface is made: normals (each skin vertex pushed inward by its "
+                    "depth) or distance (the level set of the distance to the skin: no core where "
+                    "the body is thinner than twice the depth)")
+      ->capture_default_str();
   layer->add_option("--stiffness-samples", la->stiffness_samples,
                     "CSV of Young's moduli: x_<unit>,y_<unit>,z_<unit>,youngs_modulus_<unit>; "
                     "each tet gets the value interpolated at the skin above it")

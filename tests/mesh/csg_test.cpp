@@ -109,27 +109,35 @@ TEST(Csg, TheNegativeImageHoldsThePressedBody) {
   // A 200 × 200 × 60 mm block with its top at z = 0; the sphere starts 30 mm
   // above it and is pressed 20 mm in.
   const SurfaceMesh block = box(Eigen::Vector3d(-0.1, -0.1, -0.06), Eigen::Vector3d(0.1, 0.1, 0.0));
-  const SurfaceMesh body = sphere(Eigen::Vector3d(0, 0, 0.03 + kRadius));
+  const SurfaceMesh body = sphere(Eigen::Vector3d(0, 0, 0.03 + kRadius), 6e-3);
   NegativeImageOptions o;
   o.press = 0.02;
-  o.edge_length = 4e-3;
+  o.edge_length = 6e-3;
   o.smoothing_rounds = 5;
   o.smoothing_band = 8e-3;
+  o.clearance = 3e-3;
   const NegativeImage n = negative_image(block, body, o, "chair.json");
   EXPECT_NO_THROW(check_closed_surface(n.support, "negative image"));
   EXPECT_NEAR(n.body_shift.z(), -0.05, 1e-12);
   EXPECT_NEAR(n.body_shift.head<2>().norm(), 0.0, 1e-15);
-  // The hollow is the sphere's cap of height 20 mm (smoothing only rounds its rim).
-  const double cap = kPi * o.press * o.press * (3 * kRadius - o.press) / 3.0;
+  // The hollow is the cap, 23 mm high, of the sphere grown by the clearance
+  // (smoothing only rounds its rim).
+  const double R = kRadius + o.clearance, h = o.press + o.clearance;
+  const double cap = kPi * h * h * (3 * R - h) / 3.0;
   EXPECT_NEAR(enclosed_volume(block) - enclosed_volume(n.support), cap, 0.03 * cap);
   // The top stays; Taubin's inflating step lifts the rim by well under 1 mm.
   EXPECT_NEAR(n.support.V.col(2).maxCoeff(), 0.0, 5e-4);
-  // The deepest point of the hollow is the pressed depth, under the centre.
+  // The deepest point of the hollow is the pressed depth plus the clearance.
   double deepest = 0.0;
   for (Eigen::Index i = 0; i < n.support.V.rows(); ++i) {
     if (n.support.V.row(i).head<2>().norm() < 0.01 && n.support.V(i, 2) > -0.05) deepest = std::min(deepest, n.support.V(i, 2));
   }
-  EXPECT_NEAR(deepest, -o.press, 1e-3);
+  EXPECT_NEAR(deepest, -h, 1e-3);
+  // No vertex of the hollow comes closer to the pressed sphere than the
+  // clearance (less the offset's approximation, a fifth of it, and the
+  // polyhedral sphere's sagitta).
+  const Eigen::RowVector3d centre(0, 0, kRadius - o.press);
+  EXPECT_GE(((n.support.V.rowwise() - centre).rowwise().norm().array() - kRadius).minCoeff(), 0.8 * o.clearance - 2e-4);
   // The block's corners are kept sharp by the remeshing.
   EXPECT_NEAR(n.support.V.col(0).maxCoeff(), 0.1, 1e-12);
   EXPECT_NEAR(n.support.V.col(2).minCoeff(), -0.06, 1e-12);
@@ -161,10 +169,11 @@ TEST(Csg, ClampingThinsTheLayerWhereTheBodyIsThin) {
   const LayerSummary s = summarize_layer(layer, layer.quality);
   EXPECT_EQ(s.quality.inverted, 0);
   EXPECT_NEAR(s.layer_volume, s.outer_volume - s.core_volume, 1e-9 * s.outer_volume);
-  // A body thinner than two edges cannot be layered at all.
-  b.size.z() = 0.008;
+  // A body thinner than one edge cannot be layered at all.
+  b.size.z() = 0.004;
+  b.edge_length = 1e-3;
   EXPECT_TRUE(throws_error([&] { make_layer(make_body(b), DepthSpec{0.0065, std::nullopt}, std::nullopt, o); },
-                           ErrorKind::Input, {"slab.obj", "thinnest layer"}));
+                           ErrorKind::Input, {"slab.obj", "thinnest layers"}));
 }
 
 }  // namespace

@@ -75,6 +75,30 @@ TEST(Layer, UniformOffsetOfASphereIsTheConcentricSphereAndTheShellVolume) {
   expect_sound(layer, options().quality);
 }
 
+TEST(Layer, TheDistanceOffsetIsTheConcentricSphereAndFitsWhereNormalsFold) {
+  LayerOptions o = options();
+  o.core_offset = CoreOffset::Distance;
+  const double depth = 0.01;
+  const LayerMesh layer = make_layer(sphere(), DepthSpec{depth, std::nullopt}, std::nullopt, o);
+  const Eigen::VectorXd r = layer.core.V.rowwise().norm();
+  // The level set is meshed within a tenth of the edge, then remeshed.
+  EXPECT_LT((r.array() - (kRadius - depth)).abs().maxCoeff(), 0.15 * kEdge);
+  expect_sound(layer, o.quality);
+
+  // An 18 mm layer in the 100 × 60 × 40 mm block folds the pushed-in surface
+  // at the 10 mm rounded edges; the distance offset simply rounds the core's
+  // edges less: every core point is at least its depth from the skin.
+  BodyOptions b;
+  b.edge_length = 5e-3;
+  const SurfaceMesh block = make_body(b);
+  const LayerMesh deep = make_layer(block, DepthSpec{0.018, std::nullopt}, std::nullopt, o);
+  EXPECT_GT(distance_to_surface(deep.outer, deep.core.V).minCoeff(), 0.018 - 0.15 * kEdge);
+  expect_sound(deep, o.quality);
+  // No core is left when the body is nowhere thicker than twice the depth.
+  EXPECT_TRUE(throws_error([&] { make_layer(block, DepthSpec{0.021, std::nullopt}, std::nullopt, o); },
+                           ErrorKind::Input, {"sphere.obj", "no core is left"}));
+}
+
 TEST(Layer, DepthSamplesAreReproducedAndBounded) {
   const SurfaceMesh outer = sphere();
   Samples samples;

@@ -8,6 +8,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/units.hpp"
 #include "palpa/geometry/format.hpp"
+#include "palpa/mesh/detail/cgal_offset.hpp"
 #include "palpa/mesh/detail/cgal_surface.hpp"
 #include "palpa/mesh/surface_check.hpp"
 
@@ -132,17 +133,30 @@ NegativeImage negative_image(const SurfaceMesh& block, const SurfaceMesh& body,
   result.body_shift = (body_low - block_top + o.press) * d;
   SurfaceMesh pressed = body;
   pressed.V.rowwise() += result.body_shift.transpose();
-  SurfaceMesh cut = boolean(block, pressed, BooleanOp::Difference, source);
+  // The hollow is cut by the pressed body grown by the clearance (a distance
+  // offset), so the body starts clear of it everywhere.
+  SurfaceMesh cutter = pressed;
+  if (o.clearance > 0.0) {
+    cutter = repair_surface(detail::cgal_dilation(pressed, o.clearance, o.edge_length));
+    check_closed_surface(cutter, source + " (the body grown by the clearance)");
+  }
+  SurfaceMesh cut = boolean(block, cutter, BooleanOp::Difference, source);
   cut = detail::cgal_remesh(cut, o.edge_length, 5, kFeatureAngleDeg);
   // Smooth the vertices near the pressed body (the hollow and its rim).
   if (o.smoothing_rounds > 0) {
     const double band = std::max(o.smoothing_band, o.edge_length);
-    detail::SurfaceQueries near(pressed);
+    const detail::SurfaceQueries near(cutter);
     std::vector<bool> movable(static_cast<std::size_t>(cut.V.rows()));
     for (Eigen::Index i = 0; i < cut.V.rows(); ++i) {
       movable[std::size_t(i)] = near.distance(cut.V.row(i).transpose()) <= band;
     }
+    const Eigen::MatrixX3d before = cut.V;
     taubin_smooth(cut, o.smoothing_rounds, &movable);
+    // Smoothing rounds the rim away from the body but would also move the
+    // hollow's concave parts towards it: those vertices stay where they were.
+    for (Eigen::Index i = 0; i < cut.V.rows(); ++i) {
+      if (movable[std::size_t(i)] && near.inside(cut.V.row(i).transpose())) cut.V.row(i) = before.row(i);
+    }
   }
   check_closed_surface(cut, source);
   result.support = cut;

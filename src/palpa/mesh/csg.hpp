@@ -50,6 +50,7 @@ struct NegativeImageOptions {
   double edge_length = 0.01;             // remeshing of the result [m]
   int smoothing_rounds = 10;             // Taubin rounds near the cut
   double smoothing_band = 0.02;          // vertices within this distance of the cut move [m]
+  double clearance = 0.002;              // gap left between the hollow and the pressed body [m]
 };
 
 struct NegativeImage {
@@ -59,7 +60,9 @@ struct NegativeImage {
 
 // The block minus the body pressed `press` into it along `down`, remeshed to
 // `edge_length` with the block's sharp edges kept, then Taubin-smoothed in a
-// band around the cut so the rim is not a sharp edge. The body may start
+// band around the cut so the rim is not a sharp edge, and every vertex kept
+// `clearance` away from the pressed body (so the body starts clear of its
+// hollow at body_shift and falls into it). The body may start
 // anywhere: it is moved along `down` until its lowest point is `press` below
 // the block's highest. Throws when the body does not reach into the block
 // from above or the result is not a clean closed surface.

@@ -16,6 +16,7 @@
 #include "palpa/geometry/closest_point.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/csg.hpp"
+#include "palpa/mesh/detail/cgal_offset.hpp"
 #include "palpa/mesh/detail/cgal_surface.hpp"
 #include "palpa/mesh/surface_check.hpp"
 
@@ -167,8 +168,13 @@ Eigen::Index check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& n
     if (depth(i) + core <= thickness) continue;
     // Thinned, the layer may take half of what the core leaves: the skin
     // on the far side is pushed inward too.
-    if (clamp && 0.5 * (thickness - thin_core) >= thinnest) {
-      depth(i) = std::min(depth(i), 0.5 * (thickness - thin_core));
+    // Where even that is below the thinnest layer, the thinnest layer is
+    // kept as long as the two sides' layers cannot meet (thickness above
+    // two of them); the inner surface's own checks then have the last word,
+    // since a ray along a normal that grazes a nearby slope underestimates
+    // the room there.
+    if (clamp && thickness >= 2.0 * thinnest) {
+      depth(i) = std::min(depth(i), std::max(thinnest, 0.5 * (thickness - thin_core)));
       ++clamped;
       continue;
     }
@@ -176,9 +182,9 @@ Eigen::Index check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& n
         fmt::format("the layer depth {} at {} does not fit: the body is {} thick there along "
                     "the inward normal, and the core needs at least two edge lengths ({}){}",
                     length(depth(i)), format_point(p), length(thickness), length(core),
-                    clamp ? fmt::format(", leaving less than the thinnest layer ({})", length(thinnest)) : ""),
+                    clamp ? fmt::format(", less than two of the thinnest layers ({})", length(thinnest)) : ""),
         in_file(source),
-        clamp ? "a body at least two edge lengths thick everywhere (a smaller edge length)"
+        clamp ? "a body at least one edge length thick everywhere (a smaller edge length)"
               : "a depth smaller than the local thickness minus two edge lengths, or clamping");
   }
   if (clamped > 0) {
@@ -198,6 +204,27 @@ Eigen::Index check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& n
   return clamped;
 }
 
+// The inner surface must be closed, clean and strictly inside the outer one.
+void check_inner(const SurfaceMesh& inner, const SurfaceMesh& outer, const LayerOptions& options) {
+  if (const auto pair = detail::cgal_self_intersection(inner)) {
+    const Eigen::Vector3d at = inner.V.row(inner.F(pair->first, 0)).transpose();
+    const Eigen::Vector3d on_outer = detail::SurfaceQueries(outer).closest(at).second;
+    throw_input_error(
+        fmt::format("the inner surface would intersect itself near {} (under the outer surface "
+                    "at {}): the depth there is too large for the curvature of the body",
+                    format_point(at), format_point(on_outer)),
+        in_file(options.source),
+        options.core_offset == CoreOffset::Normals
+            ? "smaller depths where the surface is concave or thin, or the distance offset"
+            : "smaller depths or a smaller edge length");
+  }
+  if (detail::cgal_surfaces_intersect(outer, inner) ||
+      !detail::SurfaceQueries(outer).inside(inner.V.row(0).transpose())) {
+    throw_input_error("the inner surface crosses the outer surface", in_file(options.source),
+                      "depths smaller than the local thickness");
+  }
+}
+
 SurfaceMesh inner_surface(const SurfaceMesh& outer, const Eigen::MatrixX3d& normals,
                           const Eigen::VectorXd& depth, const LayerOptions& options, double edge) {
   SurfaceMesh inner = outer;
@@ -206,24 +233,44 @@ SurfaceMesh inner_surface(const SurfaceMesh& outer, const Eigen::MatrixX3d& norm
   }
   taubin_smooth(inner, options.smoothing_rounds);
   if (options.edge_length > 0.0) inner = remesh_surface(inner, edge, options.remesh_iterations);
-  if (const auto pair = detail::cgal_self_intersection(inner)) {
-    const Eigen::Vector3d at = inner.V.row(inner.F(pair->first, 0)).transpose();
-    const Eigen::Vector3d on_outer = detail::SurfaceQueries(outer).closest(at).second;
-    throw_input_error(
-        fmt::format("the inner surface would intersect itself near {} (under the outer surface "
-                    "at {}): the depth there is too large for the curvature of the body",
-                    format_point(at), format_point(on_outer)),
-        in_file(options.source), "smaller depths where the surface is concave or thin");
+  check_inner(inner, outer, options);
+  return inner;
+}
+
+// The level set at distance depth(closest skin point) inside the skin: the
+// core is absent where the body is thinner than twice its depth.
+SurfaceMesh distance_core(const SurfaceMesh& outer, const Eigen::VectorXd& depth,
+                          const LayerOptions& options, double edge) {
+  const auto depth_at = [&](Eigen::Index f, const Eigen::Vector3d& p) {
+    const Eigen::Vector3d a = outer.V.row(outer.F(f, 0)).transpose();
+    const Eigen::Vector3d b = outer.V.row(outer.F(f, 1)).transpose();
+    const Eigen::Vector3d c = outer.V.row(outer.F(f, 2)).transpose();
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double area2 = n.squaredNorm();
+    if (!(area2 > 0.0)) return depth(outer.F(f, 0));
+    const double wa = (c - b).cross(p - b).dot(n) / area2;
+    const double wb = (a - c).cross(p - c).dot(n) / area2;
+    return wa * depth(outer.F(f, 0)) + wb * depth(outer.F(f, 1)) + (1.0 - wa - wb) * depth(outer.F(f, 2));
+  };
+  SurfaceMesh inner = repair_surface(detail::cgal_distance_offset(outer, depth_at, edge));
+  if (inner.F.rows() < 4) {
+    throw_input_error(fmt::format("no core is left: the body is nowhere thicker than twice the depth ({} at most)",
+                                  length(depth.maxCoeff())),
+                      in_file(options.source), "a smaller depth");
   }
-  if (detail::cgal_surfaces_intersect(outer, inner) ||
-      !detail::SurfaceQueries(outer).inside(inner.V.row(0).transpose())) {
-    throw_input_error("the inner surface crosses the outer surface", in_file(options.source),
-                      "depths smaller than the local thickness");
-  }
+  check_closed_surface(inner, options.source + " (core)");
+  if (options.edge_length > 0.0) inner = remesh_surface(inner, edge, options.remesh_iterations);
+  check_inner(inner, outer, options);
   return inner;
 }
 
 }  // namespace
+
+CoreOffset parse_core_offset(std::string_view name) {
+  if (name == "normals") return CoreOffset::Normals;
+  if (name == "distance") return CoreOffset::Distance;
+  throw_input_error(fmt::format("unknown core offset '{}'", name), {}, "normals or distance");
+}
 
 Eigen::VectorXd distance_to_surface(const SurfaceMesh& surface, const Eigen::MatrixX3d& points) {
   const detail::SurfaceQueries queries(surface);
@@ -245,19 +292,32 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
   layer.outer = options.edge_length > 0.0
                     ? remesh_surface(repaired, options.edge_length, options.remesh_iterations)
                     : repaired;
+  // Remeshing a part thinner than the edge length can fold it through itself.
+  if (options.edge_length > 0.0) {
+    try {
+      check_closed_surface(layer.outer, options.source);
+    } catch (const Error& e) {
+      throw_input_error(fmt::format("remeshed to {} edges: {}", length(options.edge_length), e.what()),
+                        in_file(options.source), "a smaller edge length where the body is thin");
+    }
+  }
   const double edge =
       options.edge_length > 0.0 ? options.edge_length : mean_edge_length(layer.outer);
 
   stage("depth");
   const Eigen::MatrixX3d normals = geometry::vertex_normals(layer.outer);
   layer.depth = depth_field(layer.outer, depth, options);
-  layer.depth_clamped =
-      check_thickness(layer.outer, normals, layer.depth, edge, options.clamp_depth, options.source);
+  if (options.core_offset == CoreOffset::Normals) {
+    layer.depth_clamped =
+        check_thickness(layer.outer, normals, layer.depth, edge, options.clamp_depth, options.source);
+  }
   // Stiffness samples are located now, so bad ones fail before the meshing.
   const Eigen::VectorXd E =
       stiffness ? stiffness_field(layer.outer, *stiffness, options) : Eigen::VectorXd();
   stage("inner_surface");
-  layer.core = inner_surface(layer.outer, normals, layer.depth, options, edge);
+  layer.core = options.core_offset == CoreOffset::Normals
+                   ? inner_surface(layer.outer, normals, layer.depth, options, edge)
+                   : distance_core(layer.outer, layer.depth, options, edge);
 
   TetQuality& quality = layer.quality;
   quality = options.quality;

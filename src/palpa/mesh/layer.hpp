@@ -47,6 +47,21 @@ struct DepthSpec {
   std::optional<Samples> samples;  // depths [m] at points near the outer surface
 };
 
+// How the inner (core) surface is made from the depth field.
+enum class CoreOffset {
+  // Each skin vertex pushed inward along its normal by its depth, smoothed
+  // and remeshed: follows the skin's mesh, but refuses a depth that does not
+  // fit the local thickness (or thins it, clamp_depth) or the curvature.
+  Normals,
+  // The level set at the depth (taken at the closest skin point) of the
+  // distance to the skin, meshed anew: every core point is at least its depth
+  // from the skin, and where the body is thinner than twice the depth (toes,
+  // fingers, the rim of a clipped body, a skin fold) there is no core and the
+  // layer fills the body.
+  Distance,
+};
+CoreOffset parse_core_offset(std::string_view name);  // "normals" | "distance"
+
 struct LayerOptions {
   // Target edge length of the outer and inner surfaces [m]; 0 keeps the scan's
   // triangles (it must then be closed and clean already).
@@ -59,6 +74,7 @@ struct LayerOptions {
   // Where the depth does not fit the local thickness (folds, thin parts, the
   // rim of a clipped body): thin the layer there (true) or refuse (false).
   bool clamp_depth = false;
+  CoreOffset core_offset = CoreOffset::Normals;
   // Taubin smoothing rounds of the pushed inner surface.
   int smoothing_rounds = 3;
   // Tet quality; max_volume 0 means a regular tet of edge_length.

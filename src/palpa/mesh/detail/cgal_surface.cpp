@@ -10,6 +10,7 @@
 #include <CGAL/Polygon_mesh_processing/detect_features.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Side_of_triangle_mesh.h>
@@ -108,6 +109,10 @@ std::optional<SurfaceMesh> cgal_boolean(const SurfaceMesh& a, const SurfaceMesh&
     case CgalBoolean::Intersection: ok = PMP::corefine_and_compute_intersection(ma, mb, out); break;
   }
   if (!ok) return std::nullopt;
+  // Rounding the cut's constructions to doubles can leave zero-area slivers
+  // where features of the two solids coincide; they would be kept as sharp
+  // edges by a feature-preserving remesh.
+  PMP::remove_degenerate_faces(out);
   out.collect_garbage();
   return from_cgal(out);
 }
