@@ -34,13 +34,13 @@ double unit_of(const JsonView& parent) {
 }
 
 void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
-  b.expect_only({"surface", "layer", "generate", "unit", "remove_self_intersections", "clip", "cut", "depth",
-                 "clamp_depth",
+  b.expect_only({"surface", "layer", "generate", "unit", "scale", "remove_self_intersections", "clip", "cut", "depth",
+                 "clamp_depth", "core_offset",
                  "edge", "material", "density", "position", "rotation"});
   const int sources = int(b.has("surface")) + int(b.has("layer")) + int(b.has("generate"));
   if (sources != 1) b.fail("give exactly one of \"surface\", \"layer\", \"generate\"");
   if (const auto layer = b.find("layer")) {
-    for (const char* k : {"remove_self_intersections", "clip", "cut", "depth", "clamp_depth", "edge"}) {
+    for (const char* k : {"scale", "remove_self_intersections", "clip", "cut", "depth", "clamp_depth", "core_offset", "edge"}) {
       if (b.has(k)) b.at(k).fail("applies to a surface that is meshed here, not to a ready layer", "no such key with \"layer\"");
     }
     const fs::path p = resolve_scene_path(file, layer->as_string());
@@ -64,6 +64,12 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     if (const auto surf = b.find("surface")) {
       MeshReadOptions o;
       o.unit_to_si = unit_of(b);
+      // A scan in normalized units: a dimensionless factor on top of the unit.
+      if (const auto sc = b.find("scale")) {
+        const double f = sc->as_number();
+        if (!(f > 0.0)) sc->fail(fmt::format("{}", f), "a factor > 0");
+        o.unit_to_si *= f;
+      }
       scan = read_surface_mesh(resolve_scene_path(file, surf->as_string()), o);
       s.body_source = resolve_scene_path(file, surf->as_string()).string();
     } else {
@@ -117,6 +123,13 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     lo.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
     lo.source = s.body_source;
     if (const auto c = b.find("clamp_depth")) lo.clamp_depth = c->as_bool();
+    if (const auto c = b.find("core_offset")) {
+      try {
+        lo.core_offset = mesh::parse_core_offset(c->as_string());
+      } catch (const Error&) {
+        c->fail(fmt::format("unknown core offset '{}'", c->as_string()), "normals or distance");
+      }
+    }
     const mesh::LayerMesh made = mesh::make_layer(scan, depth, std::nullopt, lo);
     s.body.mesh = made.tets;
     for (Eigen::Index v : made.attached) s.body.attached.push_back(static_cast<int>(v));
@@ -165,17 +178,19 @@ SurfaceMesh read_box(const JsonView& box) {
     if (r > half || r > size.z()) {
       bevel->at("radius").fail("larger than the box", "a radius below half the box's length and its height");
     }
-    // Points of the quadrant beyond the arc's centre move onto the arc along
-    // the direction from the centre (monotone, so the mesh stays valid).
+    // Points of the square beyond the arc's centre move along the direction
+    // from the centre so that the square's outer sides (the top and front
+    // faces) land on the arc and the end faces' points inside the quarter
+    // disc: a monotone map, so the mesh stays valid.
     const double cu = half - r;  // along sign·axis
     const double cz = -r;
     for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
       const double u = sign * m.V(i, axis) - cu;
       const double w = m.V(i, 2) - cz;
       if (u <= 0.0 || w <= 0.0) continue;
-      const double len = std::hypot(u, w);
-      m.V(i, axis) = sign * (cu + r * u / len);
-      m.V(i, 2) = cz + r * w / len;
+      const double f = std::max(u, w) / std::hypot(u, w);
+      m.V(i, axis) = sign * (cu + f * u);
+      m.V(i, 2) = cz + f * w;
     }
   }
   return m;
@@ -207,12 +222,15 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
       m = i == 0 ? ball : mesh::boolean(m, ball, mesh::BooleanOp::Union, name + ": support.spheres");
     }
     if (m.V.rows() == 0) spheres->fail("no sphere given", "at least one {\"centre\", \"radius\"}");
+    // The union's seam is cut into slivers: remesh at the spheres' own edge
+    // length before smoothing it (§7.3.2: CSG union, then Taubin smoothing).
+    if (spheres->size() > 1) m = mesh::remesh_surface(m, mesh::mean_edge_length(sim3d::make_sphere(read_positive(spheres->at(0).at("radius"), Dimension::Length), level)));
     if (const auto sm = sp.find("smoothing")) mesh::taubin_smooth(m, read_count(*sm, 0, 1000));
     s.support_source = fmt::format("{} sphere(s)", spheres->size());
     place(m);
   } else if (const auto neg = sp.find("negative_image")) {
     // The block with the body, as placed, pressed into it (§7.5.1); the
-    // body is then lowered into the hollow to start `clearance` above it.
+    // body then starts in the hollow, `clearance` clear of it.
     neg->expect_only({"box", "press", "edge", "smoothing", "band", "clearance"});
     SurfaceMesh block = read_box(neg->at("box"));
     place(block);
@@ -223,12 +241,11 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
     if (const auto v = neg->find("edge")) o.edge_length = read_positive(*v, Dimension::Length);
     if (const auto v = neg->find("smoothing")) o.smoothing_rounds = read_count(*v, 0, 1000);
     if (const auto v = neg->find("band")) o.smoothing_band = read_positive(*v, Dimension::Length);
-    const double clearance = neg->has("clearance") ? read_positive(neg->at("clearance"), Dimension::Length) : 2e-3;
+    if (const auto v = neg->find("clearance")) o.clearance = read_positive(*v, Dimension::Length);
     const SurfaceMesh skin = body_skin(s.body);
     const mesh::NegativeImage made = mesh::negative_image(block, skin, o, name + ": support.negative_image");
     m = made.support;
-    const Eigen::Vector3d shift = made.body_shift - clearance * o.down.normalized();
-    s.body.mesh.V.rowwise() += shift.transpose();
+    s.body.mesh.V.rowwise() += made.body_shift.transpose();
     s.support_source = fmt::format("negative image of the body pressed {} into a box",
                                    format_quantity(o.press, Dimension::Length));
   } else if (const auto f = sp.find("file")) {

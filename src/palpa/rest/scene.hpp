@@ -6,7 +6,8 @@
 //   "body": {
 //     "surface": "foot.obj", "unit": "m", "depth": "10 mm", "edge": "10 mm",
 //        // depth may be {"samples": "depths.csv", "column": "depth"}; optional
-//        // "clamp_depth": true, "remove_self_intersections": true,
+//        // "clamp_depth": true, "scale": 0.2 (normalized scans),
+//        // "remove_self_intersections": true,
 //        // "clip": {"min": [...], "max": [...]}, "cut": [{"min", "max"}, ...]
 //        // or "layer": "foot.vtu" (from palpa mesh layer: point data "attached")
 //        // or "generate": {"shape": "foot", "length": "260 mm"}, "depth", "edge"
