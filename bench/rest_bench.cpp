@@ -1,10 +1,11 @@
-// rest: every shipped `palpa rest` example (the seated body on a block chair,
-// the foot on a flat sole and on its negative image, the hand on a two-sphere
-// mouse, the generated thigh on a block and on its negative image) solved to
-// equilibrium. Per scenario: human vertices, contact vertices, Newton
-// iterations, time per Newton iteration as a multiple of one CHOLMOD numeric
-// factorization of the same Hessian (measured in the same run), collision
-// detection per iteration, and the time to build the scene (meshing, CSG).
+// rest: every shipped `palpa rest` example (the seated body on a bevelled and
+// a flat block chair, the foot on a flat sole and on its negative image, the
+// hand on a two-sphere mouse, the generated thigh on a block and on its
+// negative image) solved to equilibrium. Per scenario: human vertices,
+// contact vertices, Newton iterations, time per Newton iteration as a
+// multiple of one CHOLMOD numeric factorization of the same Hessian (measured
+// in the same run), collision detection per iteration, and the time to build
+// the scene (meshing, CSG).
 //
 //   palpa_bench_rest [scene.json ...]   (default: the examples in the source tree)
 
@@ -25,8 +26,8 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) scenes.emplace_back(argv[i]);
   if (scenes.empty()) {
     const std::filesystem::path ex = std::filesystem::path(PALPA_SOURCE_DIR) / "examples" / "rest";
-    for (const char* s : {"chair/scene.json", "foot/scene.json", "foot/negative-image.json", "mouse/scene.json",
-                          "thigh/scene.json", "negative-image/scene.json"}) {
+    for (const char* s : {"chair/scene.json", "chair/flat.json", "foot/scene.json", "foot/negative-image.json",
+                          "mouse/scene.json", "thigh/scene.json", "negative-image/scene.json"}) {
       scenes.push_back(ex / s);
     }
   }

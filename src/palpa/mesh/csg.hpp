@@ -58,14 +58,14 @@ struct NegativeImage {
   Eigen::Vector3d body_shift;   // translation that pressed the body in [m]
 };
 
-// The block minus the body pressed `press` into it along `down`, remeshed to
+// The block minus the body pressed `press` into it along `down` and grown by
+// `clearance` (the level set of the distance to it), remeshed to
 // `edge_length` with the block's sharp edges kept, then Taubin-smoothed in a
-// band around the cut so the rim is not a sharp edge, and every vertex kept
-// `clearance` away from the pressed body (so the body starts clear of its
-// hollow at body_shift and falls into it). The body may start
-// anywhere: it is moved along `down` until its lowest point is `press` below
-// the block's highest. Throws when the body does not reach into the block
-// from above or the result is not a clean closed surface.
+// band around the cut so the rim is not a sharp edge (no vertex moves into
+// the grown body). The body, moved by body_shift, starts clear of its hollow
+// and falls into it. It may start anywhere: it is moved along `down` until
+// its lowest point is `press` below the block's highest. Throws when pressing
+// would cut through the block or the result is not a clean closed surface.
 NegativeImage negative_image(const SurfaceMesh& block, const SurfaceMesh& body,
                              const NegativeImageOptions& options, const std::string& source);
 

@@ -6,28 +6,24 @@
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
-#include <CGAL/Surface_mesh.h>
 #include <CGAL/facets_in_complex_3_to_triangle_mesh.h>
 #include <CGAL/make_mesh_3.h>
 
 #include <algorithm>
 #include <vector>
 
+#include "palpa/mesh/detail/cgal_mesh.hpp"
 #include "palpa/mesh/detail/cgal_surface.hpp"
 
 namespace palpa::mesh::detail {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
+using Kernel = CgalKernel;
+using Point = CgalPoint;
 using Domain = CGAL::Labeled_mesh_domain_3<Kernel>;
 using Triangulation = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
 using Complex = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation>;
 using Criteria = CGAL::Mesh_criteria_3<Triangulation>;
-
-}  // namespace
-
-namespace {
 
 // Meshes the surface {level = 0} of a function negative inside, within the
 // ball (centre, radius), with triangles of about `edge`.
@@ -39,25 +35,9 @@ SurfaceMesh mesh_level_set(const std::function<double(const Eigen::Vector3d&)>& 
       f, Kernel::Sphere_3(Point(c.x(), c.y(), c.z()), radius * radius), p::relative_error_bound = 1e-6);
   const Criteria criteria(p::facet_angle = 25.0, p::facet_size = edge, p::facet_distance = approximation);
   const Complex complex = CGAL::make_mesh_3<Complex>(domain, criteria, p::no_perturb(), p::no_exude(), p::manifold());
-  CGAL::Surface_mesh<Point> out;
+  CgalMesh out;
   CGAL::facets_in_complex_3_to_triangle_mesh(complex, out);
-  SurfaceMesh m;
-  m.V.resize(static_cast<Eigen::Index>(out.number_of_vertices()), 3);
-  std::vector<int> index(out.num_vertices(), -1);
-  int next = 0;
-  for (const auto v : out.vertices()) {
-    const Point& q = out.point(v);
-    m.V.row(next) << q.x(), q.y(), q.z();
-    index[v] = next++;
-  }
-  m.F.resize(static_cast<Eigen::Index>(out.number_of_faces()), 3);
-  Eigen::Index fi = 0;
-  for (const auto face : out.faces()) {
-    int k = 0;
-    for (const auto v : CGAL::vertices_around_face(out.halfedge(face), out)) m.F(fi, k++) = index[v];
-    ++fi;
-  }
-  return m;
+  return from_cgal(out);
 }
 
 }  // namespace

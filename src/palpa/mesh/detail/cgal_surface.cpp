@@ -19,13 +19,14 @@
 #include <vector>
 
 #include "palpa/core/error.hpp"
+#include "palpa/mesh/detail/cgal_mesh.hpp"
 
 namespace palpa::mesh::detail {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
-using Mesh = CGAL::Surface_mesh<Point>;
+using Kernel = CgalKernel;
+using Point = CgalPoint;
+using Mesh = CgalMesh;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -49,26 +50,6 @@ Mesh to_cgal(const SurfaceMesh& mesh) {
     }
   }
   return m;
-}
-
-SurfaceMesh from_cgal(const Mesh& m) {
-  SurfaceMesh out;
-  out.V.resize(static_cast<Eigen::Index>(m.number_of_vertices()), 3);
-  std::vector<int> index(m.num_vertices(), -1);
-  int next = 0;
-  for (const auto v : m.vertices()) {
-    const Point& p = m.point(v);
-    out.V.row(next) << p.x(), p.y(), p.z();
-    index[v] = next++;
-  }
-  out.F.resize(static_cast<Eigen::Index>(m.number_of_faces()), 3);
-  Eigen::Index f = 0;
-  for (const auto face : m.faces()) {
-    int k = 0;
-    for (const auto v : CGAL::vertices_around_face(m.halfedge(face), m)) out.F(f, k++) = index[v];
-    ++f;
-  }
-  return out;
 }
 
 Eigen::Vector3d to_eigen(const Point& p) { return {p.x(), p.y(), p.z()}; }
