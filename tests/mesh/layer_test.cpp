@@ -94,6 +94,11 @@ TEST(Layer, TheDistanceOffsetIsTheConcentricSphereAndFitsWhereNormalsFold) {
   const LayerMesh deep = make_layer(block, DepthSpec{0.018, std::nullopt}, std::nullopt, o);
   EXPECT_GT(distance_to_surface(deep.outer, deep.core.V).minCoeff(), 0.018 - 0.15 * kEdge);
   expect_sound(deep, o.quality);
+  // Clamping belongs to the normals offset only.
+  LayerOptions clamped = o;
+  clamped.clamp_depth = true;
+  EXPECT_TRUE(throws_error([&] { make_layer(block, DepthSpec{0.018, std::nullopt}, std::nullopt, clamped); },
+                           ErrorKind::Input, {"sphere.obj", "clamping", "distance offset"}));
   // No core is left when the body is nowhere thicker than twice the depth.
   EXPECT_TRUE(throws_error([&] { make_layer(block, DepthSpec{0.021, std::nullopt}, std::nullopt, o); },
                            ErrorKind::Input, {"sphere.obj", "no core is left"}));

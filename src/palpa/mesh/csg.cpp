@@ -115,9 +115,10 @@ NegativeImage negative_image(const SurfaceMesh& block, const SurfaceMesh& body,
     throw_input_error("the pressing direction is zero or not finite", where, "a direction such as gravity");
   }
   const Eigen::Vector3d d = o.down / down_norm;
-  if (!(o.press > 0.0) || !(o.edge_length > 0.0) || o.smoothing_rounds < 0 || !(o.smoothing_band >= 0.0)) {
-    throw_input_error("press depth, edge length and smoothing band must be positive", where,
-                      "press > 0, edge > 0, band ≥ 0, rounds ≥ 0");
+  if (!(o.press > 0.0) || !(o.edge_length > 0.0) || o.smoothing_rounds < 0 || !(o.smoothing_band >= 0.0) ||
+      !(o.clearance >= 0.0)) {
+    throw_input_error("press depth and edge length must be positive, smoothing band, rounds and clearance not negative",
+                      where, "press > 0, edge > 0, band ≥ 0, rounds ≥ 0, clearance ≥ 0");
   }
   // Heights measured against the pressing direction.
   const double block_top = (-block.V * d).maxCoeff();

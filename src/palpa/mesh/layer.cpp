@@ -179,10 +179,12 @@ Eigen::Index check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& n
       continue;
     }
     throw_input_error(
-        fmt::format("the layer depth {} at {} does not fit: the body is {} thick there along "
-                    "the inward normal, and the core needs at least two edge lengths ({}){}",
-                    length(depth(i)), format_point(p), length(thickness), length(core),
-                    clamp ? fmt::format(", less than two of the thinnest layers ({})", length(thinnest)) : ""),
+        clamp ? fmt::format("the layer at {} cannot be thinned to fit: the body is {} thick there along "
+                            "the inward normal, less than two of the thinnest layers ({})",
+                            format_point(p), length(thickness), length(thinnest))
+              : fmt::format("the layer depth {} at {} does not fit: the body is {} thick there along "
+                            "the inward normal, and the core needs at least two edge lengths ({})",
+                            length(depth(i)), format_point(p), length(thickness), length(core)),
         in_file(source),
         clamp ? "a body at least one edge length thick everywhere (a smaller edge length)"
               : "a depth smaller than the local thickness minus two edge lengths, or clamping");
@@ -307,6 +309,11 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
   stage("depth");
   const Eigen::MatrixX3d normals = geometry::vertex_normals(layer.outer);
   layer.depth = depth_field(layer.outer, depth, options);
+  if (options.clamp_depth && options.core_offset == CoreOffset::Distance) {
+    throw_input_error("depth clamping was asked for with the distance offset, which needs none (its core "
+                      "is simply absent where the body is thin)",
+                      in_file(options.source), "clamping with the normals offset only");
+  }
   if (options.core_offset == CoreOffset::Normals) {
     layer.depth_clamped =
         check_thickness(layer.outer, normals, layer.depth, edge, options.clamp_depth, options.source);

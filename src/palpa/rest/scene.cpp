@@ -211,11 +211,13 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
     place(m);
   } else if (const auto spheres = sp.find("spheres")) {
     const int level = sp.has("level") ? read_count(sp.at("level"), 1, 7) : 3;
+    double first_edge = 0.0;
     for (std::size_t i = 0; i < spheres->size(); ++i) {
       const JsonView si = spheres->at(i);
       si.expect_only({"centre", "radius"});
       const double r = read_positive(si.at("radius"), Dimension::Length);
       SurfaceMesh ball = sim3d::make_sphere(r, level);
+      if (i == 0) first_edge = mesh::mean_edge_length(ball);
       ball.V.col(2).array() -= r;
       ball.V.rowwise() += read_quantity3(si.at("centre"), Dimension::Length).transpose();
       // Overlapping spheres are joined into one solid (CSG union).
@@ -224,7 +226,7 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
     if (m.V.rows() == 0) spheres->fail("no sphere given", "at least one {\"centre\", \"radius\"}");
     // The union's seam is cut into slivers: remesh at the spheres' own edge
     // length before smoothing it (§7.3.2: CSG union, then Taubin smoothing).
-    if (spheres->size() > 1) m = mesh::remesh_surface(m, mesh::mean_edge_length(sim3d::make_sphere(read_positive(spheres->at(0).at("radius"), Dimension::Length), level)));
+    if (spheres->size() > 1) m = mesh::remesh_surface(m, first_edge);
     if (const auto sm = sp.find("smoothing")) mesh::taubin_smooth(m, read_count(*sm, 0, 1000));
     s.support_source = fmt::format("{} sphere(s)", spheres->size());
     place(m);
