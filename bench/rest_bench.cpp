@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
     palpa::rest::RestSimulation sim(scene.body, scene.support, scene.options);
     const palpa::rest::RestResult r = sim.solve();
     Eigen::SparseMatrix<double> H;
-    sim.system().hessian(sim.state(), H);
+    sim.system().hessian(sim.dofs(), H);
     palpa::SparseCholesky chol;
     chol.analyze(H);
     const double factor = palpa::bench::median_seconds([] {}, [&] { chol.factorize(H); });

@@ -14,6 +14,7 @@ void add_poke_command(CLI::App& app);
 void add_fit_command(CLI::App& app);
 void add_sim3d_command(CLI::App& app);
 void add_rest_command(CLI::App& app);
+void add_design_command(CLI::App& app);
 void add_mesh_command(CLI::App& app);
 void add_acquire_command(CLI::App& app);
 

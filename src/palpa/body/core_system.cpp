@@ -238,6 +238,30 @@ void CoreSystem::hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& 
   H.makeCompressed();
 }
 
+void CoreSystem::set_committed(const Committed& c) {
+  if (!c.rotation.allFinite() || !c.omega.allFinite() ||
+      (c.rotation.transpose() * c.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-9) {
+    throw Error(ErrorKind::Input, "a committed core pose must be a finite rotation and rotation vector");
+  }
+  rotation_ = c.rotation;
+  omega_committed_ = c.omega;
+}
+
+Eigen::VectorXd CoreSystem::pull_back(const Eigen::VectorXd& x, const Eigen::VectorXd& G) const {
+  const std::vector<int>& fd = full_->free_dofs();
+  Eigen::VectorXd gf(static_cast<Eigen::Index>(fd.size()));
+  for (std::size_t k = 0; k < fd.size(); ++k) gf[static_cast<Eigen::Index>(k)] = G[fd[k]];
+  return coupling(x).transpose() * gf;
+}
+
+Eigen::VectorXd CoreSystem::push_forward(const Eigen::VectorXd& x, const Eigen::VectorXd& z) const {
+  const std::vector<int>& fd = full_->free_dofs();
+  const Eigen::VectorXd zf = coupling(x) * z;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(3 * model_->num_vertices());
+  for (std::size_t k = 0; k < fd.size(); ++k) u[fd[k]] = zf[static_cast<Eigen::Index>(k)];
+  return u;
+}
+
 void CoreSystem::prepare(const Eigen::VectorXd& x) {
   rotation_ = core_rotation(x);
   omega_committed_ = omega_total(x);

@@ -79,6 +79,22 @@ class CoreSystem final : public System {
   Eigen::Matrix3d core_rotation(const Eigen::VectorXd& x) const;
   // The committed rotation R_c.
   const Eigen::Matrix3d& committed_rotation() const noexcept { return rotation_; }
+  // The committed pose (R_c, ω_c): with x it is the whole state of the system,
+  // so a state carried to another CoreSystem on the same body (a warm start)
+  // takes both.
+  struct Committed {
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
+  };
+  Committed committed() const { return {rotation_, omega_committed_}; }
+  void set_committed(const Committed& c);
+
+  // Chain rule through the coupling P(x) (3N vertex positions ← x):
+  // pull_back(x, G) = Pᵀ G for G ∂f/∂(positions) (3N, entries of vertices no
+  // tet uses ignored), the gradient of f over x; push_forward(x, z) = P z,
+  // the vertex displacements (3N) of a change z of x.
+  Eigen::VectorXd pull_back(const Eigen::VectorXd& x, const Eigen::VectorXd& G) const;
+  Eigen::VectorXd push_forward(const Eigen::VectorXd& x, const Eigen::VectorXd& z) const;
 
   // System
   Eigen::Index num_dofs() const override { return num_vertex_dofs() + num_core_dofs(); }

@@ -14,8 +14,11 @@ namespace palpa::rest {
 
 namespace {
 
-// A histogram of the positive values as a step line: x = bin edges [kPa].
-report::Series histogram(const std::string& label, const Eigen::VectorXd& v, double top, int bins) {
+Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
+
+}  // namespace
+
+report::Series pressure_histogram(const std::string& label, const Eigen::VectorXd& v, double top, int bins) {
   std::vector<double> counts(static_cast<std::size_t>(bins), 0.0);
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (!(v[i] > 0.0)) continue;
@@ -32,16 +35,8 @@ report::Series histogram(const std::string& label, const Eigen::VectorXd& v, dou
   return s;
 }
 
-Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
-
-}  // namespace
-
-Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene, const RestSimulation& sim,
-                        const RestResult& r) {
-  ensure_directory(out);
-  write_vtu(out / "body.vtu", sim.body_grid(r));
-  write_vtu(out / "support.vtu", sim.support_grid(r));
-  // The skin, compacted, with its pressures.
+void write_skin_ply(const std::filesystem::path& path, const RestSimulation& sim,
+                    const std::vector<std::pair<std::string, Eigen::VectorXd>>& fields) {
   const SurfaceMesh skin = sim.deformed_skin();
   std::vector<int> to_new(static_cast<std::size_t>(skin.V.rows()), -1);
   std::vector<int> used;
@@ -56,20 +51,35 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
   }
   SurfaceMesh compact;
   compact.V.resize(static_cast<Eigen::Index>(used.size()), 3);
-  Eigen::VectorXd pressure(static_cast<Eigen::Index>(used.size()));
-  for (std::size_t i = 0; i < used.size(); ++i) {
-    compact.V.row(static_cast<Eigen::Index>(i)) = skin.V.row(used[i]);
-    pressure[static_cast<Eigen::Index>(i)] = r.body_pressure[used[i]];
-  }
+  for (std::size_t i = 0; i < used.size(); ++i) compact.V.row(static_cast<Eigen::Index>(i)) = skin.V.row(used[i]);
   compact.F.resize(skin.F.rows(), 3);
   for (Eigen::Index f = 0; f < skin.F.rows(); ++f) {
     for (int c = 0; c < 3; ++c) compact.F(f, c) = to_new[static_cast<std::size_t>(skin.F(f, c))];
   }
-  write_ply(out / "skin.ply", compact, {.vertex_scalars = {{"pressure_Pa", pressure}}});
+  PlyWriteOptions options;
+  for (const auto& [name, values] : fields) {
+    Eigen::VectorXd v(static_cast<Eigen::Index>(used.size()));
+    for (std::size_t i = 0; i < used.size(); ++i) v[static_cast<Eigen::Index>(i)] = values[used[i]];
+    options.vertex_scalars.push_back({name, v});
+  }
+  write_ply(path, compact, options);
+}
+
+SurfaceMesh world_support(const RestSimulation& sim) {
   SurfaceMesh support;
   support.V.resize(sim.support().vertices().rows(), 3);
   for (Eigen::Index v = 0; v < support.V.rows(); ++v) support.V.row(v) = sim.support().world_vertex(static_cast<int>(v)).transpose();
   support.F = sim.support().triangles();
+  return support;
+}
+
+Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene, const RestSimulation& sim,
+                        const RestResult& r) {
+  ensure_directory(out);
+  write_vtu(out / "body.vtu", sim.body_grid(r));
+  write_vtu(out / "support.vtu", sim.support_grid(r));
+  write_skin_ply(out / "skin.ply", sim, {{"pressure_Pa", r.body_pressure}});
+  const SurfaceMesh support = world_support(sim);
   write_ply(out / "support.ply", support, {.vertex_scalars = {{"pressure_Pa", r.support_pressure}}});
 
   const double top = std::max({r.body_pressure.maxCoeff(), r.support_pressure.maxCoeff(), 1e-12});
@@ -77,8 +87,8 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
   plot.title = "contact pressure";
   plot.x.label = "pressure [kPa]";
   plot.y.label = "vertices";
-  plot.series.push_back(histogram("body", r.body_pressure, top, 20));
-  plot.series.push_back(histogram("support", r.support_pressure, top, 20));
+  plot.series.push_back(pressure_histogram("body", r.body_pressure, top, 20));
+  plot.series.push_back(pressure_histogram("support", r.support_pressure, top, 20));
   report::Figure fig;
   fig.plots.push_back(plot);
   report::write_svg(out / "pressure_histogram.svg", fig);

@@ -178,7 +178,8 @@ RestResult RestSimulation::solve() {
       break;
     }
     // The last solve always runs with the spring areas it ends with.
-    const bool areas_changed = area_updates < kMaxAreaUpdates && term_->update_areas(kAreaTolerance) > 0.0;
+    const bool areas_changed =
+        options_.update_areas && area_updates < kMaxAreaUpdates && term_->update_areas(kAreaTolerance) > 0.0;
     if (areas_changed) ++area_updates;
     if (k_ok && !areas_changed) break;
     if (!k_ok) {
@@ -210,10 +211,24 @@ RestResult RestSimulation::solve() {
   r.body_pressure = term_->pressures(p);
   r.min_det_f = model_->min_jacobian(system_->full_displacement(x_));
 
-  // The support's side: its vertices against the deformed body (skin and core
-  // shells bound the layer). A support vertex at depth δ carries the pressure
-  // of a body vertex at that depth, 2kδ/Ā (the body's springs are k·A/Ā), so
-  // both sides show the same pressure field.
+  // The support's side: its vertices against the deformed body. A support
+  // vertex at depth δ carries the pressure of a body vertex at that depth,
+  // 2kδ/Ā (the body's springs are k·A/Ā), so both sides show the same
+  // pressure field.
+  r.support_pressure = Eigen::VectorXd::Zero(support_->vertices().rows());
+  for (const ReverseContact& rc : reverse_contacts()) {
+    r.support_pressure[rc.support_vertex] = 2.0 * r.stiffness * rc.closest.distance / mean_area_;
+    ++r.support_contacts;
+  }
+  r.detection_seconds = term_->detection_seconds();
+  r.seconds = seconds_since(t0);
+  return r;
+}
+
+std::vector<ReverseContact> RestSimulation::reverse_contacts() const {
+  // The deformed boundary (skin and core shells bound the layer) as an
+  // obstacle, its vertices renumbered.
+  const Eigen::VectorXd p = system_->positions(x_);
   std::vector<int> to_compact(static_cast<std::size_t>(model_->num_vertices()), -1);
   std::vector<int> used;
   for (Eigen::Index fi = 0; fi < boundary_faces_.rows(); ++fi) {
@@ -235,23 +250,45 @@ RestResult RestSimulation::solve() {
   contact::ObstacleOptions oo;
   oo.check_self_intersections = false;
   const contact::Obstacle body_surface(deformed, "the deformed body surface", oo);
-  const Eigen::MatrixX3d& sv = support_->vertices();
-  r.support_pressure = Eigen::VectorXd::Zero(sv.rows());
-  for (Eigen::Index v = 0; v < sv.rows(); ++v) {
-    contact::ClosestPoint cp;
-    if (!body_surface.penetration(support_->world_vertex(static_cast<int>(v)), cp) || !cp.inside) continue;
+  std::vector<ReverseContact> out;
+  for (Eigen::Index v = 0; v < support_->vertices().rows(); ++v) {
+    ReverseContact c;
+    if (!body_surface.penetration(support_->world_vertex(static_cast<int>(v)), c.closest) || !c.closest.inside) continue;
     double area = 0.0;
-    for (int k = 0; k < contact::feature_size(cp.feature); ++k) {
-      area += cp.weights[k] * body_area_[used[static_cast<std::size_t>(cp.vertices[static_cast<std::size_t>(k)])]];
+    for (int k = 0; k < contact::feature_size(c.closest.feature); ++k) {
+      int& b = c.closest.vertices[static_cast<std::size_t>(k)];
+      b = used[static_cast<std::size_t>(b)];
+      area += c.closest.weights[k] * body_area_[b];
     }
     if (!(area > 0.0)) continue;  // against the core shell: not a skin contact
-    // The body's springs are k·A/Ā: the pressure at depth δ is 2kδ/Ā.
-    r.support_pressure[v] = 2.0 * r.stiffness * cp.distance / mean_area_;
-    ++r.support_contacts;
+    c.support_vertex = static_cast<int>(v);
+    out.push_back(c);
   }
-  r.detection_seconds = term_->detection_seconds();
-  r.seconds = seconds_since(t0);
-  return r;
+  return out;
+}
+
+RestState RestSimulation::state() const {
+  RestState s;
+  s.x = x_;
+  s.core = system_->committed();
+  s.spring_areas = term_->spring_area();
+  s.stiffness = term_->stiffness();
+  return s;
+}
+
+void RestSimulation::restore(const RestState& s) {
+  if (s.x.size() != x_.size() || !s.x.allFinite()) {
+    throw Error(ErrorKind::Input, fmt::format("a saved state has {} DOFs for a body with {}", s.x.size(), x_.size()));
+  }
+  term_->set_areas(s.spring_areas);
+  term_->set_stiffness(s.stiffness);
+  system_->set_committed(s.core);
+  x_ = s.x;
+}
+
+void RestSimulation::set_support_vertices(const Eigen::MatrixX3d& V) {
+  support_->set_vertices(V, false);
+  support_area_ = contact::vertex_areas(support_->vertices(), support_->triangles());
 }
 
 UnstructuredGrid RestSimulation::body_grid(const RestResult& r) const {

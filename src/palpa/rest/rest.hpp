@@ -50,6 +50,10 @@ struct RestOptions {
   int max_iterations = 300;
   double force_tolerance = 0.0;      // [N]; 0: 1e-6 of the load over the surface vertices
   double regularization = 1e4;       // α [1/s²] before landing
+  // Spring areas follow the contact between solves (sim3d/contact_term.hpp).
+  // Off: they stay as they are, so the equilibrium is one smooth function of
+  // the support's shape (shape optimization).
+  bool update_areas = true;
   std::string support_name = "support";
 };
 
@@ -75,6 +79,23 @@ struct RestResult {
   std::string message;
 };
 
+// A support vertex inside the deformed body (the reverse query): its closest
+// point on the body's boundary, whose `vertices` are rows of the body's tet
+// mesh.
+struct ReverseContact {
+  int support_vertex = -1;
+  contact::ClosestPoint closest;
+};
+
+// Everything a solve starts from: with the same body and support it restores
+// a simulation exactly (a warm start, a checkpoint).
+struct RestState {
+  Eigen::VectorXd x;                   // CoreSystem DOFs
+  body::CoreSystem::Committed core;    // committed core pose
+  std::vector<double> spring_areas;    // per body vertex [m²]
+  double stiffness = 0.0;              // k [N/m]
+};
+
 class RestSimulation {
  public:
   // support: closed surface in world coordinates. Throws palpa::Error (Input)
@@ -92,9 +113,31 @@ class RestSimulation {
 
   const tet::ElasticModel& model() const noexcept { return *model_; }
   body::CoreSystem& system() noexcept { return *system_; }
+  const body::CoreSystem& system() const noexcept { return *system_; }
   const contact::Obstacle& support() const noexcept { return *support_; }
-  const Eigen::VectorXd& state() const noexcept { return x_; }
+  const Eigen::VectorXd& dofs() const noexcept { return x_; }
+  const sim3d::RigidContactTerm& contact_term() const noexcept { return *term_; }
+  NewtonSolver& newton() noexcept { return *newton_; }
   const std::vector<int>& surface_vertices() const noexcept { return surface_; }
+  const Eigen::MatrixX3i& boundary_faces() const noexcept { return boundary_faces_; }
+  const Eigen::VectorXd& skin_area() const noexcept { return body_area_; }  // per body vertex [m²]
+
+  RestState state() const;
+  // Throws palpa::Error (Input) for a state of another body.
+  void restore(const RestState& s);
+  // Moves the support's vertices (world [m], same triangles and count); the
+  // next solve starts from the current state.
+  void set_support_vertices(const Eigen::MatrixX3d& V);
+  // Keeps k and the spring areas as they are in later solves (no automatic
+  // correction, no area updates): the equilibrium becomes one smooth function
+  // of the support's shape.
+  void freeze_contact_model() noexcept {
+    automatic_ = false;
+    options_.update_areas = false;
+  }
+  // The support's vertices inside the deformed body at the current state,
+  // against its skin (not its core shells).
+  std::vector<ReverseContact> reverse_contacts() const;
   const Eigen::MatrixX3i& surface_faces() const noexcept { return surface_faces_; }  // outer skin, tet-mesh rows
 
   // The deformed body (tets, point data displacement_m, contact_force_N,

@@ -264,11 +264,14 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
 
 }  // namespace
 
-RestScene read_rest_scene(const fs::path& path) {
+RestScene read_rest_scene(const fs::path& path, const std::string& version_key,
+                          const std::vector<std::string>& extra_keys) {
   const Json doc = read_json_file(path);
   const JsonView root(doc, path.string());
-  root.expect_only({"palpa_rest", "body", "core", "support", "gravity", "contact", "solver"});
-  if (root.at("palpa_rest").as_integer() != 1) root.at("palpa_rest").fail("unsupported version", "1");
+  std::vector<std::string> keys{version_key, "body", "core", "support", "gravity", "contact", "solver"};
+  keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+  root.expect_only(keys);
+  if (root.at(version_key).as_integer() != 1) root.at(version_key).fail("unsupported version", "1");
   RestScene s;
   s.file = path;
   RestOptions& o = s.options;

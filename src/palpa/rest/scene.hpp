@@ -55,6 +55,10 @@ struct RestScene {
 
 // Reads a scene and builds the body (meshing a surface with mesh::make_layer
 // when asked). Throws palpa::Error (Input) naming the file and field.
-RestScene read_rest_scene(const std::filesystem::path& path);
+// version_key: the member holding the format version ("palpa_rest"; a
+// design scene is a rest scene under "palpa_design"); extra_keys: further
+// top-level members the caller reads itself.
+RestScene read_rest_scene(const std::filesystem::path& path, const std::string& version_key = "palpa_rest",
+                          const std::vector<std::string>& extra_keys = {});
 
 }  // namespace palpa::rest

@@ -1,0 +1,102 @@
+// palpa design: the support shape whose contact pressures are lowest and most
+// even (ergonomic shape optimization).
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/design/optimizer.hpp"
+#include "palpa/design/output.hpp"
+#include "palpa/design/scene.hpp"
+
+namespace palpa::cli {
+
+namespace {
+
+struct DesignArgs {
+  std::string scene;
+  std::string output;
+  bool overwrite = false;
+  bool resume = false;
+  int iterations = -1;
+  int threads = -1;
+};
+
+void run_design_command(const DesignArgs& a) {
+  const std::filesystem::path out = a.output;
+  const std::filesystem::path checkpoint = out / "checkpoint.json";
+  if (a.resume) {
+    if (!std::filesystem::exists(checkpoint)) {
+      throw_input_error(fmt::format("nothing to resume: '{}' does not exist", checkpoint.string()),
+                        ErrorContext{checkpoint.string(), 0, 0, "option --resume"},
+                        "the output folder of an interrupted palpa design run");
+    }
+  } else if (!a.overwrite) {
+    require_empty_output(out, "design run");
+  }
+  design::DesignScene scene = design::read_design_scene(a.scene);
+  if (a.iterations >= 0) scene.options.max_iterations = a.iterations;
+  if (a.threads >= 0) scene.options.threads = a.threads;
+  scene.options.checkpoint = checkpoint;
+  scene.options.resume = a.resume;
+  if (!a.resume) {
+    std::error_code ec;
+    std::filesystem::remove(checkpoint, ec);
+  }
+  std::filesystem::create_directories(out);
+  spdlog::info("design: {}: body from {} ({} vertices, {} tetrahedra), support {} ({} vertices), {}", a.scene,
+               scene.rest.body_source, scene.rest.body.mesh.V.rows(), scene.rest.body.mesh.T.rows(),
+               scene.rest.support_source, scene.rest.support.V.rows(), scene.region);
+  design::ShapeOptimizer optimizer(scene.rest.body, scene.rest.support, scene.rest.options, scene.design_vertices,
+                                   scene.options);
+  spdlog::info("design: initial shape: ζ = {:.6g}, γ = {:.4g}, φ = {:.6g}; {} design variables",
+               optimizer.initial().zeta, optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
+  design::DesignResult r;
+  try {
+    r = optimizer.run();
+  } catch (const Error& e) {
+    if (e.kind() == ErrorKind::Interrupted) {
+      spdlog::warn("design: interrupted; the last finished iteration is in {}: continue with --resume",
+                   checkpoint.string());
+    }
+    throw;
+  }
+  const Json s = design::write_design_outputs(out, scene, optimizer, r);
+  spdlog::info("design: ζ {:.6g} → {:.6g} ({:.1f}% lower), peak pressure {:.3g} → {:.3g} kPa (body), max penetration "
+               "{:.3g} mm, {} iterations, {} equilibria, {:.1f} s ({}); wrote {}",
+               r.initial.zeta, r.final.zeta, s["zeta_reduction_percent"].get<double>(),
+               r.initial.score.body_pressure.maxCoeff() * 1e-3, r.final.score.body_pressure.maxCoeff() * 1e-3,
+               r.final.rest.max_penetration * 1e3, r.iterations, r.evaluations, r.seconds, r.stop_reason,
+               out.string());
+}
+
+}  // namespace
+
+void add_design_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "design",
+      "Optimize the shape of a support so that the contact pressures of a body resting on it are low and even "
+      "(ergonomic score, adjoint gradients, nonlinear CG).\n"
+      "  palpa design examples/design/thigh/scene.json -o thigh-design\n"
+      "  palpa design examples/design/thigh/scene.json -o thigh-design --resume");
+  auto a = std::make_shared<DesignArgs>();
+  cmd->add_option("scene", a->scene, "Design scene (JSON: a rest scene under \"palpa_design\" with a \"design\" block)")
+      ->required();
+  cmd->add_option("-o,--output", a->output,
+                  "Output folder (support.obj, support_mm.stl, support/body/skin before and after, score.svg, "
+                  "pressure_histogram.svg, summary.json, checkpoint.json)")
+      ->required();
+  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder (starts afresh)");
+  cmd->add_flag("--resume", a->resume, "Continue an interrupted run from the output folder's checkpoint.json");
+  cmd->add_option("--iterations", a->iterations, "Iteration limit (overrides the scene's design.iterations)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", a->threads, "Equilibria solved at once (0: min(step lengths, cores))")
+      ->check(CLI::NonNegativeNumber);
+  cmd->callback([a] { run_design_command(*a); });
+}
+
+}  // namespace palpa::cli

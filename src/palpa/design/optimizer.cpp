@@ -1,0 +1,434 @@
+#include "palpa/design/optimizer.hpp"
+
+#include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <random>
+#include <thread>
+
+#include "palpa/contact/contact.hpp"
+#include "palpa/contact/penalty.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/core/interrupt.hpp"
+#include "palpa/core/json.hpp"
+#include "palpa/mesh/csg.hpp"
+
+namespace palpa::design {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+constexpr int kCheckpointVersion = 1;
+
+Json to_json(const Eigen::VectorXd& v) { return Json(std::vector<double>(v.data(), v.data() + v.size())); }
+
+Eigen::VectorXd vector_of(const JsonView& j, Eigen::Index expected) {
+  const std::vector<double> v = j.as_number_array();
+  if (static_cast<Eigen::Index>(v.size()) != expected) {
+    j.fail(fmt::format("{} values", v.size()), fmt::format("{} (the checkpoint is of another design)", expected));
+  }
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), expected);
+}
+
+Json state_json(const rest::RestState& s) {
+  const Eigen::Map<const Eigen::VectorXd> R(s.core.rotation.data(), 9);
+  return {{"x", to_json(s.x)},
+          {"rotation", to_json(R)},
+          {"omega", to_json(s.core.omega)},
+          {"spring_areas", s.spring_areas},
+          {"stiffness", s.stiffness}};
+}
+
+rest::RestState state_of(const JsonView& j, const rest::RestState& like) {
+  rest::RestState s;
+  s.x = vector_of(j.at("x"), like.x.size());
+  const Eigen::VectorXd R = vector_of(j.at("rotation"), 9);
+  s.core.rotation = Eigen::Map<const Eigen::Matrix3d>(R.data());
+  s.core.omega = vector_of(j.at("omega"), 3);
+  const Eigen::VectorXd a = vector_of(j.at("spring_areas"), static_cast<Eigen::Index>(like.spring_areas.size()));
+  s.spring_areas.assign(a.data(), a.data() + a.size());
+  s.stiffness = j.at("stiffness").as_number();
+  return s;
+}
+
+Json record_json(const IterationRecord& r) {
+  return {{"iteration", r.iteration}, {"phi", r.phi},   {"zeta", r.zeta},         {"psi", r.psi},
+          {"move_m", r.move},         {"evaluations", r.evaluations}, {"restarted", r.restarted},
+          {"seconds", r.seconds}};
+}
+
+IterationRecord record_of(const JsonView& j) {
+  IterationRecord r;
+  r.iteration = static_cast<int>(j.at("iteration").as_integer());
+  r.phi = j.at("phi").as_number();
+  r.zeta = j.at("zeta").as_number();
+  r.psi = j.at("psi").as_number();
+  r.move = j.at("move_m").as_number();
+  r.evaluations = static_cast<int>(j.at("evaluations").as_integer());
+  r.restarted = j.at("restarted").as_bool();
+  r.seconds = j.at("seconds").as_number();
+  return r;
+}
+
+// Area-weighted unit vertex normals.
+Eigen::MatrixX3d vertex_normals(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+  Eigen::MatrixX3d N = Eigen::MatrixX3d::Zero(V.rows(), 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();
+    for (int k = 0; k < 3; ++k) N.row(F(f, k)) += n;
+  }
+  for (Eigen::Index v = 0; v < N.rows(); ++v) {
+    const double len = N.row(v).norm();
+    if (len > 0.0) N.row(v) /= len;
+  }
+  return N;
+}
+
+}  // namespace
+
+DesignSpace::DesignSpace(const Eigen::MatrixX3d& X0, const Eigen::MatrixX3i& F, std::vector<int> vertices,
+                         bool normal_only)
+    : X0_(X0), normals_(vertex_normals(X0, F)), vertices_(std::move(vertices)), normal_only_(normal_only) {
+  if (vertices_.empty()) {
+    throw Error(ErrorKind::Input, "the design region holds no support vertex: nothing to optimize",
+                {}, "a region around the contact");
+  }
+  for (int v : vertices_) {
+    if (v < 0 || v >= X0_.rows()) {
+      throw Error(ErrorKind::Input, fmt::format("design vertex {} is not a support vertex (0…{})", v, X0_.rows() - 1));
+    }
+  }
+}
+
+Eigen::MatrixX3d DesignSpace::moves(const Eigen::VectorXd& d) const {
+  Eigen::MatrixX3d M = Eigen::MatrixX3d::Zero(X0_.rows(), 3);
+  for (std::size_t i = 0; i < vertices_.size(); ++i) {
+    const int v = vertices_[i];
+    const auto k = static_cast<Eigen::Index>(i);
+    M.row(v) = normal_only_ ? Eigen::RowVector3d(d[k] * normals_.row(v)) : Eigen::RowVector3d(d.segment<3>(3 * k).transpose());
+  }
+  return M;
+}
+
+Eigen::MatrixX3d DesignSpace::shape(const Eigen::VectorXd& theta) const { return X0_ + moves(theta); }
+
+Eigen::VectorXd DesignSpace::restrict(const Eigen::MatrixX3d& G) const {
+  Eigen::VectorXd g(size());
+  for (std::size_t i = 0; i < vertices_.size(); ++i) {
+    const int v = vertices_[i];
+    const auto k = static_cast<Eigen::Index>(i);
+    if (normal_only_) {
+      g[k] = G.row(v).dot(normals_.row(v));
+    } else {
+      g.segment<3>(3 * k) = G.row(v).transpose();
+    }
+  }
+  return g;
+}
+
+double DesignSpace::max_move(const Eigen::VectorXd& d) const {
+  if (normal_only_) return d.size() ? d.cwiseAbs().maxCoeff() : 0.0;
+  double m = 0.0;
+  for (Eigen::Index k = 0; k < d.size() / 3; ++k) m = std::max(m, d.segment<3>(3 * k).norm());
+  return m;
+}
+
+ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& support, const rest::RestOptions& rest,
+                               std::vector<int> design_vertices, DesignOptions options)
+    : options_(std::move(options)) {
+  if (options_.moves.empty()) throw Error(ErrorKind::Input, "no step lengths to try");
+  for (double m : options_.moves) {
+    if (!(m > 0.0) || !std::isfinite(m)) {
+      throw Error(ErrorKind::Input, fmt::format("step lengths must be finite and > 0 m, got {}", m));
+    }
+  }
+  if (options_.max_iterations < 0) throw Error(ErrorKind::Input, "the iteration limit must be ≥ 0");
+  int threads = options_.threads;
+  if (threads <= 0) {
+    threads = static_cast<int>(std::min<std::size_t>(options_.moves.size(),
+                                                     std::max(1u, std::thread::hardware_concurrency())));
+  }
+  threads = std::min(threads, static_cast<int>(options_.moves.size()));
+
+  // The initial equilibrium, with the automatic contact stiffness.
+  const auto t0 = Clock::now();
+  sims_.push_back(std::make_unique<rest::RestSimulation>(body, support, rest));
+  rest::RestSimulation& first = *sims_.front();
+  const rest::RestResult r0 = first.solve();
+  equilibrium_seconds_ = seconds_since(t0);
+  first.freeze_contact_model();
+  const rest::RestState s0 = first.state();
+  rest::RestOptions frozen = rest;
+  frozen.stiffness = r0.stiffness;
+  frozen.update_areas = false;
+  for (int i = 1; i < threads; ++i) {
+    sims_.push_back(std::make_unique<rest::RestSimulation>(body, support, frozen));
+    sims_.back()->freeze_contact_model();
+  }
+
+  const Eigen::MatrixX3d X0 = first.support().vertices();
+  const Eigen::MatrixX3i& F = first.support().triangles();
+  space_ = std::make_unique<DesignSpace>(X0, F, std::move(design_vertices), options_.normal_only);
+  score_ = std::make_unique<ErgonomicScore>(first, options_.score);
+  smoothness_ = std::make_unique<Smoothness>(F, X0.rows(), space_->vertices(), options_.taubin_iterations);
+
+  // γ: γψ = ζ on the initial shape, times 10^j.
+  const double zeta0 = score_->evaluate(first, false).zeta;
+  double psi0 = smoothness_->evaluate(X0);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> noise(-1e-4, 1e-4);
+  Eigen::VectorXd rough(space_->size());
+  for (Eigen::Index i = 0; i < rough.size(); ++i) rough[i] = noise(rng);
+  const double psi_ref = smoothness_->evaluate(space_->shape(rough));
+  if (psi0 < 1e-3 * psi_ref) psi0 = psi_ref;
+  if (options_.gamma) {
+    if (!(*options_.gamma >= 0.0) || !std::isfinite(*options_.gamma)) {
+      throw Error(ErrorKind::Input, fmt::format("the smoothing strength γ must be finite and ≥ 0, got {}", *options_.gamma));
+    }
+    gamma_ = *options_.gamma;
+  } else {
+    gamma_ = psi0 > 0.0 ? std::pow(10.0, options_.smoothing_exponent) * zeta0 / psi0 : 0.0;
+  }
+  initial_ = evaluate(X0, s0, true, 0);
+  if (!initial_.ok) throw Error(ErrorKind::Solver, "the initial shape: " + initial_.failure);
+}
+
+ShapeOptimizer::~ShapeOptimizer() = default;
+
+Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestState& warm, bool gradient, int slot) {
+  const auto t0 = Clock::now();
+  rest::RestSimulation& sim = *sims_[static_cast<std::size_t>(slot)];
+  Evaluation ev;
+  ev.support = X;
+  sim.restore(warm);
+  sim.set_support_vertices(X);
+  try {
+    ev.rest = sim.solve();
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Solver) throw;
+    ev.failure = e.what();
+    ev.seconds = seconds_since(t0);
+    return ev;
+  }
+  ev.state = sim.state();
+  ev.score = score_->evaluate(sim, gradient);
+  ev.zeta = ev.score.zeta;
+  Eigen::MatrixX3d dpsi;
+  ev.psi = smoothness_->evaluate(X, gradient ? &dpsi : nullptr);
+  ev.phi = ev.zeta + gamma_ * ev.psi;
+  ev.ok = std::isfinite(ev.phi);
+  if (!ev.ok) ev.failure = "the score is not finite";
+  if (gradient && ev.ok) {
+    const auto ta = Clock::now();
+    body::CoreSystem& system = sim.system();
+    const Eigen::VectorXd& x = sim.dofs();
+    const FactorStatus st = sim.newton().factor_hessian(system, x);
+    if (st != FactorStatus::Ok) {
+      ev.ok = false;
+      ev.failure = fmt::format("the equilibrium's Hessian could not be factored for the adjoint ({})", to_string(st));
+    } else {
+      const Eigen::VectorXd z = sim.newton().factorization().solve(system.pull_back(x, ev.score.d_body));
+      const Eigen::VectorXd w = system.push_forward(x, z);
+      const Eigen::VectorXd Y = system.positions(x);
+      const sim3d::RigidContactTerm& term = sim.contact_term();
+      ev.gradient = ev.score.d_support + gamma_ * dpsi;
+      for (const contact::Contact& c : term.contacts().contacts()) {
+        const contact::FeatureGeometry g = contact::feature_geometry(sim.support(), c.closest);
+        const contact::Matrix12d H = contact::penalty_hessian_full(
+            Y.segment<3>(3 * c.point), g, term.contacts().stiffness_of(c, term.stiffness()));
+        const Eigen::Vector3d wc = w.segment<3>(3 * c.point);
+        for (int i = 0; i < g.m; ++i) {
+          ev.gradient.row(c.closest.vertices[static_cast<std::size_t>(i)]) -=
+              (H.block<3, 3>(3 * (i + 1), 0) * wc).transpose();
+        }
+      }
+    }
+    ev.adjoint_seconds = seconds_since(ta);
+  }
+  ev.seconds = seconds_since(t0);
+  return ev;
+}
+
+std::vector<Evaluation> ShapeOptimizer::evaluate_all(const std::vector<Eigen::MatrixX3d>& shapes,
+                                                     const rest::RestState& warm) {
+  std::vector<Evaluation> out(shapes.size());
+  const int slots = static_cast<int>(sims_.size());
+  tbb::parallel_for(0, slots, [&](int s) {
+    for (std::size_t i = static_cast<std::size_t>(s); i < shapes.size(); i += static_cast<std::size_t>(slots)) {
+      out[i] = evaluate(shapes[i], warm, true, s);
+    }
+  });
+  return out;
+}
+
+DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&)>& progress) {
+  const auto t0 = Clock::now();
+  DesignResult result;
+  result.initial = initial_;
+  result.gamma = gamma_;
+  result.equilibrium_seconds = equilibrium_seconds_;
+  result.evaluations = 1;
+  result.newton_iterations = initial_.rest.newton_iterations;
+
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(space_->size());
+  Evaluation base = initial_;
+  Eigen::VectorXd g = space_->restrict(base.gradient);
+  Eigen::VectorXd d = -g;
+  bool steepest = true;
+  int first = 1;
+
+  if (options_.resume) {
+    if (options_.checkpoint.empty()) throw Error(ErrorKind::Input, "--resume needs a checkpoint file");
+    const Json doc = read_json_file(options_.checkpoint);
+    const JsonView j(doc, options_.checkpoint.string());
+    if (j.at("palpa_design_checkpoint").as_integer() != kCheckpointVersion) {
+      j.at("palpa_design_checkpoint").fail("unsupported version", std::to_string(kCheckpointVersion));
+    }
+    const double saved_gamma = j.at("gamma").as_number();
+    if (std::abs(saved_gamma - gamma_) > 1e-9 * std::max(std::abs(gamma_), 1e-300)) {
+      j.at("gamma").fail(fmt::format("γ = {:.6g} differs from this scene's {:.6g}", saved_gamma, gamma_),
+                         "a checkpoint of the same scene and options");
+    }
+    theta = vector_of(j.at("theta"), space_->size());
+    d = vector_of(j.at("direction"), space_->size());
+    g = vector_of(j.at("gradient"), space_->size());
+    steepest = j.at("steepest").as_bool();
+    base.state = state_of(j.at("state"), initial_.state);
+    base.support = space_->shape(theta);
+    base.phi = j.at("phi").as_number();
+    base.zeta = j.at("zeta").as_number();
+    base.psi = j.at("psi").as_number();
+    const JsonView h = j.at("history");
+    for (std::size_t i = 0; i < h.size(); ++i) result.history.push_back(record_of(h.at(i)));
+    result.evaluations = static_cast<int>(j.at("evaluations").as_integer());
+    result.newton_iterations = static_cast<int>(j.at("newton_iterations").as_integer());
+    first = static_cast<int>(j.at("iteration").as_integer()) + 1;
+    result.resumed = true;
+    spdlog::info("design: resuming after iteration {} (φ = {:.6g})", first - 1, base.phi);
+  }
+
+  auto save = [&](int iteration) {
+    if (options_.checkpoint.empty()) return;
+    Json hist = Json::array();
+    for (const IterationRecord& r : result.history) hist.push_back(record_json(r));
+    const Json j = {{"palpa_design_checkpoint", kCheckpointVersion},
+                    {"iteration", iteration},
+                    {"gamma", gamma_},
+                    {"theta", to_json(theta)},
+                    {"direction", to_json(d)},
+                    {"gradient", to_json(g)},
+                    {"steepest", steepest},
+                    {"phi", base.phi},
+                    {"zeta", base.zeta},
+                    {"psi", base.psi},
+                    {"state", state_json(base.state)},
+                    {"history", hist},
+                    {"evaluations", result.evaluations},
+                    {"newton_iterations", result.newton_iterations}};
+    write_json_file(options_.checkpoint, j);
+  };
+
+  result.stop_reason = fmt::format("the iteration limit ({})", options_.max_iterations);
+  int iteration = first - 1;
+  for (int it = first; it <= options_.max_iterations; ++it) {
+    check_interrupt();
+    const auto ti = Clock::now();
+    IterationRecord rec;
+    rec.iteration = it;
+    int best = -1;
+    std::vector<Evaluation> trials;
+    Eigen::VectorXd step;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      if (g.dot(d) >= 0.0 && !steepest) {
+        d = -g;
+        steepest = true;
+        rec.restarted = true;
+      }
+      const double m = space_->max_move(d);
+      if (!(m > 0.0)) break;
+      std::vector<Eigen::MatrixX3d> shapes;
+      std::vector<Eigen::VectorXd> steps;
+      for (double move : options_.moves) {
+        steps.push_back(theta + (move / m) * d);
+        shapes.push_back(space_->shape(steps.back()));
+      }
+      trials = evaluate_all(shapes, base.state);
+      rec.evaluations += static_cast<int>(trials.size());
+      result.evaluations += static_cast<int>(trials.size());
+      for (std::size_t i = 0; i < trials.size(); ++i) {
+        if (trials[i].ok) result.newton_iterations += trials[i].rest.newton_iterations;
+        if (trials[i].ok && trials[i].phi < base.phi && (best < 0 || trials[i].phi < trials[static_cast<std::size_t>(best)].phi)) {
+          best = static_cast<int>(i);
+        }
+      }
+      if (best >= 0) {
+        step = steps[static_cast<std::size_t>(best)];
+        rec.move = options_.moves[static_cast<std::size_t>(best)];
+        break;
+      }
+      if (steepest) break;
+      d = -g;
+      steepest = true;
+      rec.restarted = true;
+    }
+    if (best < 0) {
+      result.stop_reason = space_->max_move(d) > 0.0 ? "no step length lowers φ along the steepest descent"
+                                                     : "the gradient vanishes";
+      break;
+    }
+    Evaluation& next = trials[static_cast<std::size_t>(best)];
+    const Eigen::VectorXd g_next = space_->restrict(next.gradient);
+    const double beta = std::max(0.0, g_next.dot(g_next - g) / std::max(g.squaredNorm(), 1e-300));
+    d = -g_next + beta * d;
+    steepest = beta == 0.0;
+    g = g_next;
+    theta = step;
+    const double decrease = base.phi - next.phi;
+    const double previous = base.phi;
+    base = std::move(next);
+    rec.phi = base.phi;
+    rec.zeta = base.zeta;
+    rec.psi = base.psi;
+    rec.seconds = seconds_since(ti);
+    result.history.push_back(rec);
+    iteration = it;
+    save(it);
+    spdlog::info("design: iteration {}: φ = {:.6g} (ζ = {:.6g}, γψ = {:.3g}), step {:.3g} mm, {} equilibria, {:.1f} s",
+                 it, base.phi, base.zeta, gamma_ * base.psi, rec.move * 1e3, rec.evaluations, rec.seconds);
+    if (progress) progress(rec);
+    if (decrease < options_.min_relative_decrease * std::abs(previous)) {
+      result.stop_reason = fmt::format("φ fell by less than {:.3g} of itself", options_.min_relative_decrease);
+      break;
+    }
+  }
+  result.iterations = iteration;
+
+  // The optimized shape, solved once more so that simulation 0 holds it.
+  result.final = evaluate(base.support, base.state, false, 0);
+  ++result.evaluations;
+  if (!result.final.ok) throw Error(ErrorKind::Solver, "the optimized shape: " + result.final.failure);
+  if (options_.post_smoothing > 0) {
+    SurfaceMesh m{base.support, sims_.front()->support().triangles()};
+    std::vector<bool> movable(static_cast<std::size_t>(m.V.rows()), false);
+    for (int v : space_->vertices()) movable[static_cast<std::size_t>(v)] = true;
+    mesh::taubin_smooth(m, options_.post_smoothing, &movable);
+    Evaluation smoothed = evaluate(m.V, base.state, false, 0);
+    ++result.evaluations;
+    if (!smoothed.ok) throw Error(ErrorKind::Solver, "the post-smoothed shape: " + smoothed.failure);
+    result.before_post_smoothing = std::move(result.final);
+    result.final = std::move(smoothed);
+  }
+  result.seconds = seconds_since(t0);
+  return result;
+}
+
+}  // namespace palpa::design

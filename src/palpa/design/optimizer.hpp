@@ -1,0 +1,167 @@
+#pragma once
+// Ergonomic shape optimization of a rigid support (thesis §7.4).
+//
+// Objective. φ(X) = ζ(X) + γ ψ(X) (7.15): the ergonomic score of the resting
+// equilibrium on the support X and the smoothness of X (design/score.hpp). γ
+// is set so that γψ = ζ on the initial shape, times 10^j (j the user's
+// smoothing exponent; the thesis explores j ∈ −4…4). When the initial design
+// region is already smooth (ψ below 1e-12 of its squared size), ψ of a
+// reference roughness — the region moved by 0.1 mm of seeded random noise
+// along its normals — stands in for it.
+//
+// The contact model is frozen after the initial equilibrium: the penalty
+// stiffness k (chosen there for the target penetration) and the spring areas
+// stay as they are, so φ is one smooth function of X between changes of the
+// contact set.
+//
+// Gradient (7.17–7.20), one extra linear solve per gradient. At the
+// equilibrium y(X) of the CoreSystem (body/core_system.hpp) g(y, X) = 0, so
+//   dφ/dX = ∂ζ/∂X + γ ∂ψ/∂X − (∂g/∂X)ᵀ z,   K z = Pᵀ ∂ζ/∂Y,
+// K the true Hessian at the equilibrium (NewtonSolver::factor_hessian, the
+// analysis of the Newton solves reused), P the coupling of y to the body's
+// vertex positions Y, and ∂g/∂X the mixed second derivatives of the penalty
+// contacts, ∂²E/∂p∂q (contact/penalty.hpp), applied to w = P z.
+//
+// Design variables θ: the positions of the design vertices (a region of the
+// support), either free in 3D (3 per vertex) or only along their initial
+// normals (1 per vertex, so the outline stays put). X = X0 + B θ.
+//
+// Optimizer: nonlinear conjugate gradients (Polak–Ribière+, restarted on a
+// non-descent direction). Each iteration tries a fixed ladder of step lengths,
+// each chosen so the largest vertex move is one of `moves` (1 µm … 2 mm in the
+// thesis), evaluates them in parallel (each on its own simulation, warm-
+// started from the current equilibrium) and takes the one with the lowest φ.
+// If none lowers φ the direction restarts as steepest descent; if that fails
+// too the run stops. Every accepted iteration is checkpointed (atomic JSON):
+// `resume` continues bit for bit where it stopped.
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "palpa/design/score.hpp"
+#include "palpa/rest/rest.hpp"
+
+namespace palpa::design {
+
+class DesignSpace {
+ public:
+  // X0: the support's vertices (world [m]); F: its outward triangles;
+  // vertices: the design vertices (rows of X0). Throws palpa::Error (Input)
+  // for no design vertex or one out of range.
+  DesignSpace(const Eigen::MatrixX3d& X0, const Eigen::MatrixX3i& F, std::vector<int> vertices, bool normal_only);
+  Eigen::Index size() const noexcept { return normal_only_ ? static_cast<Eigen::Index>(vertices_.size())
+                                                           : 3 * static_cast<Eigen::Index>(vertices_.size()); }
+  const std::vector<int>& vertices() const noexcept { return vertices_; }
+  bool normal_only() const noexcept { return normal_only_; }
+  const Eigen::MatrixX3d& initial() const noexcept { return X0_; }
+  const Eigen::MatrixX3d& normals() const noexcept { return normals_; }  // unit, per vertex
+  // X0 + B θ.
+  Eigen::MatrixX3d shape(const Eigen::VectorXd& theta) const;
+  // B d: the vertex moves (#V×3) of a change d of θ.
+  Eigen::MatrixX3d moves(const Eigen::VectorXd& d) const;
+  // Bᵀ G: a gradient over the vertices (#V×3) as one over θ.
+  Eigen::VectorXd restrict(const Eigen::MatrixX3d& G) const;
+  // The largest vertex move of B d [m].
+  double max_move(const Eigen::VectorXd& d) const;
+
+ private:
+  Eigen::MatrixX3d X0_;
+  Eigen::MatrixX3d normals_;
+  std::vector<int> vertices_;
+  bool normal_only_;
+};
+
+struct DesignOptions {
+  ScoreOptions score;
+  int taubin_iterations = 5;          // m of (7.14)
+  double smoothing_exponent = 0.0;    // j: γ = 10^j · (ζ/ψ on the initial shape)
+  std::optional<double> gamma;        // given: used as is [Pa^e]
+  bool normal_only = false;
+  int max_iterations = 30;
+  // Stops when an iteration lowers φ by less than this fraction.
+  double min_relative_decrease = 1e-4;
+  std::vector<double> moves{1e-6, 1e-5, 1e-4, 2e-4, 5e-4, 7e-4, 1e-3, 2e-3};  // [m]
+  int threads = 0;                    // simulations evaluated at once; 0: min(#moves, cores)
+  int post_smoothing = 0;             // Taubin rounds on the design vertices after the run
+  std::filesystem::path checkpoint;   // empty: none
+  bool resume = false;                // continue from `checkpoint`
+};
+
+// φ and everything measured at one support shape.
+struct Evaluation {
+  bool ok = false;
+  std::string failure;            // why not ok (the equilibrium failed)
+  double phi = 0.0, zeta = 0.0, psi = 0.0;
+  Eigen::MatrixX3d support;       // X [m]
+  Eigen::MatrixX3d gradient;      // dφ/dX (#V×3), when asked for
+  rest::RestState state;
+  rest::RestResult rest;
+  Score score;
+  double seconds = 0.0;
+  double adjoint_seconds = 0.0;
+};
+
+struct IterationRecord {
+  int iteration = 0;
+  double phi = 0.0, zeta = 0.0, psi = 0.0;
+  double move = 0.0;          // largest vertex move of the step taken [m]
+  int evaluations = 0;        // equilibria solved this iteration
+  bool restarted = false;     // the CG direction was reset
+  double seconds = 0.0;       // wall time of the iteration
+};
+
+struct DesignResult {
+  Evaluation initial;         // the starting shape
+  Evaluation final;           // the optimized shape (after post-smoothing if asked)
+  std::optional<Evaluation> before_post_smoothing;
+  double gamma = 0.0;
+  std::vector<IterationRecord> history;
+  int iterations = 0;
+  int evaluations = 0;        // equilibria solved (initial one included)
+  int newton_iterations = 0;
+  double seconds = 0.0;       // this run (a resumed run: since the resume)
+  double equilibrium_seconds = 0.0;  // the initial equilibrium from scratch
+  std::string stop_reason;
+  bool resumed = false;
+};
+
+class ShapeOptimizer {
+ public:
+  // Builds the simulations (one per thread), solves the initial equilibrium
+  // with the automatic contact stiffness and freezes the contact model.
+  // design_vertices: rows of support.V that may move.
+  ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& support, const rest::RestOptions& rest,
+                 std::vector<int> design_vertices, DesignOptions options);
+  ~ShapeOptimizer();
+
+  const DesignSpace& space() const noexcept { return *space_; }
+  double gamma() const noexcept { return gamma_; }
+  const Evaluation& initial() const noexcept { return initial_; }
+  rest::RestSimulation& simulation(int slot = 0) { return *sims_[static_cast<std::size_t>(slot)]; }
+
+  // φ at X, warm-started from `warm`, on simulation `slot`; with dφ/dX when
+  // `gradient`. A failed equilibrium gives ok = false; Ctrl-C propagates.
+  Evaluation evaluate(const Eigen::MatrixX3d& X, const rest::RestState& warm, bool gradient, int slot = 0);
+
+  // The optimization. progress: called after every iteration.
+  DesignResult run(const std::function<void(const IterationRecord&)>& progress = {});
+
+ private:
+  std::vector<Evaluation> evaluate_all(const std::vector<Eigen::MatrixX3d>& shapes, const rest::RestState& warm);
+
+  DesignOptions options_;
+  std::vector<std::unique_ptr<rest::RestSimulation>> sims_;
+  std::unique_ptr<ErgonomicScore> score_;
+  std::unique_ptr<Smoothness> smoothness_;
+  std::unique_ptr<DesignSpace> space_;
+  Evaluation initial_;
+  double gamma_ = 0.0;
+  double equilibrium_seconds_ = 0.0;
+};
+
+}  // namespace palpa::design

@@ -1,0 +1,172 @@
+#include "palpa/design/output.hpp"
+
+#include <algorithm>
+#include <fmt/format.h>
+
+#include "palpa/core/atomic_file.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/io/mesh.hpp"
+#include "palpa/io/ply.hpp"
+#include "palpa/io/vtu.hpp"
+#include "palpa/report/plot.hpp"
+#include "palpa/rest/output.hpp"
+
+namespace palpa::design {
+
+namespace {
+
+Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
+
+Json evaluation_json(const Evaluation& e, double gamma) {
+  return {{"phi", e.phi},
+          {"zeta", e.zeta},
+          {"zeta_body", e.score.zeta_body},
+          {"zeta_support", e.score.zeta_support},
+          {"gamma_psi", gamma * e.psi},
+          {"peak_pressure_Pa", {{"body", e.score.body_pressure.maxCoeff()}, {"support", e.score.support_pressure.maxCoeff()}}},
+          {"peak_smoothed_pressure_Pa",
+           {{"body", e.score.body_smoothed.maxCoeff()}, {"support", e.score.support_smoothed.maxCoeff()}}},
+          {"contacts", {{"body_vertices", e.score.body_contacts}, {"support_vertices", e.score.support_contacts}}},
+          {"max_penetration_m", e.rest.max_penetration},
+          {"contact_force_N", vec(e.rest.contact_force)},
+          {"load_N", vec(e.rest.load)},
+          {"balance_error", e.rest.balance_error},
+          {"core_translation_m", vec(e.rest.core_translation)},
+          {"min_det_F", e.rest.min_det_f}};
+}
+
+// Writes one side (before/after) from simulation 0 at evaluation e.
+void write_state(const std::filesystem::path& out, const std::string& tag, rest::RestSimulation& sim,
+                 const Evaluation& e, const Eigen::MatrixX3d* displacement) {
+  UnstructuredGrid body = sim.body_grid(e.rest);
+  body.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.body_smoothed});
+  write_vtu(out / fmt::format("body_{}.vtu", tag), body);
+  UnstructuredGrid support = sim.support_grid(e.rest);
+  support.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
+  if (displacement != nullptr) support.point_data.push_back(DataArray{"design_displacement_m", *displacement});
+  write_vtu(out / fmt::format("support_{}.vtu", tag), support);
+  rest::write_skin_ply(out / fmt::format("skin_{}.ply", tag), sim,
+                       {{"pressure_Pa", e.score.body_pressure}, {"pressure_smoothed_Pa", e.score.body_smoothed}});
+  PlyWriteOptions po;
+  po.vertex_scalars = {{"pressure_Pa", e.score.support_pressure}, {"pressure_smoothed_Pa", e.score.support_smoothed}};
+  write_ply(out / fmt::format("support_{}.ply", tag), rest::world_support(sim), po);
+}
+
+}  // namespace
+
+Json write_design_outputs(const std::filesystem::path& out, const DesignScene& scene, ShapeOptimizer& optimizer,
+                          const DesignResult& r) {
+  ensure_directory(out);
+  rest::RestSimulation& sim = optimizer.simulation(0);
+  const Evaluation before = optimizer.evaluate(r.initial.support, r.initial.state, false, 0);
+  if (!before.ok) throw Error(ErrorKind::Solver, "re-solving the initial shape: " + before.failure);
+  write_state(out, "before", sim, before, nullptr);
+  const Evaluation after = optimizer.evaluate(r.final.support, r.final.state, false, 0);
+  if (!after.ok) throw Error(ErrorKind::Solver, "re-solving the optimized shape: " + after.failure);
+  const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
+  write_state(out, "after", sim, after, &displacement);
+
+  SurfaceMesh optimized = rest::world_support(sim);
+  write_surface_mesh(out / "support.obj", optimized);
+  optimized.V *= 1e3;
+  write_surface_mesh(out / "support_mm.stl", optimized);
+
+  // Scores per iteration.
+  report::Plot scores;
+  scores.title = "objective per iteration";
+  scores.x.label = "iteration";
+  scores.y.label = "score [Pa^e m^2]";
+  scores.y.log = true;
+  report::Series phi{"φ = ζ + γψ", {}, {}, report::Mark::LineDots};
+  report::Series zeta{"ζ (ergonomic score)", {}, {}, report::Mark::LineDots};
+  report::Series psi{"γψ (smoothness)", {}, {}, report::Mark::Line};
+  phi.x.push_back(0.0);
+  phi.y.push_back(r.initial.phi);
+  zeta.x.push_back(0.0);
+  zeta.y.push_back(r.initial.zeta);
+  psi.x.push_back(0.0);
+  psi.y.push_back(r.gamma * r.initial.psi);
+  for (const IterationRecord& it : r.history) {
+    phi.x.push_back(it.iteration);
+    phi.y.push_back(it.phi);
+    zeta.x.push_back(it.iteration);
+    zeta.y.push_back(it.zeta);
+    psi.x.push_back(it.iteration);
+    psi.y.push_back(r.gamma * it.psi);
+  }
+  psi.dashed = true;
+  scores.series = {phi, zeta, psi};
+  report::Figure score_fig;
+  score_fig.plots.push_back(scores);
+  report::write_svg(out / "score.svg", score_fig);
+
+  // Pressures before and after, body and support together.
+  auto both = [](const Evaluation& e) {
+    Eigen::VectorXd v(e.score.body_pressure.size() + e.score.support_pressure.size());
+    v << e.score.body_pressure, e.score.support_pressure;
+    return v;
+  };
+  const Eigen::VectorXd pb = both(before), pa = both(after);
+  const double top = std::max({pb.maxCoeff(), pa.maxCoeff(), 1e-12});
+  report::Plot hist;
+  hist.title = "contact pressure (body and support vertices)";
+  hist.x.label = "pressure [kPa]";
+  hist.y.label = "vertices";
+  hist.series.push_back(rest::pressure_histogram("initial shape", pb, top, 24));
+  hist.series.push_back(rest::pressure_histogram("optimized shape", pa, top, 24));
+  report::Figure hist_fig;
+  hist_fig.plots.push_back(hist);
+  report::write_svg(out / "pressure_histogram.svg", hist_fig);
+
+  Json history = Json::array();
+  for (const IterationRecord& it : r.history) {
+    history.push_back({{"iteration", it.iteration},
+                       {"phi", it.phi},
+                       {"zeta", it.zeta},
+                       {"gamma_psi", r.gamma * it.psi},
+                       {"move_m", it.move},
+                       {"evaluations", it.evaluations},
+                       {"restarted", it.restarted},
+                       {"seconds", it.seconds}});
+  }
+  double iteration_seconds = 0.0;
+  for (const IterationRecord& it : r.history) iteration_seconds += it.seconds;
+  const double per_iteration = r.history.empty() ? 0.0 : iteration_seconds / static_cast<double>(r.history.size());
+  const DesignOptions& o = scene.options;
+  Json s = {{"palpa_design", 1},
+            {"scene", scene.rest.file.string()},
+            {"body", {{"source", scene.rest.body_source},
+                      {"vertices", sim.model().num_vertices()},
+                      {"tetrahedra", sim.model().num_elements()},
+                      {"skin_vertices", sim.surface_vertices().size()}}},
+            {"support", {{"source", scene.rest.support_source}, {"vertices", r.initial.support.rows()}}},
+            {"design", {{"region", scene.region},
+                        {"variables", optimizer.space().size()},
+                        {"direction", o.normal_only ? "normal" : "free"},
+                        {"exponent", o.score.exponent},
+                        {"gamma", r.gamma},
+                        {"smoothing_exponent", o.gamma ? Json() : Json(o.smoothing_exponent)},
+                        {"taubin_iterations", o.taubin_iterations},
+                        {"moves_m", o.moves},
+                        {"post_smoothing", o.post_smoothing}}},
+            {"stiffness_N_per_m", r.initial.state.stiffness},
+            {"initial", evaluation_json(before, r.gamma)},
+            {"final", evaluation_json(after, r.gamma)},
+            {"zeta_reduction_percent", 100.0 * (1.0 - after.zeta / before.zeta)},
+            {"max_design_displacement_m", displacement.rowwise().norm().maxCoeff()},
+            {"iterations", r.iterations},
+            {"equilibrium_solves", r.evaluations},
+            {"newton_iterations", r.newton_iterations},
+            {"seconds", r.seconds},
+            {"seconds_per_iteration", per_iteration},
+            {"initial_equilibrium_seconds", r.equilibrium_seconds},
+            {"iteration_per_equilibrium", r.equilibrium_seconds > 0.0 ? per_iteration / r.equilibrium_seconds : 0.0},
+            {"stop_reason", r.stop_reason},
+            {"resumed", r.resumed},
+            {"history", history}};
+  if (r.before_post_smoothing) s["zeta_before_post_smoothing"] = r.before_post_smoothing->zeta;
+  write_json_file(out / "summary.json", s);
+  return s;
+}
+
+}  // namespace palpa::design

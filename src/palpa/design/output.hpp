@@ -1,0 +1,30 @@
+#pragma once
+// Writing the results of `palpa design` into a folder (each file atomic):
+//   support.obj              the optimized support [m]
+//   support_mm.stl           the same in millimetres, for slicers
+//   support_before.vtu/.ply, support_after.vtu/.ply
+//                            pressure_Pa, pressure_smoothed_Pa (p̄ of the
+//                            score); after: design_displacement_m from the
+//                            initial shape
+//   body_before.vtu, body_after.vtu, skin_before.ply, skin_after.ply
+//                            the deformed body with its pressures
+//   score.svg                φ, ζ and γψ per iteration
+//   pressure_histogram.svg   contact pressures before and after
+//   summary.json             scores, reduction, peaks, penetration, balance,
+//                            iterations, solves, times, per-iteration history
+// (checkpoint.json, written during the run, stays for --resume.)
+
+#include <filesystem>
+
+#include "palpa/core/json.hpp"
+#include "palpa/design/optimizer.hpp"
+#include "palpa/design/scene.hpp"
+
+namespace palpa::design {
+
+// Re-solves the initial and the final shape on simulation 0 (warm: a few
+// Newton iterations at most) to write their fields. Returns the summary.
+Json write_design_outputs(const std::filesystem::path& out, const DesignScene& scene, ShapeOptimizer& optimizer,
+                          const DesignResult& result);
+
+}  // namespace palpa::design

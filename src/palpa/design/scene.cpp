@@ -1,0 +1,115 @@
+#include "palpa/design/scene.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+#include "palpa/core/error.hpp"
+#include "palpa/core/json.hpp"
+#include "palpa/sim3d/scene_json.hpp"
+
+namespace palpa::design {
+
+std::vector<int> facing_vertices(const SurfaceMesh& support, const Eigen::Vector3d& up, double angle,
+                                 const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  Eigen::MatrixX3d N = Eigen::MatrixX3d::Zero(support.V.rows(), 3);
+  double six_volume = 0.0;
+  for (Eigen::Index f = 0; f < support.F.rows(); ++f) {
+    const Eigen::Vector3d a = support.V.row(support.F(f, 0)), b = support.V.row(support.F(f, 1)),
+                          c = support.V.row(support.F(f, 2));
+    const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();
+    for (int k = 0; k < 3; ++k) N.row(support.F(f, k)) += n;
+    six_volume += a.dot(b.cross(c));
+  }
+  const double sign = six_volume < 0.0 ? -1.0 : 1.0;
+  const Eigen::Vector3d u = up.normalized();
+  const double cos_max = std::cos(angle);
+  std::vector<int> out;
+  for (Eigen::Index v = 0; v < support.V.rows(); ++v) {
+    const double len = N.row(v).norm();
+    if (!(len > 0.0)) continue;
+    const Eigen::Vector3d x = support.V.row(v).transpose();
+    if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
+    if (sign * N.row(v).dot(u) / len >= cos_max - 1e-12) out.push_back(static_cast<int>(v));
+  }
+  return out;
+}
+
+DesignScene read_design_scene(const std::filesystem::path& path) {
+  DesignScene s;
+  s.rest = rest::read_rest_scene(path, "palpa_design", {"design"});
+  const Json doc = read_json_file(path);
+  const JsonView root(doc, path.string());
+  DesignOptions& o = s.options;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  double facing = 25.0 * 3.14159265358979323846 / 180.0;
+  o.smoothing_exponent = -2.0;
+  if (const auto d = root.find("design")) {
+    d->expect_only({"region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves",
+                    "threads", "post_smoothing"});
+    if (const auto r = d->find("region")) {
+      r->expect_only({"min", "max"});
+      lo = sim3d::read_quantity3(r->at("min"), Dimension::Length);
+      hi = sim3d::read_quantity3(r->at("max"), Dimension::Length);
+      if ((lo.array() >= hi.array()).any()) r->fail("min must lie below max on every axis");
+    }
+    if (const auto f = d->find("facing")) {
+      facing = f->as_quantity(Dimension::Angle);
+      if (!(facing > 0.0 && facing <= 3.14159265358979323846)) f->fail("out of range", "an angle in (0, 180] deg");
+    }
+    if (const auto dir = d->find("direction")) {
+      const std::string v = dir->as_string();
+      if (v == "normal") {
+        o.normal_only = true;
+      } else if (v == "free") {
+        o.normal_only = false;
+      } else {
+        dir->fail(fmt::format("unknown direction '{}'", v), "normal or free");
+      }
+    }
+    if (const auto e = d->find("exponent")) o.score.exponent = sim3d::read_count(*e, 2, 4);
+    if (const auto sm = d->find("smoothing")) {
+      sm->expect_only({"exponent", "gamma", "iterations"});
+      if (sm->has("exponent") && sm->has("gamma")) sm->fail("give either exponent or gamma", "one of them");
+      if (const auto j = sm->find("exponent")) {
+        o.smoothing_exponent = j->as_number();
+        if (std::abs(o.smoothing_exponent) > 30.0) j->fail("out of range", "a power of ten within ±30");
+      }
+      if (const auto g = sm->find("gamma")) {
+        const double v = g->as_number();
+        if (!(v >= 0.0)) g->fail("must be ≥ 0");
+        o.gamma = v;
+      }
+      if (const auto m = sm->find("iterations")) o.taubin_iterations = sim3d::read_count(*m, 1, 100);
+    }
+    if (const auto it = d->find("iterations")) o.max_iterations = sim3d::read_count(*it, 0, 100000);
+    if (const auto m = d->find("min_decrease")) {
+      o.min_relative_decrease = m->as_number();
+      if (!(o.min_relative_decrease >= 0.0 && o.min_relative_decrease < 1.0)) m->fail("out of range", "a fraction in [0, 1)");
+    }
+    if (const auto mv = d->find("moves")) {
+      o.moves.clear();
+      for (std::size_t i = 0; i < mv->size(); ++i) o.moves.push_back(sim3d::read_positive(mv->at(i), Dimension::Length));
+      if (o.moves.empty()) mv->fail("no step lengths", "at least one length");
+    }
+    if (const auto t = d->find("threads")) o.threads = sim3d::read_count(*t, 0, 64);
+    if (const auto p = d->find("post_smoothing")) o.post_smoothing = sim3d::read_count(*p, 0, 1000);
+  }
+  const Eigen::Vector3d up = -s.rest.options.gravity;
+  if (!(up.norm() > 0.0)) root.at("gravity").fail("zero gravity: no side of the support faces the body", "a gravity vector");
+  s.design_vertices = facing_vertices(s.rest.support, up, facing, lo, hi);
+  s.region = fmt::format("{} support vertices facing up within {:.0f} deg{}", s.design_vertices.size(),
+                         facing * 180.0 / 3.14159265358979323846, std::isfinite(lo[0]) ? " inside the region box" : "");
+  if (s.design_vertices.empty()) {
+    ErrorContext where;
+    where.file = path.string();
+    where.field = "design.region";
+    throw_input_error("no support vertex lies in the design region and faces the body", where,
+                      "a region box around the contact and a facing angle that includes the support's top");
+  }
+  return s;
+}
+
+}  // namespace palpa::design

@@ -1,0 +1,47 @@
+#pragma once
+// Scenes of `palpa design`: a rest scene (rest/scene.hpp) under the version
+// key "palpa_design", plus what to optimize and how:
+//
+// {
+//   "palpa_design": 1,
+//   "body": {...}, "core": {...}, "support": {...}, "contact": {...}, ...
+//   "design": {
+//     "region": {"min": ["-100 mm", ...], "max": [...]},  // optional box [world]
+//     "facing": "25 deg",        // only vertices whose normal is within this angle of −gravity
+//     "direction": "normal",     // or "free": 3D moves
+//     "exponent": 3,             // of the ergonomic score (2, 3 or 4)
+//     "smoothing": {"exponent": -2, "iterations": 5},   // γ = 10^exponent · ζ0/ψ0; or {"gamma": 1e9}
+//     "iterations": 30, "min_decrease": 1e-4,
+//     "moves": ["1 um", "10 um", "0.1 mm", "0.2 mm", "0.5 mm", "0.7 mm", "1 mm", "2 mm"],
+//     "threads": 0,              // simulations at once; 0: min(#moves, cores)
+//     "post_smoothing": 0        // Taubin rounds on the result
+//   }
+// }
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "palpa/design/optimizer.hpp"
+#include "palpa/rest/scene.hpp"
+
+namespace palpa::design {
+
+struct DesignScene {
+  rest::RestScene rest;
+  std::vector<int> design_vertices;  // rows of rest.support.V
+  DesignOptions options;
+  std::string region;                // how the design vertices were chosen, for the summary
+};
+
+// Throws palpa::Error (Input) naming the file and field; a region holding no
+// support vertex is refused.
+DesignScene read_design_scene(const std::filesystem::path& path);
+
+// The support vertices facing `up` (outward normal within `angle` [rad] of
+// it) and inside the box [lo, hi] [m]. Normals: area-weighted, outward (an
+// inward-wound mesh is read as flipped).
+std::vector<int> facing_vertices(const SurfaceMesh& support, const Eigen::Vector3d& up, double angle,
+                                 const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+
+}  // namespace palpa::design

@@ -1,0 +1,223 @@
+#include "palpa/design/score.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "palpa/contact/contact.hpp"
+#include "palpa/contact/penalty.hpp"
+#include "palpa/core/error.hpp"
+
+namespace palpa::design {
+
+namespace {
+
+Eigen::SparseMatrix<double> identity_plus(const Eigen::SparseMatrix<double>& W, double lambda) {
+  Eigen::SparseMatrix<double> I(W.rows(), W.cols());
+  I.setIdentity();
+  Eigen::SparseMatrix<double> S = (1.0 - lambda) * I + lambda * W;
+  S.makeCompressed();
+  return S;
+}
+
+// s·p̄^e and its derivative e·s·p̄^(e−1).
+double power(double x, int e) {
+  double r = 1.0;
+  for (int i = 0; i < e; ++i) r *= x;
+  return r;
+}
+
+}  // namespace
+
+Eigen::SparseMatrix<double> umbrella_matrix(const Eigen::MatrixX3i& F, Eigen::Index n) {
+  std::vector<std::vector<int>> nb(static_cast<std::size_t>(n));
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      nb[static_cast<std::size_t>(a)].push_back(b);
+      nb[static_cast<std::size_t>(b)].push_back(a);
+    }
+  }
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    auto& l = nb[static_cast<std::size_t>(v)];
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+    if (l.empty()) {
+      t.emplace_back(static_cast<int>(v), static_cast<int>(v), 1.0);
+      continue;
+    }
+    for (int j : l) t.emplace_back(static_cast<int>(v), j, 1.0 / static_cast<double>(l.size()));
+  }
+  Eigen::SparseMatrix<double> W(n, n);
+  W.setFromTriplets(t.begin(), t.end());
+  return W;
+}
+
+ErgonomicScore::ErgonomicScore(const rest::RestSimulation& sim, ScoreOptions options) : options_(options) {
+  if (options_.exponent < 2 || options_.exponent > 4) {
+    throw Error(ErrorKind::Input,
+                fmt::format("the ergonomic score's exponent must be 2, 3 or 4, got {}", options_.exponent));
+  }
+  if (!(options_.pressure_smoothing >= 0.0 && options_.pressure_smoothing <= 1.0)) {
+    throw Error(ErrorKind::Input, fmt::format("the pressure smoothing λ must be in [0, 1], got {}",
+                                              options_.pressure_smoothing));
+  }
+  body_smoothing_ =
+      identity_plus(umbrella_matrix(sim.surface_faces(), sim.model().num_vertices()), options_.pressure_smoothing);
+  support_smoothing_ = identity_plus(umbrella_matrix(sim.support().triangles(), sim.support().vertices().rows()),
+                                     options_.pressure_smoothing);
+}
+
+void add_area_gradient(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::VectorXd& w,
+                       Eigen::MatrixX3d& grad) {
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
+    const double wf = (w[ia] + w[ib] + w[ic]) / 3.0;  // each vertex gets a third of the area
+    if (wf == 0.0) continue;
+    const Eigen::Vector3d a = V.row(ia), b = V.row(ib), c = V.row(ic);
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    if (!(len > 0.0)) continue;
+    const Eigen::Vector3d u = n / len;
+    grad.row(ia) += wf * 0.5 * u.cross(c - b).transpose();
+    grad.row(ib) += wf * 0.5 * u.cross(a - c).transpose();
+    grad.row(ic) += wf * 0.5 * u.cross(b - a).transpose();
+  }
+}
+
+Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) const {
+  const sim3d::RigidContactTerm& term = sim.contact_term();
+  const contact::Obstacle& support = sim.support();
+  const double k = term.stiffness();
+  const double abar = term.mean_area();
+  const double scale = 2.0 * k / abar;  // pressure per depth [Pa/m]
+  const Eigen::VectorXd Y = sim.system().positions(sim.dofs());
+  const Eigen::Index nb = sim.model().num_vertices();
+  const Eigen::Index ns = support.vertices().rows();
+  const int e = options_.exponent;
+
+  Score s;
+  s.body_pressure = Eigen::VectorXd::Zero(nb);
+  s.support_pressure = Eigen::VectorXd::Zero(ns);
+
+  // Depth gradients ∂δ/∂z of every contact, kept for the chain rule.
+  struct Depth {
+    int point;                      // body vertex (body side) or support vertex (support side)
+    contact::FeatureGeometry g;
+    std::array<int, 3> vertices;    // feature vertices
+    contact::Vector12d d_depth;     // ∂δ/∂(p, q_0, q_1, q_2)
+  };
+  std::vector<Depth> body_side, support_side;
+
+  for (const contact::Contact& c : term.contacts().contacts()) {
+    Depth d{c.point, contact::feature_geometry(support, c.closest), c.closest.vertices, contact::Vector12d::Zero()};
+    const Eigen::Vector3d p = Y.segment<3>(3 * c.point);
+    const double depth = (p - contact::sliding_anchor(p, d.g).point).norm();
+    s.body_pressure[c.point] = scale * depth;
+    if (gradient && depth > 0.0) d.d_depth = contact::penalty_gradient_full(p, d.g, 1.0) / (2.0 * depth);
+    body_side.push_back(d);
+    ++s.body_contacts;
+  }
+  for (const rest::ReverseContact& c : sim.reverse_contacts()) {
+    Depth d{c.support_vertex, {}, c.closest.vertices, contact::Vector12d::Zero()};
+    d.g.m = contact::feature_size(c.closest.feature);
+    for (int i = 0; i < d.g.m; ++i) d.g.q[static_cast<std::size_t>(i)] = Y.segment<3>(3 * c.closest.vertices[static_cast<std::size_t>(i)]);
+    const Eigen::Vector3d x = support.world_vertex(c.support_vertex);
+    const double depth = (x - contact::sliding_anchor(x, d.g).point).norm();
+    s.support_pressure[c.support_vertex] = scale * depth;
+    if (gradient && depth > 0.0) d.d_depth = contact::penalty_gradient_full(x, d.g, 1.0) / (2.0 * depth);
+    support_side.push_back(d);
+    ++s.support_contacts;
+  }
+
+  s.body_smoothed = body_smoothing_ * s.body_pressure;
+  s.support_smoothed = support_smoothing_ * s.support_pressure;
+  const std::vector<double>& spring = term.spring_area();
+  const Eigen::VectorXd support_area = contact::vertex_areas(support.vertices(), support.triangles());
+  Eigen::VectorXd wb = Eigen::VectorXd::Zero(nb), ws = Eigen::VectorXd::Zero(ns);  // ∂ζ/∂p̄
+  Eigen::VectorXd area_weight = Eigen::VectorXd::Zero(ns);                          // ∂ζ/∂s (support)
+  for (int v : sim.surface_vertices()) {
+    const double pb = s.body_smoothed[v];
+    if (pb <= 0.0) continue;
+    const double sa = spring[static_cast<std::size_t>(v)];
+    s.zeta_body += sa * power(pb, e);
+    wb[v] = e * sa * power(pb, e - 1);
+  }
+  for (Eigen::Index v = 0; v < ns; ++v) {
+    const double ps = s.support_smoothed[v];
+    if (ps <= 0.0) continue;
+    s.zeta_support += support_area[v] * power(ps, e);
+    ws[v] = e * support_area[v] * power(ps, e - 1);
+    area_weight[v] = power(ps, e);
+  }
+  s.zeta = s.zeta_body + s.zeta_support;
+  if (!gradient) return s;
+
+  // ∂ζ/∂p = Sᵀ ∂ζ/∂p̄, then through the depths.
+  const Eigen::VectorXd gb = body_smoothing_.transpose() * wb;
+  const Eigen::VectorXd gs = support_smoothing_.transpose() * ws;
+  s.d_body = Eigen::VectorXd::Zero(3 * nb);
+  s.d_support = Eigen::MatrixX3d::Zero(ns, 3);
+  for (const Depth& d : body_side) {
+    const double w = gb[d.point] * scale;
+    if (w == 0.0) continue;
+    s.d_body.segment<3>(3 * d.point) += w * d.d_depth.head<3>();
+    for (int i = 0; i < d.g.m; ++i) {
+      s.d_support.row(d.vertices[static_cast<std::size_t>(i)]) += w * d.d_depth.segment<3>(3 * (i + 1)).transpose();
+    }
+  }
+  for (const Depth& d : support_side) {
+    const double w = gs[d.point] * scale;
+    if (w == 0.0) continue;
+    s.d_support.row(d.point) += w * d.d_depth.head<3>().transpose();
+    for (int i = 0; i < d.g.m; ++i) {
+      s.d_body.segment<3>(3 * d.vertices[static_cast<std::size_t>(i)]) += w * d.d_depth.segment<3>(3 * (i + 1));
+    }
+  }
+  add_area_gradient(support.vertices(), support.triangles(), area_weight, s.d_support);
+  return s;
+}
+
+Smoothness::Smoothness(const Eigen::MatrixX3i& F, Eigen::Index n, std::vector<int> design, int iterations,
+                       double lambda, double mu)
+    : design_(std::move(design)), iterations_(iterations) {
+  if (iterations < 1) {
+    throw Error(ErrorKind::Input, fmt::format("Taubin smoothing needs at least one iteration, got {}", iterations));
+  }
+  const Eigen::SparseMatrix<double> W = umbrella_matrix(F, n);
+  step_lambda_ = identity_plus(W, lambda);
+  step_mu_ = identity_plus(W, mu);
+}
+
+Eigen::MatrixX3d Smoothness::smoothed(const Eigen::MatrixX3d& X) const {
+  Eigen::MatrixX3d T = X;
+  for (int i = 0; i < iterations_; ++i) {
+    T = step_lambda_ * T;
+    T = step_mu_ * T;
+  }
+  return T;
+}
+
+double Smoothness::evaluate(const Eigen::MatrixX3d& X, Eigen::MatrixX3d* grad) const {
+  const Eigen::MatrixX3d r_all = X - smoothed(X);
+  Eigen::MatrixX3d r = Eigen::MatrixX3d::Zero(X.rows(), 3);  // D r
+  double psi = 0.0;
+  for (int v : design_) {
+    r.row(v) = r_all.row(v);
+    psi += r_all.row(v).squaredNorm();
+  }
+  if (grad != nullptr) {
+    // ∂ψ/∂X = 2 (I − T)ᵀ D r, Tᵀ applying the steps' transposes in reverse.
+    Eigen::MatrixX3d t = r;
+    for (int i = 0; i < iterations_; ++i) {
+      t = step_mu_.transpose() * t;
+      t = step_lambda_.transpose() * t;
+    }
+    *grad = 2.0 * (r - t);
+  }
+  return psi;
+}
+
+}  // namespace palpa::design

@@ -1,0 +1,101 @@
+#pragma once
+// The ergonomic score of a resting contact and the smoothness of a support
+// (thesis §7.4.1, MODEL.md "Body + rigid core + support contact").
+//
+// Ergonomic score (7.11–7.12):
+//   ζ = Σ_i s_i p̄_i^e  over the body's skin vertices and the support's vertices,
+// p the contact pressures of the equilibrium on both sides (bidirectional,
+// Fig. 7.4): on the body p_i = 2kδ_i/Ā, δ_i its depth in the support; on the
+// support p_v = 2kδ_v/Ā, δ_v the depth of support vertex v in the deformed
+// body (rest/rest.hpp). s_i: the body vertex's spring area (its share of the
+// skin in contact), the support vertex's area (a third of its triangles, a
+// function of the support's shape). p̄ = S p, one Laplacian smoothing step on
+// each surface's own mesh:
+//   p̄_i = (1 − λ) p_i + λ · mean_{j ∈ N(i)} p_j,   λ = ½,
+// i.e. (I + λL) p with the umbrella L = W − I (W: the mean of the
+// neighbours), the sign that smooths: a lone spike is spread over its ring,
+// a constant field is kept. e (exponent) is 2, 3 or 4 (Fig. 7.5). Units:
+// ζ [Pa^e·m²].
+//
+// Partial derivatives (for the adjoint, design/optimizer.hpp): with the
+// contact set, each contact's feature and the spring areas held, ζ is a
+// smooth function of the body's vertex positions Y and the support's
+// vertices X. The depth of a point p against a feature q (sliding anchor,
+// contact/penalty.hpp) has ∂δ/∂z = ∂(δ²)/∂z / (2δ), z = (p, q_0, q_1, q_2);
+// areas differentiate as ∂A/∂a = ½ n̂ × (c − b) for triangle (a, b, c).
+//
+// Smoothness (7.14): ψ(X) = Σ_{v ∈ D} ‖X_v − (T X)_v‖², T = ((I + μL)(I + λL))^m
+// Taubin smoothing (λ = 0.5, μ = −0.53) on the support's mesh, D the design
+// vertices (so a fixed outline does not weigh). Units: ψ [m²].
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "palpa/rest/rest.hpp"
+
+namespace palpa::design {
+
+// W: the row-normalized adjacency of a triangle mesh's vertices (n × n); a
+// vertex of no triangle is its own neighbour.
+Eigen::SparseMatrix<double> umbrella_matrix(const Eigen::MatrixX3i& F, Eigen::Index n);
+
+struct ScoreOptions {
+  int exponent = 3;               // e: 2, 3 or 4
+  double pressure_smoothing = 0.5;  // λ of the smoothing step p̄ = (I + λL) p
+};
+
+struct Score {
+  double zeta = 0.0;          // [Pa^e·m²]
+  double zeta_body = 0.0;
+  double zeta_support = 0.0;
+  Eigen::VectorXd body_pressure;       // p per body vertex [Pa]
+  Eigen::VectorXd support_pressure;    // p per support vertex [Pa]
+  Eigen::VectorXd body_smoothed;       // p̄
+  Eigen::VectorXd support_smoothed;
+  int body_contacts = 0;
+  int support_contacts = 0;
+  // With gradients: ∂ζ/∂Y (3N, the body's vertex positions) and the
+  // explicit ∂ζ/∂X (support vertices, #V×3).
+  Eigen::VectorXd d_body;
+  Eigen::MatrixX3d d_support;
+};
+
+class ErgonomicScore {
+ public:
+  // Builds the smoothing operators of the body's skin and the support.
+  // Throws palpa::Error (Input) for an exponent other than 2, 3, 4 or a
+  // smoothing λ outside [0, 1].
+  ErgonomicScore(const rest::RestSimulation& sim, ScoreOptions options);
+  const ScoreOptions& options() const noexcept { return options_; }
+  // ζ of the simulation's current (solved) state.
+  Score evaluate(const rest::RestSimulation& sim, bool gradient) const;
+
+ private:
+  ScoreOptions options_;
+  Eigen::SparseMatrix<double> body_smoothing_;     // S over the body's vertices (skin rows)
+  Eigen::SparseMatrix<double> support_smoothing_;  // S over the support's vertices
+};
+
+// Vertex areas of a triangle mesh and, if wanted, Σ_v w_v ∂A_v/∂X (#V×3).
+void add_area_gradient(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::VectorXd& w,
+                       Eigen::MatrixX3d& grad);
+
+class Smoothness {
+ public:
+  // F: the support's triangles; n its vertex count; design: the rows of D.
+  // Throws palpa::Error (Input) for iterations < 1.
+  Smoothness(const Eigen::MatrixX3i& F, Eigen::Index n, std::vector<int> design, int iterations,
+             double lambda = 0.5, double mu = -0.53);
+  // ψ(X) [m²] and, if grad is given, ∂ψ/∂X (#V×3, zero off D's reach).
+  double evaluate(const Eigen::MatrixX3d& X, Eigen::MatrixX3d* grad = nullptr) const;
+  // T X (the smoothed shape; all vertices).
+  Eigen::MatrixX3d smoothed(const Eigen::MatrixX3d& X) const;
+
+ private:
+  Eigen::SparseMatrix<double> step_lambda_, step_mu_;  // I + λL, I + μL
+  std::vector<int> design_;
+  int iterations_;
+};
+
+}  // namespace palpa::design
