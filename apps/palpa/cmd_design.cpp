@@ -24,6 +24,7 @@ struct DesignArgs {
   bool resume = false;
   int iterations = -1;
   int threads = -1;
+  std::string method;
 };
 
 void run_design_command(const DesignArgs& a) {
@@ -41,13 +42,14 @@ void run_design_command(const DesignArgs& a) {
   design::DesignScene scene = design::read_design_scene(a.scene);
   if (a.iterations >= 0) scene.options.max_iterations = a.iterations;
   if (a.threads >= 0) scene.options.threads = a.threads;
+  if (a.method == "cg") scene.options.method = design::DesignMethod::ConjugateGradient;
+  if (a.method == "lbfgs") scene.options.method = design::DesignMethod::Lbfgs;
   scene.options.checkpoint = checkpoint;
   scene.options.resume = a.resume;
   if (!a.resume) {
     std::error_code ec;
     std::filesystem::remove(checkpoint, ec);
   }
-  std::filesystem::create_directories(out);
   spdlog::info("design: {}: body from {} ({} vertices, {} tetrahedra), support {} ({} vertices), {}", a.scene,
                scene.rest.body_source, scene.rest.body.mesh.V.rows(), scene.rest.body.mesh.T.rows(),
                scene.rest.support_source, scene.rest.support.V.rows(), scene.region);
@@ -55,6 +57,7 @@ void run_design_command(const DesignArgs& a) {
                                    scene.options);
   spdlog::info("design: initial shape: ζ = {:.6g}, γ = {:.4g}, φ = {:.6g}; {} design variables",
                optimizer.initial().zeta, optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
+  std::filesystem::create_directories(out);  // only now: bad input leaves nothing behind
   design::DesignResult r;
   try {
     r = optimizer.run();
@@ -96,6 +99,8 @@ void add_design_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", a->threads, "Equilibria solved at once (0: min(step lengths, cores))")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--method", a->method, "Optimizer (overrides the scene's design.method): cg or lbfgs")
+      ->check(CLI::IsMember({"cg", "lbfgs"}));
   cmd->callback([a] { run_design_command(*a); });
 }
 

@@ -215,6 +215,7 @@ TEST(DesignOptimizer, LowersTheScoreMonotonicallyAndStillCarriesTheLoad) {
   // pressure peaks under its centre until the slab is hollowed out.
   const SurfaceMesh s = slab(15);
   DesignOptions o;
+  o.method = DesignMethod::ConjugateGradient;
   o.max_iterations = 12;
   o.normal_only = true;
   o.smoothing_exponent = -2.0;
@@ -245,11 +246,31 @@ TEST(DesignOptimizer, LowersTheScoreMonotonicallyAndStillCarriesTheLoad) {
   EXPECT_LT(mirror_asymmetry(s, moved), 0.08);
 }
 
+TEST(DesignOptimizer, LbfgsLowersTheScoreToo) {
+  const SurfaceMesh s = slab(15);
+  DesignOptions o;
+  o.method = DesignMethod::Lbfgs;
+  o.max_iterations = 8;
+  o.normal_only = true;
+  o.smoothing_exponent = -2.0;
+  ShapeOptimizer opt(cushion(6e-3), s, options(), top_inside(s), o);
+  const DesignResult r = opt.run();
+  ASSERT_GE(r.iterations, 4) << r.stop_reason;
+  double previous = r.initial.phi;
+  for (const IterationRecord& it : r.history) {
+    EXPECT_LT(it.phi, previous) << "iteration " << it.iteration;
+    previous = it.phi;
+  }
+  EXPECT_LT(r.final.zeta, 0.6 * r.initial.zeta);
+  EXPECT_LT(r.final.rest.balance_error, 0.005);
+}
+
 TEST(DesignOptimizer, ResumesExactlyFromItsCheckpoint) {
   const SurfaceMesh s = slab();
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "palpa_design_resume";
   std::filesystem::create_directories(dir);
   DesignOptions o;
+  o.method = DesignMethod::ConjugateGradient;
   o.checkpoint = dir / "checkpoint.json";
   std::filesystem::remove(o.checkpoint);
   o.max_iterations = 4;

@@ -1,5 +1,7 @@
 #include "palpa/design/optimizer.hpp"
 
+#include <ceres/gradient_problem.h>
+#include <ceres/gradient_problem_solver.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
@@ -27,6 +29,61 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr int kCheckpointVersion = 1;
+
+const char* method_name(DesignMethod m) { return m == DesignMethod::Lbfgs ? "lbfgs" : "cg"; }
+
+// φ/φ0 over u = θ/c for Ceres, each evaluation warm-started from the last
+// one that succeeded. Exceptions (Ctrl-C) are kept and the evaluation
+// reported as failed; the callback then stops the solver.
+class ScaledObjective final : public ceres::FirstOrderFunction {
+ public:
+  using Evaluate_fn = std::function<Evaluation(const Eigen::VectorXd& theta, bool gradient)>;
+  ScaledObjective(Evaluate_fn f, Eigen::Index n, double c, double phi0)
+      : f_(std::move(f)), n_(n), c_(c), phi0_(phi0) {}
+  bool Evaluate(const double* u, double* cost, double* gradient) const override {
+    if (error_) return false;
+    try {
+      const Eigen::VectorXd theta = c_ * Eigen::Map<const Eigen::VectorXd>(u, n_);
+      Evaluation e = f_(theta, gradient != nullptr);
+      ++evaluations_;
+      if (!e.ok) {
+        spdlog::info("design: a line-search trial failed, shorter step: {}", e.failure);
+        return false;
+      }
+      *cost = e.phi / phi0_;
+      if (gradient != nullptr) Eigen::Map<Eigen::VectorXd>(gradient, n_) = grad_of_(e) * (c_ / phi0_);
+      last_theta_ = theta;
+      last_ = std::move(e);
+      return true;
+    } catch (...) {
+      error_ = std::current_exception();
+      return false;
+    }
+  }
+  int NumParameters() const override { return static_cast<int>(n_); }
+  void set_gradient_map(std::function<Eigen::VectorXd(const Evaluation&)> g) { grad_of_ = std::move(g); }
+  mutable Evaluation last_;
+  mutable Eigen::VectorXd last_theta_;
+  mutable std::exception_ptr error_;
+  mutable int evaluations_ = 0;
+
+ private:
+  Evaluate_fn f_;
+  std::function<Eigen::VectorXd(const Evaluation&)> grad_of_;
+  Eigen::Index n_;
+  double c_, phi0_;
+};
+
+class LbfgsCallback final : public ceres::IterationCallback {
+ public:
+  explicit LbfgsCallback(std::function<bool(const ceres::IterationSummary&)> f) : f_(std::move(f)) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    return f_(s) ? ceres::SOLVER_CONTINUE : ceres::SOLVER_ABORT;
+  }
+
+ private:
+  std::function<bool(const ceres::IterationSummary&)> f_;
+};
 
 Json to_json(const Eigen::VectorXd& v) { return Json(std::vector<double>(v.data(), v.data() + v.size())); }
 
@@ -293,6 +350,11 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     if (j.at("palpa_design_checkpoint").as_integer() != kCheckpointVersion) {
       j.at("palpa_design_checkpoint").fail("unsupported version", std::to_string(kCheckpointVersion));
     }
+    const std::string method = j.at("method").as_string();
+    if (method != method_name(options_.method)) {
+      j.at("method").fail(fmt::format("a checkpoint of the {} method", method),
+                          fmt::format("{} (the method of this run)", method_name(options_.method)));
+    }
     const double saved_gamma = j.at("gamma").as_number();
     if (std::abs(saved_gamma - gamma_) > 1e-9 * std::max(std::abs(gamma_), 1e-300)) {
       j.at("gamma").fail(fmt::format("γ = {:.6g} differs from this scene's {:.6g}", saved_gamma, gamma_),
@@ -321,6 +383,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     Json hist = Json::array();
     for (const IterationRecord& r : result.history) hist.push_back(record_json(r));
     const Json j = {{"palpa_design_checkpoint", kCheckpointVersion},
+                    {"method", method_name(options_.method)},
                     {"iteration", iteration},
                     {"gamma", gamma_},
                     {"theta", to_json(theta)},
@@ -339,7 +402,78 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
 
   result.stop_reason = fmt::format("the iteration limit ({})", options_.max_iterations);
   int iteration = first - 1;
-  for (int it = first; it <= options_.max_iterations; ++it) {
+  // L-BFGS runs until its line search gives up (contact changes make φ only
+  // piecewise smooth, and stale curvature pairs then mislead it); it is then
+  // restarted from where it stopped with a fresh memory, until a restart
+  // makes no progress.
+  while (options_.method == DesignMethod::Lbfgs && iteration < options_.max_iterations) {
+    // Scale: a unit step along −∇ moves the support by at most 0.2 mm.
+    const double gmax = std::max(space_->max_move(g), 1e-300);
+    const double phi0 = std::abs(base.phi);
+    const double c = std::sqrt(2e-4 * phi0 / gmax);
+    rest::RestState warm = base.state;
+    auto* objective = new ScaledObjective(
+        [&](const Eigen::VectorXd& th, bool with_gradient) {
+          Evaluation e = evaluate(space_->shape(th), warm, with_gradient, 0);
+          if (e.ok) warm = e.state;
+          ++result.evaluations;
+          if (e.ok) result.newton_iterations += e.rest.newton_iterations;
+          return e;
+        },
+        space_->size(), c, phi0);
+    objective->set_gradient_map([&](const Evaluation& e) { return Eigen::VectorXd(space_->restrict(e.gradient)); });
+    ceres::GradientProblem problem(objective);  // owns it
+    Eigen::VectorXd u = theta / c;
+    auto ti = Clock::now();
+    int evaluations_before = 0;
+    const int start = iteration;
+    LbfgsCallback callback([&](const ceres::IterationSummary& sum) {
+      if (objective->error_) return false;
+      if (sum.iteration == 0 || !sum.step_is_successful) return true;
+      ++iteration;
+      base = objective->last_;
+      theta = objective->last_theta_;
+      g = space_->restrict(base.gradient);
+      d = -g;
+      IterationRecord rec;
+      rec.iteration = iteration;
+      rec.phi = base.phi;
+      rec.zeta = base.zeta;
+      rec.psi = base.psi;
+      rec.move = sum.step_norm * c;
+      rec.evaluations = objective->evaluations_ - evaluations_before;
+      rec.restarted = iteration == start + 1 && start > first - 1;
+      evaluations_before = objective->evaluations_;
+      rec.seconds = seconds_since(ti);
+      ti = Clock::now();
+      result.history.push_back(rec);
+      save(iteration);
+      spdlog::info("design: iteration {} (L-BFGS): φ = {:.6g} (ζ = {:.6g}, γψ = {:.3g}), {} evaluations, {:.1f} s",
+                   iteration, base.phi, base.zeta, gamma_ * base.psi, rec.evaluations, rec.seconds);
+      if (progress) progress(rec);
+      return !interrupt_requested();
+    });
+    ceres::GradientProblemSolver::Options so;
+    so.line_search_direction_type = ceres::LBFGS;
+    so.max_num_iterations = options_.max_iterations - iteration;
+    so.function_tolerance = options_.min_relative_decrease;
+    so.gradient_tolerance = 1e-14;
+    so.parameter_tolerance = 1e-14;
+    so.logging_type = ceres::SILENT;
+    so.callbacks.push_back(&callback);
+    ceres::GradientProblemSolver::Summary summary;
+    ceres::Solve(so, problem, u.data(), &summary);
+    if (objective->error_) std::rethrow_exception(objective->error_);
+    check_interrupt();
+    result.stop_reason = "L-BFGS: " + summary.message;
+    if (summary.termination_type == ceres::CONVERGENCE &&
+        summary.message.find("Function tolerance") != std::string::npos) {
+      break;  // φ fell by less than min_relative_decrease
+    }
+    if (iteration == start) break;  // a fresh start made no progress either
+    if (iteration < options_.max_iterations) spdlog::info("design: L-BFGS stalled; restarting it from iteration {}", iteration);
+  }
+  for (int it = first; options_.method == DesignMethod::ConjugateGradient && it <= options_.max_iterations; ++it) {
     check_interrupt();
     const auto ti = Clock::now();
     IterationRecord rec;

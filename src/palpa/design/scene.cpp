@@ -47,8 +47,18 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
   double facing = 25.0 * 3.14159265358979323846 / 180.0;
   o.smoothing_exponent = -2.0;
   if (const auto d = root.find("design")) {
-    d->expect_only({"region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves",
+    d->expect_only({"method", "region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves",
                     "threads", "post_smoothing"});
+    if (const auto m = d->find("method")) {
+      const std::string v = m->as_string();
+      if (v == "cg") {
+        o.method = DesignMethod::ConjugateGradient;
+      } else if (v == "lbfgs") {
+        o.method = DesignMethod::Lbfgs;
+      } else {
+        m->fail(fmt::format("unknown method '{}'", v), "cg (nonlinear conjugate gradients) or lbfgs");
+      }
+    }
     if (const auto r = d->find("region")) {
       r->expect_only({"min", "max"});
       lo = sim3d::read_quantity3(r->at("min"), Dimension::Length);

@@ -6,6 +6,7 @@
 //   "palpa_design": 1,
 //   "body": {...}, "core": {...}, "support": {...}, "contact": {...}, ...
 //   "design": {
+//     "method": "cg",            // or "lbfgs"
 //     "region": {"min": ["-100 mm", ...], "max": [...]},  // optional box [world]
 //     "facing": "25 deg",        // only vertices whose normal is within this angle of −gravity
 //     "direction": "normal",     // or "free": 3D moves

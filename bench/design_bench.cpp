@@ -1,0 +1,74 @@
+// design: every shipped `palpa design` example optimized with both methods —
+// nonlinear CG over the ladder of 8 step lengths (evaluated in parallel) and
+// L-BFGS — for the same number of iterations. Per example and method:
+// iterations, equilibrium solves, Newton iterations, total time, time per
+// iteration as a multiple of one equilibrium solved from scratch (the initial
+// one, measured in the same run), the adjoint's share, ζ before and after.
+//
+//   palpa_bench_design [--iterations N] [scene.json ...]
+//   (default: the examples in the source tree, the scenes' iteration limits)
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "palpa/design/optimizer.hpp"
+#include "palpa/design/scene.hpp"
+
+int main(int argc, char** argv) {
+  using palpa::bench::emit;
+  std::vector<std::filesystem::path> scenes;
+  int iterations = -1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--iterations" && i + 1 < argc) {
+      iterations = std::atoi(argv[++i]);
+    } else {
+      scenes.emplace_back(a);
+    }
+  }
+  if (scenes.empty()) {
+    const std::filesystem::path ex = std::filesystem::path(PALPA_SOURCE_DIR) / "examples" / "design";
+    for (const auto& e : std::filesystem::directory_iterator(ex)) {
+      if (std::filesystem::exists(e.path() / "scene.json")) scenes.push_back(e.path() / "scene.json");
+    }
+    std::sort(scenes.begin(), scenes.end());
+  }
+  for (const auto& file : scenes) {
+    for (const auto method : {palpa::design::DesignMethod::ConjugateGradient, palpa::design::DesignMethod::Lbfgs}) {
+      palpa::design::DesignScene scene = palpa::design::read_design_scene(file);
+      scene.options.method = method;
+      if (iterations >= 0) scene.options.max_iterations = iterations;
+      palpa::design::ShapeOptimizer opt(scene.rest.body, scene.rest.support, scene.rest.options,
+                                        scene.design_vertices, scene.options);
+      const palpa::design::DesignResult r = opt.run();
+      double adjoint = 0.0, iteration_seconds = 0.0;
+      for (const auto& it : r.history) iteration_seconds += it.seconds;
+      adjoint = r.initial.adjoint_seconds / std::max(r.initial.seconds, 1e-12);
+      const double per_iteration = r.history.empty() ? 0.0 : iteration_seconds / static_cast<double>(r.history.size());
+      emit({{"bench", "design"},
+            {"scene", file.parent_path().filename().string() + "/" + file.filename().string()},
+            {"method", method == palpa::design::DesignMethod::Lbfgs ? "lbfgs" : "cg"},
+            {"human_vertices", opt.simulation().model().num_vertices()},
+            {"tets", opt.simulation().model().num_elements()},
+            {"support_vertices", r.initial.support.rows()},
+            {"design_variables", opt.space().size()},
+            {"contact_vertices", r.initial.score.body_contacts},
+            {"iterations", r.iterations},
+            {"equilibrium_solves", r.evaluations},
+            {"newton_iterations", r.newton_iterations},
+            {"seconds", r.seconds},
+            {"seconds_per_iteration", per_iteration},
+            {"equilibrium_seconds", r.equilibrium_seconds},
+            {"iteration_over_equilibrium", per_iteration / r.equilibrium_seconds},
+            {"adjoint_share_of_an_evaluation", adjoint},
+            {"zeta_initial", r.initial.zeta},
+            {"zeta_final", r.final.zeta},
+            {"zeta_reduction_percent", 100.0 * (1.0 - r.final.zeta / r.initial.zeta)},
+            {"stop", r.stop_reason}});
+    }
+  }
+}

@@ -1,0 +1,96 @@
+// `palpa design` end to end: outputs, resuming, bad input.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "common/test_support.hpp"
+
+namespace palpa {
+namespace {
+
+using test::run_palpa;
+using test::ScratchDir;
+
+constexpr const char* kScene = R"({
+  "palpa_design": 1,
+  "body": {
+    "generate": {"shape": "sphere", "length": "60 mm"},
+    "edge": "7 mm", "depth": "8 mm",
+    "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
+    "position": ["0 mm", "0 mm", "31 mm"]
+  },
+  "core": {"mass": "0.5 kg", "free": ["z"]},
+  "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}},
+  "design": {"method": "cg",
+             "region": {"min": ["-60 mm", "-60 mm", "-5 mm"], "max": ["60 mm", "60 mm", "5 mm"]},
+             "iterations": 4}
+})";
+
+nlohmann::json summary(const std::filesystem::path& p) { return nlohmann::json::parse(test::read_text(p)); }
+
+TEST(DesignCli, LowersTheScoreAndWritesTheShapeAndTheMaps) {
+  ScratchDir dir;
+  dir.write("scene.json", kScene);
+  const auto r = run_palpa("design scene.json -o out", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"support.obj", "support_mm.stl", "support_before.vtu", "support_after.vtu", "support_before.ply",
+                        "support_after.ply", "body_before.vtu", "body_after.vtu", "skin_before.ply", "skin_after.ply",
+                        "score.svg", "pressure_histogram.svg", "summary.json", "checkpoint.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
+  }
+  const auto s = summary(dir / "out" / "summary.json");
+  EXPECT_EQ(s["iterations"], 4);
+  EXPECT_GT(s["zeta_reduction_percent"].get<double>(), 20.0);
+  EXPECT_LT(s["final"]["balance_error"].get<double>(), 0.005);
+  EXPECT_GT(s["max_design_displacement_m"].get<double>(), 1e-5);
+  EXPECT_NE(test::read_text(dir / "out" / "support_after.vtu").find("design_displacement_m"), std::string::npos);
+  EXPECT_NE(r.err.find("design: iteration 4"), std::string::npos) << r.err;
+}
+
+TEST(DesignCli, ResumesAnInterruptedRun) {
+  ScratchDir dir;
+  dir.write("scene.json", kScene);
+  ASSERT_EQ(run_palpa("design scene.json -o straight", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_palpa("design scene.json -o out --iterations 2", dir.path()).exit_code, 0);
+  // Without --resume a used folder is refused.
+  const auto refused = run_palpa("design scene.json -o out", dir.path());
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("not empty"), std::string::npos) << refused.err;
+  const auto r = run_palpa("design scene.json -o out --resume", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("resuming after iteration 2"), std::string::npos) << r.err;
+  const auto a = summary(dir / "out" / "summary.json");
+  const auto b = summary(dir / "straight" / "summary.json");
+  EXPECT_TRUE(a["resumed"].get<bool>());
+  EXPECT_EQ(a["iterations"], 4);
+  EXPECT_EQ(a["final"]["zeta"].get<double>(), b["final"]["zeta"].get<double>());
+}
+
+TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {
+  ScratchDir dir;
+  const auto none = run_palpa("design missing.json -o out --resume", dir.path());
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("nothing to resume"), std::string::npos) << none.err;
+  std::string empty = kScene;
+  empty.replace(empty.find("\"-5 mm\"]"), 8, "\"-15 mm\"]").replace(empty.find("\"5 mm\"]"), 7, "\"-8 mm\"]");
+  dir.write("empty.json", empty);
+  const auto a = run_palpa("design empty.json -o out", dir.path());
+  EXPECT_EQ(a.exit_code, 2);
+  EXPECT_NE(a.err.find("no support vertex lies in the design region"), std::string::npos) << a.err;
+  std::string direction = kScene;
+  direction.replace(direction.find("\"iterations\": 4"), 15, "\"direction\": \"sideways\"");
+  dir.write("direction.json", direction);
+  const auto b = run_palpa("design direction.json -o out", dir.path());
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("unknown direction 'sideways'"), std::string::npos) << b.err;
+  std::string rest = kScene;
+  rest.replace(rest.find("palpa_design"), 12, "palpa_rest");
+  dir.write("rest.json", rest);
+  const auto c = run_palpa("design rest.json -o out", dir.path());
+  EXPECT_EQ(c.exit_code, 2);
+  EXPECT_NE(c.err.find("palpa_design"), std::string::npos) << c.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+}  // namespace
+}  // namespace palpa
