@@ -209,6 +209,7 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
     }
   }
   if (options_.max_iterations < 0) throw Error(ErrorKind::Input, "the iteration limit must be ≥ 0");
+  unit_move_ = 0.5 * rest.target_penetration;
   int threads = options_.threads;
   if (threads <= 0) {
     threads = static_cast<int>(std::min<std::size_t>(options_.moves.size(),
@@ -402,15 +403,92 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
 
   result.stop_reason = fmt::format("the iteration limit ({})", options_.max_iterations);
   int iteration = first - 1;
+  // One iteration of the ladder of step lengths along d (CG, and L-BFGS's
+  // fallback when its line search stalls). Returns 0 when a step was taken,
+  // 1 when it was taken but φ barely fell, 2 when no step lowers φ.
+  auto ladder = [&](int it) -> int {
+    check_interrupt();
+    const auto ti = Clock::now();
+    IterationRecord rec;
+    rec.iteration = it;
+    int best = -1;
+    std::vector<Evaluation> trials;
+    Eigen::VectorXd step;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      if (g.dot(d) >= 0.0 && !steepest) {
+        d = -g;
+        steepest = true;
+        rec.restarted = true;
+      }
+      const double m = space_->max_move(d);
+      if (!(m > 0.0)) break;
+      std::vector<Eigen::MatrixX3d> shapes;
+      std::vector<Eigen::VectorXd> steps;
+      for (double move : options_.moves) {
+        steps.push_back(theta + (move / m) * d);
+        shapes.push_back(space_->shape(steps.back()));
+      }
+      trials = evaluate_all(shapes, base.state);
+      rec.evaluations += static_cast<int>(trials.size());
+      result.evaluations += static_cast<int>(trials.size());
+      for (std::size_t i = 0; i < trials.size(); ++i) {
+        if (trials[i].ok) result.newton_iterations += trials[i].rest.newton_iterations;
+        if (trials[i].ok && trials[i].phi < base.phi && (best < 0 || trials[i].phi < trials[static_cast<std::size_t>(best)].phi)) {
+          best = static_cast<int>(i);
+        }
+      }
+      if (best >= 0) {
+        step = steps[static_cast<std::size_t>(best)];
+        rec.move = options_.moves[static_cast<std::size_t>(best)];
+        break;
+      }
+      if (steepest) break;
+      d = -g;
+      steepest = true;
+      rec.restarted = true;
+    }
+    if (best < 0) {
+      result.stop_reason = space_->max_move(d) > 0.0 ? "no step length lowers φ along the steepest descent"
+                                                     : "the gradient vanishes";
+      return 2;
+    }
+    Evaluation& next = trials[static_cast<std::size_t>(best)];
+    const Eigen::VectorXd g_next = space_->restrict(next.gradient);
+    const double beta = std::max(0.0, g_next.dot(g_next - g) / std::max(g.squaredNorm(), 1e-300));
+    d = -g_next + beta * d;
+    steepest = beta == 0.0;
+    g = g_next;
+    theta = step;
+    const double decrease = base.phi - next.phi;
+    const double previous = base.phi;
+    base = std::move(next);
+    rec.phi = base.phi;
+    rec.zeta = base.zeta;
+    rec.psi = base.psi;
+    rec.seconds = seconds_since(ti);
+    result.history.push_back(rec);
+    iteration = it;
+    save(it);
+    spdlog::info("design: iteration {}: φ = {:.6g} (ζ = {:.6g}, γψ = {:.3g}), step {:.3g} mm, {} equilibria, {:.1f} s",
+                 it, base.phi, base.zeta, gamma_ * base.psi, rec.move * 1e3, rec.evaluations, rec.seconds);
+    if (progress) progress(rec);
+    if (decrease < options_.min_relative_decrease * std::abs(previous)) {
+      result.stop_reason = fmt::format("φ fell by less than {:.3g} of itself", options_.min_relative_decrease);
+      return 1;
+    }
+    return 0;
+  };
+
   // L-BFGS runs until its line search gives up (contact changes make φ only
   // piecewise smooth, and stale curvature pairs then mislead it); it is then
   // restarted from where it stopped with a fresh memory, until a restart
   // makes no progress.
   while (options_.method == DesignMethod::Lbfgs && iteration < options_.max_iterations) {
-    // Scale: a unit step along −∇ moves the support by at most 0.2 mm.
+    // Scale: a unit step along −∇ moves the support by at most half the
+    // target penetration, so that no contact changes by more than that.
     const double gmax = std::max(space_->max_move(g), 1e-300);
     const double phi0 = std::abs(base.phi);
-    const double c = std::sqrt(2e-4 * phi0 / gmax);
+    const double c = std::sqrt(unit_move_ * phi0 / gmax);
     rest::RestState warm = base.state;
     auto* objective = new ScaledObjective(
         [&](const Eigen::VectorXd& th, bool with_gradient) {
@@ -470,79 +548,15 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
         summary.message.find("Function tolerance") != std::string::npos) {
       break;  // φ fell by less than min_relative_decrease
     }
-    if (iteration == start) break;  // a fresh start made no progress either
-    if (iteration < options_.max_iterations) spdlog::info("design: L-BFGS stalled; restarting it from iteration {}", iteration);
+    if (iteration >= options_.max_iterations) break;
+    // Stalled: one ladder step along the steepest descent, then a fresh start.
+    spdlog::info("design: L-BFGS stalled at iteration {}; one step of the ladder, then a fresh start", iteration);
+    d = -g;
+    steepest = true;
+    if (ladder(iteration + 1) != 0) break;
   }
   for (int it = first; options_.method == DesignMethod::ConjugateGradient && it <= options_.max_iterations; ++it) {
-    check_interrupt();
-    const auto ti = Clock::now();
-    IterationRecord rec;
-    rec.iteration = it;
-    int best = -1;
-    std::vector<Evaluation> trials;
-    Eigen::VectorXd step;
-    for (int attempt = 0; attempt < 2; ++attempt) {
-      if (g.dot(d) >= 0.0 && !steepest) {
-        d = -g;
-        steepest = true;
-        rec.restarted = true;
-      }
-      const double m = space_->max_move(d);
-      if (!(m > 0.0)) break;
-      std::vector<Eigen::MatrixX3d> shapes;
-      std::vector<Eigen::VectorXd> steps;
-      for (double move : options_.moves) {
-        steps.push_back(theta + (move / m) * d);
-        shapes.push_back(space_->shape(steps.back()));
-      }
-      trials = evaluate_all(shapes, base.state);
-      rec.evaluations += static_cast<int>(trials.size());
-      result.evaluations += static_cast<int>(trials.size());
-      for (std::size_t i = 0; i < trials.size(); ++i) {
-        if (trials[i].ok) result.newton_iterations += trials[i].rest.newton_iterations;
-        if (trials[i].ok && trials[i].phi < base.phi && (best < 0 || trials[i].phi < trials[static_cast<std::size_t>(best)].phi)) {
-          best = static_cast<int>(i);
-        }
-      }
-      if (best >= 0) {
-        step = steps[static_cast<std::size_t>(best)];
-        rec.move = options_.moves[static_cast<std::size_t>(best)];
-        break;
-      }
-      if (steepest) break;
-      d = -g;
-      steepest = true;
-      rec.restarted = true;
-    }
-    if (best < 0) {
-      result.stop_reason = space_->max_move(d) > 0.0 ? "no step length lowers φ along the steepest descent"
-                                                     : "the gradient vanishes";
-      break;
-    }
-    Evaluation& next = trials[static_cast<std::size_t>(best)];
-    const Eigen::VectorXd g_next = space_->restrict(next.gradient);
-    const double beta = std::max(0.0, g_next.dot(g_next - g) / std::max(g.squaredNorm(), 1e-300));
-    d = -g_next + beta * d;
-    steepest = beta == 0.0;
-    g = g_next;
-    theta = step;
-    const double decrease = base.phi - next.phi;
-    const double previous = base.phi;
-    base = std::move(next);
-    rec.phi = base.phi;
-    rec.zeta = base.zeta;
-    rec.psi = base.psi;
-    rec.seconds = seconds_since(ti);
-    result.history.push_back(rec);
-    iteration = it;
-    save(it);
-    spdlog::info("design: iteration {}: φ = {:.6g} (ζ = {:.6g}, γψ = {:.3g}), step {:.3g} mm, {} equilibria, {:.1f} s",
-                 it, base.phi, base.zeta, gamma_ * base.psi, rec.move * 1e3, rec.evaluations, rec.seconds);
-    if (progress) progress(rec);
-    if (decrease < options_.min_relative_decrease * std::abs(previous)) {
-      result.stop_reason = fmt::format("φ fell by less than {:.3g} of itself", options_.min_relative_decrease);
-      break;
-    }
+    if (ladder(it) != 0) break;
   }
   result.iterations = iteration;
 

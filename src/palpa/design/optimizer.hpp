@@ -37,7 +37,8 @@
 //
 // L-BFGS (DesignMethod::Lbfgs): the same φ and gradient handed to Ceres'
 // GradientProblemSolver, variables scaled so that a unit step along the
-// initial gradient moves the support by at most 0.2 mm; each evaluation is
+// initial gradient moves the support by at most half the target penetration
+// (0.15 mm by default); each evaluation is
 // warm-started from the previous one. Checkpoints hold the iterate, so a
 // resumed run continues from it, but with a fresh L-BFGS memory (Ceres does
 // not expose it): not bit for bit.
@@ -176,6 +177,7 @@ class ShapeOptimizer {
   Evaluation initial_;
   double gamma_ = 0.0;
   double equilibrium_seconds_ = 0.0;
+  double unit_move_ = 1.5e-4;  // L-BFGS: the largest vertex move of a unit step along −∇ [m]
 };
 
 }  // namespace palpa::design
