@@ -29,6 +29,7 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr int kCheckpointVersion = 1;
+constexpr int kTrialNewtonIterations = 50;
 
 const char* method_name(DesignMethod m) { return m == DesignMethod::Lbfgs ? "lbfgs" : "cg"; }
 
@@ -47,7 +48,7 @@ class ScaledObjective final : public ceres::FirstOrderFunction {
       Evaluation e = f_(theta, gradient != nullptr);
       ++evaluations_;
       if (!e.ok) {
-        spdlog::info("design: a line-search trial failed, shorter step: {}", e.failure);
+        spdlog::debug("design: a line-search trial failed, shorter step: {}", e.failure);
         return false;
       }
       *cost = e.phi / phi0_;
@@ -233,6 +234,14 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
     sims_.back()->freeze_contact_model();
   }
 
+  // A trial whose warm-started equilibrium needs more than 50 Newton
+  // iterations has moved too far: it fails (a shorter step is tried) rather
+  // than grinding on.
+  for (auto& sim : sims_) {
+    NewtonOptions no = sim->newton().options();
+    no.max_iterations = std::min(no.max_iterations, kTrialNewtonIterations);
+    sim->newton().set_options(no);
+  }
   const Eigen::MatrixX3d X0 = first.support().vertices();
   const Eigen::MatrixX3i& F = first.support().triangles();
   space_ = std::make_unique<DesignSpace>(X0, F, std::move(design_vertices), options_.normal_only);
@@ -490,8 +499,16 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     const double phi0 = std::abs(base.phi);
     const double c = std::sqrt(unit_move_ * phi0 / gmax);
     rest::RestState warm = base.state;
+    const double max_step = *std::max_element(options_.moves.begin(), options_.moves.end());
     auto* objective = new ScaledObjective(
         [&](const Eigen::VectorXd& th, bool with_gradient) {
+          // Steps longer than the ladder's longest are refused without a
+          // solve: Ceres then backtracks (a trust region of sorts).
+          if (space_->max_move(th - theta) > max_step) {
+            Evaluation refused;
+            refused.failure = "longer than the longest step";
+            return refused;
+          }
           Evaluation e = evaluate(space_->shape(th), warm, with_gradient, 0);
           if (e.ok) warm = e.state;
           ++result.evaluations;
