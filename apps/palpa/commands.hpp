@@ -15,6 +15,7 @@ void add_fit_command(CLI::App& app);
 void add_sim3d_command(CLI::App& app);
 void add_rest_command(CLI::App& app);
 void add_design_command(CLI::App& app);
+void add_compare_command(CLI::App& app);
 void add_mesh_command(CLI::App& app);
 void add_acquire_command(CLI::App& app);
 

@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   palpa::cli::add_sim3d_command(app);
   palpa::cli::add_rest_command(app);
   palpa::cli::add_design_command(app);
+  palpa::cli::add_compare_command(app);
   palpa::cli::add_mesh_command(app);
   palpa::cli::add_acquire_command(app);
   palpa::cli::add_convert_command(app);

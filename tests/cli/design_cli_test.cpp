@@ -47,6 +47,38 @@ TEST(DesignCli, LowersTheScoreAndWritesTheShapeAndTheMaps) {
   EXPECT_NE(r.err.find("design: iteration 4"), std::string::npos) << r.err;
 }
 
+TEST(DesignCli, ScoresBaselinesAndComparesMaps) {
+  // The sphere's negative image as a baseline, scored alike; then palpa
+  // compare between palpa's support map and the Pose-to-Seat estimate on it.
+  ScratchDir dir;
+  std::string scene = kScene;
+  scene.replace(scene.rfind('}'), 1,
+                R"(, "baselines": [{"name": "negative image", "support": {"negative_image": {
+                      "box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 20},
+                      "press": "10 mm", "edge": "6 mm", "smoothing": 5, "band": "10 mm"}}}]})");
+  dir.write("scene.json", scene);
+  const auto r = run_palpa("design scene.json -o out --iterations 1", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto s = summary(dir / "out" / "summary.json");
+  ASSERT_EQ(s["baselines"].size(), 1u);
+  EXPECT_EQ(s["baselines"][0]["name"], "negative image");
+  EXPECT_GT(s["baselines"][0]["zeta"].get<double>(), 0.0);
+  EXPECT_LT(s["baselines"][0]["balance_error"].get<double>(), 0.005);
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "baseline_negative_image_support.vtu"));
+  EXPECT_GT(s["pose_to_seat"]["before"]["contacts"].get<int>(), 0);
+  const auto c = run_palpa("compare out/support_before.ply out/support_before.ply --reference-field pose_to_seat_Pa "
+                           "--json cmp.json",
+                           dir.path());
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  EXPECT_NE(c.out.find("correlation"), std::string::npos) << c.out;
+  const auto j = summary(dir / "cmp.json");
+  EXPECT_NEAR(j["correlation"].get<double>(),
+              s["pose_to_seat"]["before"]["against_palpa_on_the_support"]["correlation"].get<double>(), 1e-9);
+  const auto d = run_palpa("compare out/support_before.ply out/support_after.ply", dir.path());
+  EXPECT_EQ(d.exit_code, 2);
+  EXPECT_NE(d.err.find("same support mesh"), std::string::npos) << d.err;
+}
+
 TEST(DesignCli, ResumesAnInterruptedRun) {
   ScratchDir dir;
   dir.write("scene.json", kScene);

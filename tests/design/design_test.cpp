@@ -7,6 +7,7 @@
 #include <memory>
 #include <random>
 
+#include "palpa/design/baselines.hpp"
 #include "palpa/design/optimizer.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/sim3d/shapes.hpp"
@@ -244,6 +245,29 @@ TEST(DesignOptimizer, LowersTheScoreMonotonicallyAndStillCarriesTheLoad) {
   // feature and the one taken is a matter of numbering; over 12 iterations
   // that leaves about 3% (an optimizer blind to symmetry would leave O(1)).
   EXPECT_LT(mirror_asymmetry(s, moved), 0.08);
+}
+
+TEST(DesignBaselines, PoseToSeatBalancesTheForceAndActsOnTheLoadLine) {
+  // The cushion resting on the flat slab; the estimate without elasticity
+  // carries palpa's contact force through the same point.
+  rest::RestSimulation sim(cushion(6e-3), slab(15), options());
+  const rest::RestResult r = sim.solve();
+  const PressureEstimate e = pose_to_seat(sim, r, 2e-3);
+  ASSERT_GT(e.contacts, 10);
+  double force = 0.0;
+  Eigen::Vector2d moment = Eigen::Vector2d::Zero();
+  for (int v : sim.surface_vertices()) {
+    const double f = e.body_pressure[v] * sim.skin_area()[v];
+    force += f;
+    moment += f * sim.model().mesh().V.row(v).head<2>().transpose();
+  }
+  EXPECT_NEAR(force, r.contact_force.z(), 1e-9 * force);
+  // Centred body and load: the pressure centre is on the axis (to the mesh's
+  // asymmetry).
+  EXPECT_LT((moment / force).norm(), 1e-3);
+  // It reaches the support's vertices under the contact.
+  EXPECT_GT(e.support_pressure.maxCoeff(), 0.0);
+  EXPECT_THROW(pose_to_seat(sim, r, 0.0), Error);
 }
 
 TEST(DesignOptimizer, LbfgsLowersTheScoreToo) {

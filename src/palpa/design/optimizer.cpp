@@ -226,6 +226,8 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
   equilibrium_seconds_ = seconds_since(t0);
   first.freeze_contact_model();
   const rest::RestState s0 = first.state();
+  baseline_options_ = rest;
+  baseline_options_.stiffness = r0.stiffness;
   rest::RestOptions frozen = rest;
   frozen.stiffness = r0.stiffness;
   frozen.update_areas = false;
@@ -322,6 +324,29 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestS
     ev.adjoint_seconds = seconds_since(ta);
   }
   ev.seconds = seconds_since(t0);
+  return ev;
+}
+
+Evaluation ShapeOptimizer::score_support(const rest::RestBody& body, const SurfaceMesh& support,
+                                         std::unique_ptr<rest::RestSimulation>* keep) const {
+  const auto t0 = Clock::now();
+  auto sim = std::make_unique<rest::RestSimulation>(body, support, baseline_options_);
+  Evaluation ev;
+  ev.support = sim->support().vertices();
+  try {
+    ev.rest = sim->solve();
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Solver) throw;
+    ev.failure = e.what();
+    return ev;
+  }
+  const ErgonomicScore score(*sim, options_.score);
+  ev.score = score.evaluate(*sim, false);
+  ev.zeta = ev.phi = ev.score.zeta;
+  ev.state = sim->state();
+  ev.ok = std::isfinite(ev.zeta);
+  ev.seconds = seconds_since(t0);
+  if (keep != nullptr) *keep = std::move(sim);
   return ev;
 }
 

@@ -102,6 +102,7 @@ struct DesignOptions {
   std::vector<double> moves{1e-6, 1e-5, 1e-4, 2e-4, 5e-4, 7e-4, 1e-3, 2e-3};  // [m]
   int threads = 0;                    // simulations evaluated at once; 0: min(#moves, cores)
   int post_smoothing = 0;             // Taubin rounds on the design vertices after the run
+  double pose_to_seat_threshold = 2e-3;  // contact distance of the estimate without elasticity [m]
   std::filesystem::path checkpoint;   // empty: none
   bool resume = false;                // continue from `checkpoint`
 };
@@ -162,6 +163,13 @@ class ShapeOptimizer {
   // `gradient`. A failed equilibrium gives ok = false; Ctrl-C propagates.
   Evaluation evaluate(const Eigen::MatrixX3d& X, const rest::RestState& warm, bool gradient, int slot = 0);
 
+  // ζ of another support (a baseline) under the same physics: the contact
+  // stiffness of the initial shape, spring areas following the contact as in
+  // palpa rest. φ = ζ. With `keep`, the solved simulation is handed over
+  // (for its fields).
+  Evaluation score_support(const rest::RestBody& body, const SurfaceMesh& support,
+                           std::unique_ptr<rest::RestSimulation>* keep = nullptr) const;
+
   // The optimization. progress: called after every iteration.
   DesignResult run(const std::function<void(const IterationRecord&)>& progress = {});
 
@@ -177,6 +185,7 @@ class ShapeOptimizer {
   Evaluation initial_;
   double gamma_ = 0.0;
   double equilibrium_seconds_ = 0.0;
+  rest::RestOptions baseline_options_;
   double unit_move_ = 1.5e-4;  // L-BFGS: the largest vertex move of a unit step along −∇ [m]
 };
 

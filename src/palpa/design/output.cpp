@@ -1,6 +1,8 @@
 #include "palpa/design/output.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <memory>
 #include <fmt/format.h>
 
 #include "palpa/core/atomic_file.hpp"
@@ -8,6 +10,8 @@
 #include "palpa/io/mesh.hpp"
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
+#include "palpa/design/baselines.hpp"
+#include "palpa/report/compare.hpp"
 #include "palpa/report/plot.hpp"
 #include "palpa/rest/output.hpp"
 
@@ -35,21 +39,43 @@ Json evaluation_json(const Evaluation& e, double gamma) {
           {"min_det_F", e.rest.min_det_f}};
 }
 
-// Writes one side (before/after) from simulation 0 at evaluation e.
-void write_state(const std::filesystem::path& out, const std::string& tag, rest::RestSimulation& sim,
-                 const Evaluation& e, const Eigen::MatrixX3d* displacement) {
+// Writes one side (before/after) from simulation 0 at evaluation e, with the
+// Pose-to-Seat estimate beside palpa's pressures; returns the estimate's
+// figures and its comparison with palpa's support-side map.
+Json write_state(const std::filesystem::path& out, const std::string& tag, rest::RestSimulation& sim,
+                 const Evaluation& e, const Eigen::MatrixX3d* displacement, double threshold) {
+  const PressureEstimate pts = pose_to_seat(sim, e.rest, threshold);
   UnstructuredGrid body = sim.body_grid(e.rest);
   body.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.body_smoothed});
+  body.point_data.push_back(DataArray{"pose_to_seat_Pa", pts.body_pressure});
   write_vtu(out / fmt::format("body_{}.vtu", tag), body);
   UnstructuredGrid support = sim.support_grid(e.rest);
   support.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
+  support.point_data.push_back(DataArray{"pose_to_seat_Pa", pts.support_pressure});
   if (displacement != nullptr) support.point_data.push_back(DataArray{"design_displacement_m", *displacement});
   write_vtu(out / fmt::format("support_{}.vtu", tag), support);
   rest::write_skin_ply(out / fmt::format("skin_{}.ply", tag), sim,
-                       {{"pressure_Pa", e.score.body_pressure}, {"pressure_smoothed_Pa", e.score.body_smoothed}});
+                       {{"pressure_Pa", e.score.body_pressure},
+                        {"pressure_smoothed_Pa", e.score.body_smoothed},
+                        {"pose_to_seat_Pa", pts.body_pressure}});
   PlyWriteOptions po;
-  po.vertex_scalars = {{"pressure_Pa", e.score.support_pressure}, {"pressure_smoothed_Pa", e.score.support_smoothed}};
-  write_ply(out / fmt::format("support_{}.ply", tag), rest::world_support(sim), po);
+  po.vertex_scalars = {{"pressure_Pa", e.score.support_pressure},
+                       {"pressure_smoothed_Pa", e.score.support_smoothed},
+                       {"pose_to_seat_Pa", pts.support_pressure}};
+  const SurfaceMesh world = rest::world_support(sim);
+  write_ply(out / fmt::format("support_{}.ply", tag), world, po);
+  Json j = {{"contacts", pts.contacts}, {"peak_Pa", pts.body_pressure.maxCoeff()}};
+  if (pts.support_pressure.maxCoeff() > 0.0 || e.score.support_pressure.maxCoeff() > 0.0) {
+    const report::MapComparison c = report::compare_pressure_maps(
+        report::PressureMap{world, pts.support_pressure, "pose-to-seat"},
+        report::PressureMap{world, e.score.support_pressure, "palpa"});
+    j["against_palpa_on_the_support"] = {{"rms_difference_Pa", c.rms_difference},
+                                         {"relative_rms", c.relative_rms},
+                                         {"correlation", c.correlation},
+                                         {"contact_area_m2", c.a.contact_area},
+                                         {"palpa_contact_area_m2", c.b.contact_area}};
+  }
+  return j;
 }
 
 }  // namespace
@@ -60,11 +86,32 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   rest::RestSimulation& sim = optimizer.simulation(0);
   const Evaluation before = optimizer.evaluate(r.initial.support, r.initial.state, false, 0);
   if (!before.ok) throw Error(ErrorKind::Solver, "re-solving the initial shape: " + before.failure);
-  write_state(out, "before", sim, before, nullptr);
+  const double threshold = scene.options.pose_to_seat_threshold;
+  const Json pts_before = write_state(out, "before", sim, before, nullptr, threshold);
   const Evaluation after = optimizer.evaluate(r.final.support, r.final.state, false, 0);
   if (!after.ok) throw Error(ErrorKind::Solver, "re-solving the optimized shape: " + after.failure);
   const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
-  write_state(out, "after", sim, after, &displacement);
+  const Json pts_after = write_state(out, "after", sim, after, &displacement, threshold);
+
+  // Baselines, scored alike.
+  Json baselines = Json::array();
+  for (const Baseline& b : scene.baselines) {
+    std::unique_ptr<rest::RestSimulation> bsim;
+    const Evaluation e = optimizer.score_support(b.body, b.support, &bsim);
+    if (!e.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}': {}", b.name, e.failure));
+    std::string slug;
+    for (char ch : b.name) slug += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+    UnstructuredGrid grid = bsim->support_grid(e.rest);
+    grid.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
+    write_vtu(out / fmt::format("baseline_{}_support.vtu", slug), grid);
+    UnstructuredGrid body = bsim->body_grid(e.rest);
+    write_vtu(out / fmt::format("baseline_{}_body.vtu", slug), body);
+    Json j = evaluation_json(e, 0.0);
+    j["name"] = b.name;
+    j["source"] = b.source;
+    j["zeta_over_optimized"] = e.zeta / after.zeta;
+    baselines.push_back(j);
+  }
 
   SurfaceMesh optimized = rest::world_support(sim);
   write_surface_mesh(out / "support.obj", optimized);
@@ -162,6 +209,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
             {"initial_equilibrium_seconds", r.equilibrium_seconds},
             {"iteration_per_equilibrium", r.equilibrium_seconds > 0.0 ? per_iteration / r.equilibrium_seconds : 0.0},
             {"stop_reason", r.stop_reason},
+            {"pose_to_seat", {{"threshold_m", threshold}, {"before", pts_before}, {"after", pts_after}}},
+            {"baselines", baselines},
             {"resumed", r.resumed},
             {"history", history}};
   if (r.before_post_smoothing) s["zeta_before_post_smoothing"] = r.before_post_smoothing->zeta;

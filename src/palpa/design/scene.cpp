@@ -38,9 +38,22 @@ std::vector<int> facing_vertices(const SurfaceMesh& support, const Eigen::Vector
 
 DesignScene read_design_scene(const std::filesystem::path& path) {
   DesignScene s;
-  s.rest = rest::read_rest_scene(path, "palpa_design", {"design"});
+  s.rest = rest::read_rest_scene(path, "palpa_design", {"design", "baselines"});
   const Json doc = read_json_file(path);
   const JsonView root(doc, path.string());
+  if (const auto bl = root.find("baselines")) {
+    for (std::size_t i = 0; i < bl->size(); ++i) {
+      const JsonView b = bl->at(i);
+      b.expect_only({"name", "support"});
+      // The body as placed in the scene, before the design's own support
+      // moved it.
+      rest::RestScene copy = s.rest;
+      copy.body.mesh.V.rowwise() -= copy.body_shift.transpose();
+      copy.body_shift.setZero();
+      rest::read_scene_support(b.at("support"), path, copy);
+      s.baselines.push_back({b.at("name").as_string(), copy.body, copy.support, copy.support_source});
+    }
+  }
   DesignOptions& o = s.options;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
@@ -48,7 +61,7 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
   o.smoothing_exponent = -2.0;
   if (const auto d = root.find("design")) {
     d->expect_only({"method", "region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves",
-                    "threads", "post_smoothing"});
+                    "threads", "post_smoothing", "pose_to_seat_threshold"});
     if (const auto m = d->find("method")) {
       const std::string v = m->as_string();
       if (v == "cg") {
@@ -106,6 +119,7 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
     }
     if (const auto t = d->find("threads")) o.threads = sim3d::read_count(*t, 0, 64);
     if (const auto p = d->find("post_smoothing")) o.post_smoothing = sim3d::read_count(*p, 0, 1000);
+    if (const auto p = d->find("pose_to_seat_threshold")) o.pose_to_seat_threshold = sim3d::read_positive(*p, Dimension::Length);
   }
   const Eigen::Vector3d up = -s.rest.options.gravity;
   if (!(up.norm() > 0.0)) root.at("gravity").fail("zero gravity: no side of the support faces the body", "a gravity vector");

@@ -15,8 +15,11 @@
 //     "iterations": 30, "min_decrease": 1e-4,
 //     "moves": ["1 um", "10 um", "0.1 mm", "0.2 mm", "0.5 mm", "0.7 mm", "1 mm", "2 mm"],
 //     "threads": 0,              // simulations at once; 0: min(#moves, cores)
-//     "post_smoothing": 0        // Taubin rounds on the result
-//   }
+//     "post_smoothing": 0,       // Taubin rounds on the result
+//     "pose_to_seat_threshold": "2 mm"  // contact distance of the estimate without elasticity
+//   },
+//   "baselines": [{"name": "negative image", "support": {"negative_image": {...}}}]
+//                              // other supports (the "support" format) scored alike
 // }
 
 #include <filesystem>
@@ -28,8 +31,17 @@
 
 namespace palpa::design {
 
+// Another support scored with the same physics as the optimized one.
+struct Baseline {
+  std::string name;
+  rest::RestBody body;    // as placed for this support (a negative image lowers it)
+  SurfaceMesh support;
+  std::string source;
+};
+
 struct DesignScene {
   rest::RestScene rest;
+  std::vector<Baseline> baselines;
   std::vector<int> design_vertices;  // rows of rest.support.V
   DesignOptions options;
   std::string region;                // how the design vertices were chosen, for the summary

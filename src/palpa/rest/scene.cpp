@@ -196,7 +196,9 @@ SurfaceMesh read_box(const JsonView& box) {
   return m;
 }
 
-void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
+}  // namespace
+
+void read_scene_support(const JsonView& sp, const fs::path& file, RestScene& s) {
   sp.expect_only({"box", "spheres", "level", "smoothing", "negative_image", "file", "unit", "position", "rotation"});
   SurfaceMesh m;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
@@ -248,6 +250,7 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
     const mesh::NegativeImage made = mesh::negative_image(block, skin, o, name + ": support.negative_image");
     m = made.support;
     s.body.mesh.V.rowwise() += made.body_shift.transpose();
+    s.body_shift += made.body_shift;
     s.support_source = fmt::format("negative image of the body pressed {} into a box",
                                    format_quantity(o.press, Dimension::Length));
   } else if (const auto f = sp.find("file")) {
@@ -262,8 +265,6 @@ void read_support(const JsonView& sp, const fs::path& file, RestScene& s) {
   s.support = m;
 }
 
-}  // namespace
-
 RestScene read_rest_scene(const fs::path& path, const std::string& version_key,
                           const std::vector<std::string>& extra_keys) {
   const Json doc = read_json_file(path);
@@ -277,7 +278,7 @@ RestScene read_rest_scene(const fs::path& path, const std::string& version_key,
   RestOptions& o = s.options;
   if (const auto g = root.find("gravity")) o.gravity = read_quantity3(*g, Dimension::Acceleration);
   read_body(root.at("body"), path, s);
-  read_support(root.at("support"), path, s);
+  read_scene_support(root.at("support"), path, s);
   o.support_name = fmt::format("{}: support", path.filename().string());
   if (const auto core = root.find("core")) {
     core->expect_only({"mass", "free", "force", "torque", "centre"});

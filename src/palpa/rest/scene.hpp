@@ -36,6 +36,9 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
+
+#include "palpa/core/json.hpp"
 
 #include "palpa/io/mesh.hpp"
 #include "palpa/rest/rest.hpp"
@@ -49,6 +52,7 @@ struct RestScene {
   Eigen::Index body_repaired_pairs = 0;  // crossing triangle pairs removed from the scan
   Eigen::Index body_depth_clamped = 0;   // skin vertices whose depth was thinned to fit
   SurfaceMesh support;            // world coordinates
+  Eigen::Vector3d body_shift = Eigen::Vector3d::Zero();  // the body moved into a negative image [m]
   std::string support_source;
   RestOptions options;
 };
@@ -60,5 +64,10 @@ struct RestScene {
 // top-level members the caller reads itself.
 RestScene read_rest_scene(const std::filesystem::path& path, const std::string& version_key = "palpa_rest",
                           const std::vector<std::string>& extra_keys = {});
+
+// Builds s.support (and s.support_source) from a "support" object for the
+// body of s as it stands; a negative image moves s.body into its hollow
+// (adding to s.body_shift). file: the scene, for relative paths and messages.
+void read_scene_support(const JsonView& support, const std::filesystem::path& file, RestScene& s);
 
 }  // namespace palpa::rest

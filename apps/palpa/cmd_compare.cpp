@@ -1,0 +1,72 @@
+// palpa compare: the error between two pressure maps on the same support.
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "palpa/core/json.hpp"
+#include "palpa/report/compare.hpp"
+
+namespace palpa::cli {
+
+namespace {
+
+struct CompareArgs {
+  std::string map;
+  std::string reference;
+  std::string field = "pressure_Pa";
+  std::string reference_field;
+  std::string json;
+};
+
+Json side_json(const report::MapSide& s) {
+  return {{"force_N", s.force}, {"contact_area_m2", s.contact_area}, {"peak_Pa", s.peak}, {"mean_Pa", s.mean}};
+}
+
+void run_compare_command(const CompareArgs& a) {
+  const report::PressureMap m = report::read_pressure_map(a.map, a.field);
+  const report::PressureMap r =
+      report::read_pressure_map(a.reference, a.reference_field.empty() ? a.field : a.reference_field);
+  const report::MapComparison c = report::compare_pressure_maps(m, r);
+  fmt::print("map:       {}\nreference: {}\n", a.map, a.reference);
+  fmt::print("{:<16}{:>14}{:>14}\n", "", "map", "reference");
+  fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "force [N]", c.a.force, c.b.force);
+  fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "area [cm²]", c.a.contact_area * 1e4, c.b.contact_area * 1e4);
+  fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "peak [kPa]", c.a.peak * 1e-3, c.b.peak * 1e-3);
+  fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "mean [kPa]", c.a.mean * 1e-3, c.b.mean * 1e-3);
+  fmt::print("over the {} vertices in either contact: RMS difference {:.4g} kPa ({:.1f}% of the reference's mean), "
+             "largest {:.4g} kPa, correlation {:.3f}\n",
+             c.vertices, c.rms_difference * 1e-3, 100.0 * c.relative_rms, c.max_difference * 1e-3, c.correlation);
+  if (!a.json.empty()) {
+    write_json_file(a.json, {{"map", a.map},
+                             {"reference", a.reference},
+                             {"vertices", c.vertices},
+                             {"rms_difference_Pa", c.rms_difference},
+                             {"relative_rms", c.relative_rms},
+                             {"max_difference_Pa", c.max_difference},
+                             {"correlation", c.correlation},
+                             {"map_side", side_json(c.a)},
+                             {"reference_side", side_json(c.b)}});
+  }
+}
+
+}  // namespace
+
+void add_compare_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "compare",
+      "The error between two pressure maps on the same support (PLY or VTU with a per-vertex pressure): a "
+      "simulated map against a measured one, or two simulations.\n"
+      "  palpa compare design/support_before.ply map/pressure.ply\n"
+      "  palpa compare design/support_before.vtu design/support_before.vtu --reference-field pose_to_seat_Pa");
+  auto a = std::make_shared<CompareArgs>();
+  cmd->add_option("map", a->map, "The map to judge (.ply or .vtu)")->required();
+  cmd->add_option("reference", a->reference, "The reference map on the same mesh (.ply or .vtu)")->required();
+  cmd->add_option("--field", a->field, "Per-vertex pressure field [Pa] (default pressure_Pa)");
+  cmd->add_option("--reference-field", a->reference_field, "The reference's field (default: --field)");
+  cmd->add_option("--json", a->json, "Also write the figures to this JSON file");
+  cmd->callback([a] { run_compare_command(*a); });
+}
+
+}  // namespace palpa::cli

@@ -1,0 +1,125 @@
+#include "palpa/report/compare.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "palpa/core/error.hpp"
+#include "palpa/io/ply.hpp"
+#include "palpa/io/vtu.hpp"
+
+namespace palpa::report {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& file, const std::string& what, const std::string& expected) {
+  ErrorContext c;
+  c.file = file;
+  throw_input_error(what, c, expected);
+}
+
+Eigen::VectorXd areas(const SurfaceMesh& m) {
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(m.V.rows());
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d p = m.V.row(m.F(f, 0)), q = m.V.row(m.F(f, 1)), r = m.V.row(m.F(f, 2));
+    const double third = (q - p).cross(r - p).norm() / 6.0;
+    for (int k = 0; k < 3; ++k) a[m.F(f, k)] += third;
+  }
+  return a;
+}
+
+}  // namespace
+
+PressureMap read_pressure_map(const std::filesystem::path& path, const std::string& field) {
+  PressureMap m;
+  m.source = path.string();
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".ply") {
+    const PlyContents c = read_ply_with_scalars(path);
+    m.mesh = c.mesh;
+    for (const auto& s : c.vertex_scalars) {
+      if (s.name == field) m.pressure = s.values;
+    }
+  } else if (ext == ".vtu") {
+    const UnstructuredGrid g = read_vtu(path);
+    m.mesh.V = g.points;
+    for (const CellBlock& b : g.cells) {
+      if (b.type != VtkCellType::Triangle) fail(m.source, "the grid has cells other than triangles", "a triangle surface");
+      const Eigen::Index r0 = m.mesh.F.rows();
+      m.mesh.F.conservativeResize(r0 + b.nodes.rows(), 3);
+      m.mesh.F.bottomRows(b.nodes.rows()) = b.nodes;
+    }
+    if (const DataArray* d = g.find_point_data(field)) {
+      if (d->values.cols() != 1) fail(m.source, fmt::format("'{}' has {} components", field, d->values.cols()), "a scalar");
+      m.pressure = d->values.col(0);
+    }
+  } else {
+    fail(m.source, fmt::format("unknown pressure-map format '{}'", ext), ".ply or .vtu with a per-vertex pressure");
+  }
+  if (m.pressure.size() != m.mesh.V.rows()) {
+    fail(m.source, fmt::format("no per-vertex field '{}'", field), fmt::format("a vertex scalar '{}' [Pa]", field));
+  }
+  if (m.mesh.F.rows() == 0) fail(m.source, "the map has no triangles", "a triangle surface");
+  for (Eigen::Index i = 0; i < m.pressure.size(); ++i) {
+    if (!std::isfinite(m.pressure[i]) || m.pressure[i] < 0.0) {
+      fail(m.source, fmt::format("vertex {} has pressure {}", i, m.pressure[i]), "finite pressures ≥ 0 Pa");
+    }
+  }
+  return m;
+}
+
+MapComparison compare_pressure_maps(const PressureMap& a, const PressureMap& b) {
+  if (a.mesh.V.rows() != b.mesh.V.rows()) {
+    fail(a.source, fmt::format("{} vertices against {} in {}", a.mesh.V.rows(), b.mesh.V.rows(), b.source),
+         "two maps on the same support mesh");
+  }
+  const double size = (a.mesh.V.colwise().maxCoeff() - a.mesh.V.colwise().minCoeff()).norm();
+  const double moved = (a.mesh.V - b.mesh.V).rowwise().norm().maxCoeff();
+  if (moved > 1e-6 * size) {
+    fail(a.source, fmt::format("its vertices lie up to {:.3g} m from those of {}", moved, b.source),
+         "two maps on the same support mesh");
+  }
+  const Eigen::VectorXd A = areas(a.mesh);
+  MapComparison c;
+  auto side = [&](const Eigen::VectorXd& p) {
+    MapSide s;
+    for (Eigen::Index i = 0; i < p.size(); ++i) {
+      s.force += A[i] * p[i];
+      if (p[i] > 0.0) s.contact_area += A[i];
+    }
+    s.peak = p.maxCoeff();
+    s.mean = s.contact_area > 0.0 ? s.force / s.contact_area : 0.0;
+    return s;
+  };
+  c.a = side(a.pressure);
+  c.b = side(b.pressure);
+  double w = 0.0, ma = 0.0, mb = 0.0;
+  for (Eigen::Index i = 0; i < A.size(); ++i) {
+    if (a.pressure[i] <= 0.0 && b.pressure[i] <= 0.0) continue;
+    ++c.vertices;
+    w += A[i];
+    ma += A[i] * a.pressure[i];
+    mb += A[i] * b.pressure[i];
+    c.max_difference = std::max(c.max_difference, std::abs(a.pressure[i] - b.pressure[i]));
+  }
+  if (c.vertices == 0 || !(w > 0.0)) fail(a.source, fmt::format("neither map has contact (nor {})", b.source), "a pressure > 0 somewhere");
+  ma /= w;
+  mb /= w;
+  double sd = 0.0, caa = 0.0, cbb = 0.0, cab = 0.0;
+  for (Eigen::Index i = 0; i < A.size(); ++i) {
+    if (a.pressure[i] <= 0.0 && b.pressure[i] <= 0.0) continue;
+    const double da = a.pressure[i] - ma, db = b.pressure[i] - mb;
+    sd += A[i] * (a.pressure[i] - b.pressure[i]) * (a.pressure[i] - b.pressure[i]);
+    caa += A[i] * da * da;
+    cbb += A[i] * db * db;
+    cab += A[i] * da * db;
+  }
+  c.rms_difference = std::sqrt(sd / w);
+  c.relative_rms = mb > 0.0 ? c.rms_difference / mb : 0.0;
+  c.correlation = caa > 0.0 && cbb > 0.0 ? cab / std::sqrt(caa * cbb) : 0.0;
+  return c;
+}
+
+}  // namespace palpa::report

@@ -1,0 +1,52 @@
+#pragma once
+// Comparing two pressure maps on the same support (thesis §7.6, §7.8): a
+// simulated map against a measured one (`palpa acquire pressure` on the same
+// mesh), or two simulations.
+//
+// A map is a triangle surface with one pressure per vertex [Pa]. The two must
+// be on the same mesh: the same number of vertices at the same places (to
+// 1e-6 of the mesh's size). Figures, over the vertices where either map is
+// positive (the union of the two contact patches; U below), with vertex areas
+// A_i (a third of the incident triangles):
+//   rms_difference      sqrt(Σ_U A_i (a_i − b_i)² / Σ_U A_i)          [Pa]
+//   relative_rms        rms_difference / (Σ_U A_i b_i / Σ_U A_i)      (b: the reference)
+//   max_difference      max_U |a_i − b_i|                             [Pa]
+//   correlation         area-weighted Pearson correlation over U
+//   force               Σ A_i p_i of each map                         [N]
+//   contact_area        Σ A_i over p_i > 0 of each map                [m²]
+//   peak, mean          max p, force / contact area of each           [Pa]
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+
+#include "palpa/io/mesh.hpp"
+
+namespace palpa::report {
+
+struct PressureMap {
+  SurfaceMesh mesh;
+  Eigen::VectorXd pressure;  // per vertex [Pa]
+  std::string source;        // file name, for messages
+};
+
+// Reads a PLY or VTU surface with a per-vertex scalar `field` (pressure_Pa by
+// default). Throws palpa::Error (Input) naming the file for a missing field,
+// a non-finite or negative pressure, or a mesh that is not triangles.
+PressureMap read_pressure_map(const std::filesystem::path& path, const std::string& field = "pressure_Pa");
+
+struct MapSide {
+  double force = 0.0, contact_area = 0.0, peak = 0.0, mean = 0.0;
+};
+
+struct MapComparison {
+  int vertices = 0;         // in the union of the contact patches
+  double rms_difference = 0.0, relative_rms = 0.0, max_difference = 0.0, correlation = 0.0;
+  MapSide a, b;
+};
+
+// a against the reference b. Throws palpa::Error (Input) for maps on
+// different meshes or with no contact at all.
+MapComparison compare_pressure_maps(const PressureMap& a, const PressureMap& b);
+
+}  // namespace palpa::report

@@ -1,0 +1,92 @@
+// Comparing pressure maps: identical maps agree exactly, a scaled map has
+// the RMS, correlation and forces it must have, maps on different meshes or
+// with a bad field are refused.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "common/test_support.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/io/ply.hpp"
+#include "palpa/report/compare.hpp"
+
+namespace palpa::report {
+namespace {
+
+// A unit square of 2 × 2 cells (9 vertices), pressure p(x, y) = 1000 (1 + x).
+PressureMap square() {
+  PressureMap m;
+  m.mesh.V.resize(9, 3);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) m.mesh.V.row(3 * j + i) << 0.5 * i, 0.5 * j, 0.0;
+  m.mesh.F.resize(8, 3);
+  int f = 0;
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 2; ++i) {
+      const int a = 3 * j + i;
+      m.mesh.F.row(f++) << a, a + 1, a + 4;
+      m.mesh.F.row(f++) << a, a + 4, a + 3;
+    }
+  }
+  m.pressure.resize(9);
+  for (int v = 0; v < 9; ++v) m.pressure[v] = 1000.0 * (1.0 + m.mesh.V(v, 0));
+  m.source = "square";
+  return m;
+}
+
+TEST(CompareMaps, IdenticalMapsAgree) {
+  const PressureMap a = square();
+  const MapComparison c = compare_pressure_maps(a, a);
+  EXPECT_EQ(c.vertices, 9);
+  EXPECT_DOUBLE_EQ(c.rms_difference, 0.0);
+  EXPECT_NEAR(c.correlation, 1.0, 1e-12);
+  // Lumped areas (a third of each triangle) integrate the linear field
+  // exactly only in the mean: Σ A_i p_i = 1000 · (1 + mean x) over the area-
+  // weighted vertices; the square's total area is 1 m².
+  EXPECT_NEAR(c.a.contact_area, 1.0, 1e-12);
+  EXPECT_NEAR(c.a.force, 1500.0, 1e-9);
+  EXPECT_DOUBLE_EQ(c.a.peak, 2000.0);
+}
+
+TEST(CompareMaps, AScaledMapHasItsRmsAndFullCorrelation) {
+  const PressureMap b = square();
+  PressureMap a = b;
+  a.pressure *= 1.2;
+  const MapComparison c = compare_pressure_maps(a, b);
+  // RMS of 0.2 p over the area: 0.2 · sqrt(Σ A p² / Σ A).
+  double s = 0.0, w = 0.0, m = 0.0;
+  const Eigen::VectorXd A = (Eigen::VectorXd(9) << 1, 2, 1, 2, 4, 2, 1, 2, 1).finished() / 16.0;  // lumped areas
+  for (int v = 0; v < 9; ++v) {
+    s += A[v] * b.pressure[v] * b.pressure[v];
+    w += A[v];
+    m += A[v] * b.pressure[v];
+  }
+  EXPECT_NEAR(c.rms_difference, 0.2 * std::sqrt(s / w), 1e-9);
+  EXPECT_NEAR(c.relative_rms, 0.2 * std::sqrt(s / w) / (m / w), 1e-12);
+  EXPECT_NEAR(c.correlation, 1.0, 1e-12);
+  EXPECT_NEAR(c.a.force, 1.2 * c.b.force, 1e-9);
+  EXPECT_NEAR(c.max_difference, 400.0, 1e-9);
+}
+
+TEST(CompareMaps, RefusesDifferentMeshesAndBadFields) {
+  const PressureMap b = square();
+  PressureMap a = b;
+  a.mesh.V(4, 2) += 0.01;
+  EXPECT_THROW(compare_pressure_maps(a, b), Error);
+  PressureMap none = b;
+  none.pressure.setZero();
+  EXPECT_THROW(compare_pressure_maps(none, none), Error);
+  test::ScratchDir dir;
+  PlyWriteOptions o;
+  o.vertex_scalars = {{"pressure_Pa", -b.pressure}};
+  write_ply(dir / "negative.ply", b.mesh, o);
+  EXPECT_THROW(read_pressure_map(dir / "negative.ply"), Error);
+  EXPECT_THROW(read_pressure_map(dir / "negative.ply", "stress"), Error);
+  o.vertex_scalars = {{"pressure_Pa", b.pressure}};
+  write_ply(dir / "good.ply", b.mesh, o);
+  const PressureMap read = read_pressure_map(dir / "good.ply");
+  EXPECT_EQ(read.pressure, b.pressure);
+}
+
+}  // namespace
+}  // namespace palpa::report
