@@ -28,3 +28,22 @@ struct PressureEstimate {
 PressureEstimate pose_to_seat(const rest::RestSimulation& sim, const rest::RestResult& r, double threshold);
 
 }  // namespace palpa::design
+
+namespace palpa::design {
+
+class DesignSpace;
+
+// A Sit & Relax-style support (thesis §7.7): the pressures of the body on
+// its negative image (`frozen`, per body vertex [Pa], from an equilibrium
+// there) are frozen and the design vertices are moved along their normals to
+// meet the body's undeformed skin as it rests on the initial support
+// (`sim`'s state: the core's pose), each vertex weighted by the frozen
+// pressure where its normal line meets the skin, with a smoothness term:
+//   min_t Σ_v w_v (t_v − h_v)² + λ w̄ Σ_v (L t)_v²,
+// h_v the signed distance along n_v to the skin, w̄ the mean weight, L the
+// umbrella Laplacian over the design vertices (the others stay put). No
+// physics in the loop: one sparse solve. Returns the support's vertices.
+Eigen::MatrixX3d sit_and_relax(const rest::RestSimulation& sim, const DesignSpace& space,
+                               const Eigen::VectorXd& frozen, double lambda);
+
+}  // namespace palpa::design

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <memory>
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
@@ -20,6 +21,12 @@ namespace palpa::design {
 namespace {
 
 Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
+
+std::string slug_of(const std::string& name) {
+  std::string slug;
+  for (char ch : name) slug += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+  return slug;
+}
 
 Json evaluation_json(const Evaluation& e, double gamma) {
   return {{"phi", e.phi},
@@ -93,30 +100,45 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
   const Json pts_after = write_state(out, "after", sim, after, &displacement, threshold);
 
-  // Baselines, scored alike.
-  Json baselines = Json::array();
-  for (const Baseline& b : scene.baselines) {
-    std::unique_ptr<rest::RestSimulation> bsim;
-    const Evaluation e = optimizer.score_support(b.body, b.support, &bsim);
-    if (!e.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}': {}", b.name, e.failure));
-    std::string slug;
-    for (char ch : b.name) slug += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
-    UnstructuredGrid grid = bsim->support_grid(e.rest);
-    grid.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
-    write_vtu(out / fmt::format("baseline_{}_support.vtu", slug), grid);
-    UnstructuredGrid body = bsim->body_grid(e.rest);
-    write_vtu(out / fmt::format("baseline_{}_body.vtu", slug), body);
-    Json j = evaluation_json(e, 0.0);
-    j["name"] = b.name;
-    j["source"] = b.source;
-    j["zeta_over_optimized"] = e.zeta / after.zeta;
-    baselines.push_back(j);
-  }
-
   SurfaceMesh optimized = rest::world_support(sim);
   write_surface_mesh(out / "support.obj", optimized);
   optimized.V *= 1e3;
   write_surface_mesh(out / "support_mm.stl", optimized);
+
+  // Baselines, scored alike (simulation 0 is used for Sit & Relax's fit at
+  // the initial equilibrium, so they come after the optimized shape's files).
+  Json baselines = Json::array();
+  for (const Baseline& b : scene.baselines) {
+    std::unique_ptr<rest::RestSimulation> bsim;
+    Json j;
+    Evaluation e;
+    if (b.sit_and_relax) {
+      // The frozen pressures: the body on the negative image.
+      const Evaluation ni = optimizer.score_support(b.body, b.support);
+      if (!ni.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}' (negative image): {}", b.name, ni.failure));
+      const Evaluation at = optimizer.evaluate(r.initial.support, r.initial.state, false, 0);
+      if (!at.ok) throw Error(ErrorKind::Solver, "re-solving the initial shape: " + at.failure);
+      const SurfaceMesh fitted{sit_and_relax(sim, optimizer.space(), ni.rest.body_pressure, b.smoothness),
+                               sim.support().triangles()};
+      e = optimizer.score_support(scene.rest.body, fitted, &bsim);
+      j["zeta_negative_image"] = ni.zeta;
+      write_surface_mesh(out / fmt::format("baseline_{}.obj", slug_of(b.name)), fitted);
+    } else {
+      e = optimizer.score_support(b.body, b.support, &bsim);
+    }
+    if (!e.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}': {}", b.name, e.failure));
+    const std::string slug = slug_of(b.name);
+    UnstructuredGrid grid = bsim->support_grid(e.rest);
+    grid.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
+    write_vtu(out / fmt::format("baseline_{}_support.vtu", slug), grid);
+    write_vtu(out / fmt::format("baseline_{}_body.vtu", slug), bsim->body_grid(e.rest));
+    j.update(evaluation_json(e, 0.0));
+    j["name"] = b.name;
+    j["source"] = b.sit_and_relax ? "Sit & Relax fit to the pressures on " + b.source : b.source;
+    j["zeta_over_optimized"] = e.zeta / after.zeta;
+    baselines.push_back(j);
+    spdlog::info("design: baseline '{}': ζ = {:.6g} ({:.2f}× the optimized shape's)", b.name, e.zeta, e.zeta / after.zeta);
+  }
 
   // Scores per iteration.
   report::Plot scores;

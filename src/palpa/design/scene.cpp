@@ -44,14 +44,30 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
   if (const auto bl = root.find("baselines")) {
     for (std::size_t i = 0; i < bl->size(); ++i) {
       const JsonView b = bl->at(i);
-      b.expect_only({"name", "support"});
+      b.expect_only({"name", "support", "sit_and_relax"});
+      if (b.has("support") == b.has("sit_and_relax")) b.fail("give either support or sit_and_relax", "one of them");
       // The body as placed in the scene, before the design's own support
       // moved it.
       rest::RestScene copy = s.rest;
       copy.body.mesh.V.rowwise() -= copy.body_shift.transpose();
       copy.body_shift.setZero();
-      rest::read_scene_support(b.at("support"), path, copy);
-      s.baselines.push_back({b.at("name").as_string(), copy.body, copy.support, copy.support_source});
+      Baseline base;
+      base.name = b.at("name").as_string();
+      if (const auto sr = b.find("sit_and_relax")) {
+        sr->expect_only({"support", "smoothness"});
+        rest::read_scene_support(sr->at("support"), path, copy);
+        base.sit_and_relax = true;
+        if (const auto l = sr->find("smoothness")) {
+          base.smoothness = l->as_number();
+          if (!(base.smoothness >= 0.0)) l->fail("must be ≥ 0");
+        }
+      } else {
+        rest::read_scene_support(b.at("support"), path, copy);
+      }
+      base.body = copy.body;
+      base.support = copy.support;
+      base.source = copy.support_source;
+      s.baselines.push_back(std::move(base));
     }
   }
   DesignOptions& o = s.options;

@@ -18,8 +18,12 @@
 //     "post_smoothing": 0,       // Taubin rounds on the result
 //     "pose_to_seat_threshold": "2 mm"  // contact distance of the estimate without elasticity
 //   },
-//   "baselines": [{"name": "negative image", "support": {"negative_image": {...}}}]
-//                              // other supports (the "support" format) scored alike
+//   "baselines": [{"name": "negative image", "support": {"negative_image": {...}}},
+//                 {"name": "sit and relax", "sit_and_relax": {"support": {"negative_image": {...}},
+//                                                             "smoothness": 1}}]
+//     // other supports (the "support" format) scored alike; Sit & Relax: the
+//     // pressures on that support frozen and the design region fitted to the
+//     // body with them (design/baselines.hpp)
 // }
 
 #include <filesystem>
@@ -35,8 +39,10 @@ namespace palpa::design {
 struct Baseline {
   std::string name;
   rest::RestBody body;    // as placed for this support (a negative image lowers it)
-  SurfaceMesh support;
+  SurfaceMesh support;    // Sit & Relax: the negative image the pressures come from
   std::string source;
+  bool sit_and_relax = false;
+  double smoothness = 1.0;  // λ of the Sit & Relax fit
 };
 
 struct DesignScene {
