@@ -275,6 +275,7 @@ TEST(DesignOptimizer, LbfgsLowersTheScoreToo) {
   DesignOptions o;
   o.method = DesignMethod::Lbfgs;
   o.max_iterations = 8;
+  o.post_smoothing = 2;
   o.normal_only = true;
   o.smoothing_exponent = -2.0;
   ShapeOptimizer opt(cushion(6e-3), s, options(), top_inside(s), o);
@@ -287,6 +288,18 @@ TEST(DesignOptimizer, LbfgsLowersTheScoreToo) {
   }
   EXPECT_LT(r.final.zeta, 0.6 * r.initial.zeta);
   EXPECT_LT(r.final.rest.balance_error, 0.005);
+  // Post-smoothing moved only design vertices, and was re-scored.
+  ASSERT_TRUE(r.before_post_smoothing.has_value());
+  const Eigen::MatrixX3d smoothed = r.final.support - r.before_post_smoothing->support;
+  EXPECT_GT(smoothed.cwiseAbs().maxCoeff(), 1e-7);
+  std::vector<char> design(static_cast<std::size_t>(s.V.rows()), 0);
+  for (int v : top_inside(s)) design[static_cast<std::size_t>(v)] = 1;
+  for (Eigen::Index v = 0; v < s.V.rows(); ++v) {
+    if (!design[static_cast<std::size_t>(v)]) {
+      EXPECT_EQ(smoothed.row(v).norm(), 0.0) << v;
+    }
+  }
+  EXPECT_NE(r.final.zeta, r.before_post_smoothing->zeta);
 }
 
 TEST(DesignOptimizer, ResumesExactlyFromItsCheckpoint) {
