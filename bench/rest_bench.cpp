@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
 #include "bench_util.hpp"
 #include "palpa/rest/rest.hpp"
 #include "palpa/rest/scene.hpp"
@@ -22,6 +24,7 @@
 int main(int argc, char** argv) {
   using palpa::bench::emit;
   using palpa::bench::seconds_since;
+  spdlog::set_level(spdlog::level::warn);  // the JSON lines alone on stdout
   std::vector<std::filesystem::path> scenes;
   for (int i = 1; i < argc; ++i) scenes.emplace_back(argv[i]);
   if (scenes.empty()) {

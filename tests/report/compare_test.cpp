@@ -40,9 +40,8 @@ TEST(CompareMaps, IdenticalMapsAgree) {
   EXPECT_EQ(c.vertices, 9);
   EXPECT_DOUBLE_EQ(c.rms_difference, 0.0);
   EXPECT_NEAR(c.correlation, 1.0, 1e-12);
-  // Lumped areas (a third of each triangle) integrate the linear field
-  // exactly only in the mean: Σ A_i p_i = 1000 · (1 + mean x) over the area-
-  // weighted vertices; the square's total area is 1 m².
+  // The square's area is 1 m²; with lumped vertex areas (a third of each
+  // triangle) Σ A_i p_i of this linear field is its integral, 1500 N.
   EXPECT_NEAR(c.a.contact_area, 1.0, 1e-12);
   EXPECT_NEAR(c.a.force, 1500.0, 1e-9);
   EXPECT_DOUBLE_EQ(c.a.peak, 2000.0);
