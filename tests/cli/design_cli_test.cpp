@@ -131,20 +131,20 @@ namespace palpa {
 namespace {
 
 TEST(DesignCli, TheFlatChairLosesMostOfItsScore) {
-  // The seated body on the flat block chair (examples/design/chair), 12
+  // The seated body on the flat block chair (examples/design/chair), 6
   // L-BFGS iterations: the thesis's chair lost 72% of its score in a full
-  // run; palpa's reaches 66% in its 30 iterations and over 45% in 12.
+  // run; palpa's reaches 66% in its 30 iterations, 52% in 12, 38% in 6.
   test::ScratchDir dir;
   const std::filesystem::path scene =
       std::filesystem::path(PALPA_SOURCE_DIR) / "examples" / "design" / "chair" / "scene.json";
-  const auto r = test::run_palpa("design " + scene.string() + " -o chair --iterations 12", dir.path());
+  const auto r = test::run_palpa("design " + scene.string() + " -o chair --iterations 6", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto s = nlohmann::json::parse(test::read_text(dir / "chair" / "summary.json"));
-  EXPECT_EQ(s["iterations"], 12);
-  EXPECT_GT(s["zeta_reduction_percent"].get<double>(), 45.0);
+  EXPECT_EQ(s["iterations"], 6);
+  EXPECT_GT(s["zeta_reduction_percent"].get<double>(), 30.0);
   EXPECT_LT(s["final"]["balance_error"].get<double>(), 0.005);
   EXPECT_LT(s["final"]["peak_smoothed_pressure_Pa"]["body"].get<double>(),
-            0.85 * s["initial"]["peak_smoothed_pressure_Pa"]["body"].get<double>());
+            0.95 * s["initial"]["peak_smoothed_pressure_Pa"]["body"].get<double>());
   EXPECT_LT(s["final"]["max_penetration_m"].get<double>(), 0.4e-3);
   EXPECT_GT(s["final"]["min_det_F"].get<double>(), 0.0);
 }

@@ -4,10 +4,10 @@
 // Objective. φ(X) = ζ(X) + γ ψ(X) (7.15): the ergonomic score of the resting
 // equilibrium on the support X and the smoothness of X (design/score.hpp). γ
 // is set so that γψ = ζ on the initial shape, times 10^j (j the user's
-// smoothing exponent; the thesis explores j ∈ −4…4). When the initial design
-// region is already smooth (ψ below 1e-12 of its squared size), ψ of a
-// reference roughness — the region moved by 0.1 mm of seeded random noise
-// along its normals — stands in for it.
+// smoothing exponent, −2 by default; the thesis explores j ∈ −4…4). When the
+// initial design region is already smooth (ψ below 1e-3 of ψ_ref), ψ_ref of a
+// reference roughness — the region moved by up to 0.1 mm of seeded random
+// noise — stands in for it.
 //
 // The contact model is frozen after the initial equilibrium: the penalty
 // stiffness k (chosen there for the target penetration) and the spring areas
@@ -35,13 +35,17 @@
 // too the run stops. Every accepted iteration is checkpointed (atomic JSON):
 // `resume` continues bit for bit where it stopped.
 //
-// L-BFGS (DesignMethod::Lbfgs): the same φ and gradient handed to Ceres'
-// GradientProblemSolver, variables scaled so that a unit step along the
-// initial gradient moves the support by at most half the target penetration
-// (0.15 mm by default); each evaluation is
-// warm-started from the previous one. Checkpoints hold the iterate, so a
-// resumed run continues from it, but with a fresh L-BFGS memory (Ceres does
-// not expose it): not bit for bit.
+// L-BFGS (DesignMethod::Lbfgs, the default): the same φ and gradient handed
+// to Ceres' GradientProblemSolver, variables scaled so that a unit step along
+// the gradient moves the support by at most half the target penetration
+// (0.15 mm by default); each evaluation is warm-started from the previous
+// one. Trials longer than the longest ladder step are refused unsolved, and
+// a trial equilibrium that needs more than 50 Newton iterations counts as
+// failed (Ceres then tries a shorter step). When its line search stalls
+// (φ is only piecewise smooth), one ladder iteration along the steepest
+// descent is taken and L-BFGS starts afresh. Checkpoints hold the iterate,
+// so a resumed run continues from it, but with a fresh L-BFGS memory (Ceres
+// does not expose it): not bit for bit.
 
 #include <Eigen/Core>
 #include <filesystem>
@@ -93,7 +97,7 @@ struct DesignOptions {
   DesignMethod method = DesignMethod::Lbfgs;  // the faster of the two on every example (bench/design_bench.cpp)
   ScoreOptions score;
   int taubin_iterations = 5;          // m of (7.14)
-  double smoothing_exponent = 0.0;    // j: γ = 10^j · (ζ/ψ on the initial shape)
+  double smoothing_exponent = -2.0;   // j: γ = 10^j · (ζ/ψ on the initial shape)
   std::optional<double> gamma;        // given: used as is [Pa^e]
   bool normal_only = false;
   int max_iterations = 30;

@@ -74,7 +74,6 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
   double facing = 25.0 * 3.14159265358979323846 / 180.0;
-  o.smoothing_exponent = -2.0;
   if (const auto d = root.find("design")) {
     d->expect_only({"method", "region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves",
                     "threads", "post_smoothing", "pose_to_seat_threshold"});
