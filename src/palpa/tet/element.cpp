@@ -78,6 +78,18 @@ void tet_dgradient_dparam(const material::Material& m, const TetGeometry& g, con
   out.noalias() = g.volume * (b_matrix(g).transpose() * work9);
 }
 
+void tet_rest_gradient_product(const material::Material& m, const TetGeometry& g, const Mat34& x,
+                               const Mat34& z, Mat34& out) {
+  const Mat3 F = deformation_gradient(g, x);
+  const Mat3 G = z * g.grad_n;  // Z_s D_m⁻¹: the rows of grad_n sum to zero
+  material::Stress3 s;
+  material::stress(m, F, material::EvalOrder::Hessian, material::PsdProjection::None, s);
+  const Vec9 cg = s.dPdF * Eigen::Map<const Vec9>(G.data());  // vec(C:G)
+  const Mat3 A = s.P.cwiseProduct(G).sum() * Mat3::Identity() -
+                 F.transpose() * Eigen::Map<const Mat3>(cg.data()) - G.transpose() * s.P;
+  out.noalias() = g.volume * (A * g.grad_n.transpose());
+}
+
 Mat3 cauchy_stress(const material::Material& m, const TetGeometry& g, const Mat34& x) {
   const Mat3 F = deformation_gradient(g, x);
   material::Stress3 s;

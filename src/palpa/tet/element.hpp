@@ -62,6 +62,23 @@ void tet_dgradient_dparam(const material::Material& m, const TetGeometry& g, con
                           Eigen::Ref<Eigen::MatrixXd> work3, Eigen::Ref<Eigen::MatrixXd> work9,
                           Eigen::Ref<Eigen::MatrixXd> out);
 
+// Shape derivative of the elastic forces (for shape optimization by the
+// adjoint method): out = ∂/∂X [ Σ_a z_a · ∂E/∂x_a (x; X) ] with the DEFORMED
+// corners x held fixed, X the rest corners (through g, which must be
+// tet_geometry(X)), E = V(X) Ψ(F), F = D_s(x) D_m(X)⁻¹. z (columns): any 4
+// corner vectors, e.g. the adjoint; out (columns): one 3-vector per rest
+// corner [N/m × unit of z].
+//
+// With G = Z_s D_m⁻¹ = Σ_a z_a ⊗ ∇N_a, P = ∂Ψ/∂F and C:G = (∂P/∂F):G (the
+// TRUE tangent, unprojected), Φ = V P:G has
+//   ∂Φ/∂D_m = V [ (P:G) I − Fᵀ (C:G) − Gᵀ P ] D_m⁻ᵀ,
+// so out = V [ (P:G) I − Fᵀ (C:G) − Gᵀ P ] [∇N_0 … ∇N_3] (columns 1..3 are
+// those of ∂Φ/∂D_m, column 0 minus their sum). The derivative at fixed
+// displacement u = x − X instead adds the element Hessian times z.
+// Requires det F > 0 (the caller checks); allocation-free.
+void tet_rest_gradient_product(const material::Material& m, const TetGeometry& g, const Mat34& x,
+                               const Mat34& z, Mat34& out);
+
 // Cauchy stress σ = P Fᵀ / det F [Pa] at x (det F > 0 required).
 material::Mat3 cauchy_stress(const material::Material& m, const TetGeometry& g, const Mat34& x);
 

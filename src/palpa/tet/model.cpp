@@ -1,6 +1,7 @@
 #include "palpa/tet/model.hpp"
 
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -40,19 +41,80 @@ ElasticModel::ElasticModel(TetMesh mesh, std::vector<BodyMaterial> materials,
                                                 element_material_[e], nm));
     }
   }
-  geometry_.resize(static_cast<std::size_t>(mesh_.T.rows()));
-  lumped_mass_ = Eigen::VectorXd::Zero(mesh_.V.rows());
+  const Eigen::Index bad = compute_rest_data(mesh_.V, geometry_, lumped_mass_);
+  if (bad >= 0) {
+    throw Error(ErrorKind::Input, fmt::format("tetrahedron {} is inverted or flat (volume {:.3g} m³)", bad,
+                                              geometry_[static_cast<std::size_t>(bad)].volume));
+  }
+}
+
+Eigen::Index ElasticModel::compute_rest_data(const Eigen::MatrixX3d& V, std::vector<TetGeometry>& geometry,
+                                             Eigen::VectorXd& lumped_mass) const {
+  geometry.resize(static_cast<std::size_t>(mesh_.T.rows()));
+  lumped_mass = Eigen::VectorXd::Zero(V.rows());
   for (Eigen::Index e = 0; e < mesh_.T.rows(); ++e) {
     Mat34 X;
-    for (int a = 0; a < 4; ++a) X.col(a) = mesh_.V.row(mesh_.T(e, a)).transpose();
-    auto& g = geometry_[static_cast<std::size_t>(e)];
+    for (int a = 0; a < 4; ++a) X.col(a) = V.row(mesh_.T(e, a)).transpose();
+    auto& g = geometry[static_cast<std::size_t>(e)];
     g = tet_geometry(X);
-    if (!(g.volume > 0.0)) {
-      throw Error(ErrorKind::Input, fmt::format("tetrahedron {} is inverted or flat (volume {:.3g} m³)", e, g.volume));
-    }
+    if (!(g.volume > 0.0) || !std::isfinite(g.volume)) return e;
     const double m = materials_[static_cast<std::size_t>(element_material_[e])].density * g.volume / 4.0;
-    for (int a = 0; a < 4; ++a) lumped_mass_[mesh_.T(e, a)] += m;
+    for (int a = 0; a < 4; ++a) lumped_mass[mesh_.T(e, a)] += m;
   }
+  return -1;
+}
+
+void ElasticModel::set_rest_positions(const Eigen::MatrixX3d& V) {
+  if (V.rows() != mesh_.V.rows()) {
+    throw Error(ErrorKind::Input,
+                fmt::format("{} rest positions for a mesh of {} vertices", V.rows(), mesh_.V.rows()));
+  }
+  for (Eigen::Index v = 0; v < V.rows(); ++v) {
+    if (!V.row(v).allFinite()) {
+      throw Error(ErrorKind::Solver, fmt::format("rest position of vertex {} is not finite ({}, {}, {})", v,
+                                                 V(v, 0), V(v, 1), V(v, 2)));
+    }
+  }
+  // Into temporaries first, so that a refused update leaves the model as it was.
+  std::vector<TetGeometry> geometry;
+  Eigen::VectorXd lumped_mass;
+  const Eigen::Index bad = compute_rest_data(V, geometry, lumped_mass);
+  if (bad >= 0) {
+    throw Error(ErrorKind::Solver,
+                fmt::format("new rest positions make tetrahedron {} inverted or flat (volume {:.3g} m³)", bad,
+                            geometry[static_cast<std::size_t>(bad)].volume));
+  }
+  mesh_.V = V;
+  geometry_ = std::move(geometry);
+  lumped_mass_ = std::move(lumped_mass);
+}
+
+Eigen::MatrixX3d ElasticModel::rest_gradient_product(const Eigen::VectorXd& u, const Eigen::VectorXd& z) const {
+  assert(u.size() == num_dofs() && z.size() == num_dofs());
+  const auto n_el = static_cast<std::size_t>(mesh_.T.rows());
+  // Per element, then a serial scatter (deterministic sums).
+  std::vector<Mat34> local(n_el);
+  std::atomic<bool> admissible{true};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_el, kGrain), [&](const auto& range) {
+    for (std::size_t e = range.begin(); e != range.end(); ++e) {
+      const auto ei = static_cast<Eigen::Index>(e);
+      const Mat34 x = element_positions(u, ei);
+      const double J = deformation_gradient(geometry_[e], x).determinant();
+      if (!(J > 0.0) || !std::isfinite(J)) {
+        admissible = false;
+        return;
+      }
+      Mat34 ze;
+      for (int a = 0; a < 4; ++a) ze.col(a) = z.segment<3>(3 * mesh_.T(ei, a));
+      tet_rest_gradient_product(material_of(ei), geometry_[e], x, ze, local[e]);
+    }
+  });
+  if (!admissible) throw Error(ErrorKind::Internal, "rest-position derivative requested at an inverted configuration");
+  Eigen::MatrixX3d out = Eigen::MatrixX3d::Zero(mesh_.V.rows(), 3);
+  for (std::size_t e = 0; e < n_el; ++e) {
+    for (int a = 0; a < 4; ++a) out.row(mesh_.T(static_cast<Eigen::Index>(e), a)) += local[e].col(a).transpose();
+  }
+  return out;
 }
 
 Eigen::SparseMatrix<double> ElasticModel::consistent_mass() const {

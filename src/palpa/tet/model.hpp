@@ -81,7 +81,33 @@ class ElasticModel {
   // Smallest det F over the elements at u.
   double min_jacobian(const Eigen::VectorXd& u) const;
 
+  // Replaces the rest positions (V: #V×3 [m], same rows as mesh().V) and
+  // recomputes the element geometry and the lumped masses; topology, materials
+  // and densities are kept. Throws palpa::Error (Input) for a wrong row count,
+  // and (Solver) for a non-finite position or a tet made inverted or flat
+  // (volume ≤ 0, named with its volume) — then the model is left unchanged.
+  // Not to be called while another thread evaluates the model. Systems built
+  // on the model keep what they derived from the masses (gravity, dynamics)
+  // and must be rebuilt.
+  void set_rest_positions(const Eigen::MatrixX3d& V);
+
+  // Shape derivative of the elastic forces, for shape optimization by the
+  // adjoint method: ∂/∂X [ zᵀ ∂E/∂u ] with the DEFORMED positions x = X + u
+  // held fixed (X the rest positions, mesh().V). u: 3N displacement [m],
+  // z: 3N (an adjoint vector), both vertex-major; returns #V×3 [N/m × unit of
+  // z], row v the derivative with respect to X_v. At fixed u instead (x moving
+  // with X), add the Hessian times z (vertex-major, reshaped) to it. Uses the
+  // true (unprojected) tangent. Throws palpa::Error (Internal) at an inverted
+  // element.
+  Eigen::MatrixX3d rest_gradient_product(const Eigen::VectorXd& u, const Eigen::VectorXd& z) const;
+
  private:
+  // Element geometry and lumped masses for rest positions V into geometry and
+  // lumped_mass (resized). Returns the first tet whose volume is not a finite
+  // positive number (its geometry is then geometry[e]), or −1.
+  Eigen::Index compute_rest_data(const Eigen::MatrixX3d& V, std::vector<TetGeometry>& geometry,
+                                 Eigen::VectorXd& lumped_mass) const;
+
   TetMesh mesh_;
   std::vector<BodyMaterial> materials_;
   Eigen::VectorXi element_material_;
