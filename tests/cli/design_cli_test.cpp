@@ -151,3 +151,61 @@ TEST(DesignCli, TheFlatChairLosesMostOfItsScore) {
 
 }  // namespace
 }  // namespace palpa
+
+namespace palpa {
+namespace {
+
+// The sphere on a foam block (deformable, E 60 kPa, base held).
+std::string foam_scene() {
+  std::string scene = kScene;
+  const std::string box = R"("support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}})";
+  scene.replace(scene.find(box), box.size(),
+                R"("support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": [20, 20, 3]},
+                   "deformable": {"material": {"model": "neo-hookean", "parameters": {"E": "60 kPa", "nu": 0.3}},
+                                  "edge": "12 mm"}})");
+  scene.replace(scene.find("\"method\": \"cg\""), 14, "\"method\": \"lbfgs\"");
+  return scene;
+}
+
+TEST(DesignCli, ShapesADeformableSupport) {
+  ScratchDir dir;
+  dir.write("scene.json", foam_scene());
+  const auto r = run_palpa("design scene.json -o out --iterations 2", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"support.obj", "support_volume_before.vtu", "support_volume_after.vtu", "support_after.vtu"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
+  }
+  const auto s = summary(dir / "out" / "summary.json");
+  EXPECT_GT(s["zeta_reduction_percent"].get<double>(), 5.0);
+  EXPECT_LT(s["final"]["balance_error"].get<double>(), 0.005);
+  // The ground carries the load through the foam's base.
+  const double load = -s["final"]["load_N"][2].get<double>();
+  EXPECT_NEAR(s["final"]["deformable_support"]["base_force_N"][2].get<double>(), load, 0.005 * load);
+  EXPECT_GT(s["final"]["deformable_support"]["max_displacement_m"].get<double>(), 1e-4);
+  EXPECT_NE(test::read_text(dir / "out" / "support_volume_after.vtu").find("von_mises_stress_Pa"), std::string::npos);
+  EXPECT_NE(r.err.find("deformable"), std::string::npos) << r.err;
+}
+
+TEST(DesignCli, RefusesABadDeformableSupport) {
+  ScratchDir dir;
+  std::string edge = foam_scene();
+  edge.replace(edge.find("\"12 mm\""), 7, "\"-1 mm\"");
+  dir.write("edge.json", edge);
+  const auto a = run_palpa("design edge.json -o out", dir.path());
+  EXPECT_EQ(a.exit_code, 2);
+  EXPECT_NE(a.err.find("deformable.edge"), std::string::npos) << a.err;
+  // Baselines are made of the scene's foam: one of their own is refused.
+  std::string baseline = foam_scene();
+  baseline.replace(baseline.rfind('}'), 1,
+                   R"(, "baselines": [{"name": "other foam", "support": {
+                        "box": {"size": ["150 mm", "150 mm", "20 mm"]},
+                        "deformable": {"material": {"model": "neo-hookean", "parameters": {"E": "1 MPa", "nu": 0.3}}}}}]})");
+  dir.write("baseline.json", baseline);
+  const auto b = run_palpa("design baseline.json -o out", dir.path());
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("baselines are made of the scene's support"), std::string::npos) << b.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+}  // namespace
+}  // namespace palpa

@@ -70,6 +70,8 @@ class CoreSystem final : public System {
 
   Eigen::Index num_vertex_dofs() const noexcept { return static_cast<Eigen::Index>(free_.size()); }
   Eigen::Index num_core_dofs() const noexcept { return static_cast<Eigen::Index>(core_dofs_.size()); }
+  // Vertex DOF k of x (k < num_vertex_dofs()) is full DOF free_dofs()[k] of u.
+  const std::vector<int>& free_dofs() const noexcept { return free_; }
 
   // u (3N) at x, with the attached vertices on the core; positions X + u.
   Eigen::VectorXd full_displacement(const Eigen::VectorXd& x) const;

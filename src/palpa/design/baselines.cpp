@@ -47,7 +47,7 @@ PressureEstimate pose_to_seat(const rest::RestSimulation& sim, const rest::RestR
 
   // The load line: where palpa's contact forces act.
   const Eigen::VectorXd P = system.positions(sim.dofs());
-  const Eigen::Matrix3Xd f = sim.contact_term().vertex_forces(P);
+  const Eigen::Matrix3Xd f = sim.body_contact_forces();
   double fz = 0.0;
   Eigen::Vector2d load_point = Eigen::Vector2d::Zero();
   for (Eigen::Index v = 0; v < f.cols(); ++v) {

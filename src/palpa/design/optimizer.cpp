@@ -98,11 +98,13 @@ Eigen::VectorXd vector_of(const JsonView& j, Eigen::Index expected) {
 
 Json state_json(const rest::RestState& s) {
   const Eigen::Map<const Eigen::VectorXd> R(s.core.rotation.data(), 9);
-  return {{"x", to_json(s.x)},
-          {"rotation", to_json(R)},
-          {"omega", to_json(s.core.omega)},
-          {"spring_areas", s.spring_areas},
-          {"stiffness", s.stiffness}};
+  Json j = {{"x", to_json(s.x)},
+            {"rotation", to_json(R)},
+            {"omega", to_json(s.core.omega)},
+            {"spring_areas", s.spring_areas},
+            {"stiffness", s.stiffness}};
+  if (s.support.size() > 0) j["support"] = to_json(s.support);
+  return j;
 }
 
 rest::RestState state_of(const JsonView& j, const rest::RestState& like) {
@@ -114,6 +116,8 @@ rest::RestState state_of(const JsonView& j, const rest::RestState& like) {
   const Eigen::VectorXd a = vector_of(j.at("spring_areas"), static_cast<Eigen::Index>(like.spring_areas.size()));
   s.spring_areas.assign(a.data(), a.data() + a.size());
   s.stiffness = j.at("stiffness").as_number();
+  // A deformable support's DOFs (a rigid support has none).
+  if (like.support.size() > 0) s.support = vector_of(j.at("support"), like.support.size());
   return s;
 }
 
@@ -244,7 +248,12 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
     no.max_iterations = std::min(no.max_iterations, kTrialNewtonIterations);
     sim->newton().set_options(no);
   }
-  const Eigen::MatrixX3d X0 = first.support().vertices();
+  const Eigen::MatrixX3d X0 = first.support_rest_vertices();
+  // A deformable support's base stays where it is.
+  std::erase_if(design_vertices, [&](int v) { return first.support_vertex_fixed(v); });
+  if (design_vertices.empty()) {
+    throw Error(ErrorKind::Input, "no support vertex may move: the design region holds only the support's fixed base");
+  }
   const Eigen::MatrixX3i& F = first.support().triangles();
   space_ = std::make_unique<DesignSpace>(X0, F, std::move(design_vertices), options_.normal_only);
   score_ = std::make_unique<ErgonomicScore>(first, options_.score);
@@ -279,8 +288,8 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestS
   Evaluation ev;
   ev.support = X;
   sim.restore(warm);
-  sim.set_support_vertices(X);
   try {
+    sim.set_support_vertices(X);
     ev.rest = sim.solve();
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Solver) throw;
@@ -298,28 +307,11 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestS
   if (!ev.ok) ev.failure = "the score is not finite";
   if (gradient && ev.ok) {
     const auto ta = Clock::now();
-    body::CoreSystem& system = sim.system();
-    const Eigen::VectorXd& x = sim.dofs();
-    const FactorStatus st = sim.newton().factor_hessian(system, x);
-    if (st != FactorStatus::Ok) {
+    Eigen::MatrixX3d through;
+    if (!sim.shape_derivative(ev.score.d_body, ev.score.d_support, through, ev.failure)) {
       ev.ok = false;
-      ev.failure = fmt::format("the equilibrium's Hessian could not be factored for the adjoint ({})", to_string(st));
     } else {
-      const Eigen::VectorXd z = sim.newton().factorization().solve(system.pull_back(x, ev.score.d_body));
-      const Eigen::VectorXd w = system.push_forward(x, z);
-      const Eigen::VectorXd Y = system.positions(x);
-      const sim3d::RigidContactTerm& term = sim.contact_term();
-      ev.gradient = ev.score.d_support + gamma_ * dpsi;
-      for (const contact::Contact& c : term.contacts().contacts()) {
-        const contact::FeatureGeometry g = contact::feature_geometry(sim.support(), c.closest);
-        const contact::Matrix12d H = contact::penalty_hessian_full(
-            Y.segment<3>(3 * c.point), g, term.contacts().stiffness_of(c, term.stiffness()));
-        const Eigen::Vector3d wc = w.segment<3>(3 * c.point);
-        for (int i = 0; i < g.m; ++i) {
-          ev.gradient.row(c.closest.vertices[static_cast<std::size_t>(i)]) -=
-              (H.block<3, 3>(3 * (i + 1), 0) * wc).transpose();
-        }
-      }
+      ev.gradient = through + ev.score.d_support_area + gamma_ * dpsi;
     }
     ev.adjoint_seconds = seconds_since(ta);
   }
@@ -332,7 +324,7 @@ Evaluation ShapeOptimizer::score_support(const rest::RestBody& body, const Surfa
   const auto t0 = Clock::now();
   auto sim = std::make_unique<rest::RestSimulation>(body, support, baseline_options_);
   Evaluation ev;
-  ev.support = sim->support().vertices();
+  ev.support = sim->support_rest_vertices();
   try {
     ev.rest = sim->solve();
   } catch (const Error& e) {

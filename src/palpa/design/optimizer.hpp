@@ -1,5 +1,6 @@
 #pragma once
-// Ergonomic shape optimization of a rigid support (thesis §7.4).
+// Ergonomic shape optimization of a support, rigid or deformable (thesis
+// §7.4).
 //
 // Objective. φ(X) = ζ(X) + γ ψ(X) (7.15): the ergonomic score of the resting
 // equilibrium on the support X and the smoothness of X (design/score.hpp). γ
@@ -21,6 +22,14 @@
 // analysis of the Newton solves reused), P the coupling of y to the body's
 // vertex positions Y, and ∂g/∂X the mixed second derivatives of the penalty
 // contacts, ∂²E/∂p∂q (contact/penalty.hpp), applied to w = P z.
+//
+// A deformable support (RestOptions::deformable_support, §7.4.3): X is its
+// rest shape. Its DOFs join the equilibrium (rest/coupled.hpp), ζ sees its
+// deformed surface, and X enters g only through the support's elastic
+// forces, so (7.21–7.23) K z = ∂ζ/∂y over body and support DOFs and
+// −(∂g/∂X)ᵀ z is the support's rest-shape derivative
+// (tet::ElasticModel::rest_gradient_product). Its fixed base never moves.
+// Both cases live in rest::RestSimulation::shape_derivative().
 //
 // Design variables θ: the positions of the design vertices (a region of the
 // support), either free in 3D (3 per vertex) or only along their initial

@@ -29,7 +29,7 @@ std::string slug_of(const std::string& name) {
 }
 
 Json evaluation_json(const Evaluation& e, double gamma) {
-  return {{"phi", e.phi},
+  Json j = {{"phi", e.phi},
           {"zeta", e.zeta},
           {"zeta_body", e.score.zeta_body},
           {"zeta_support", e.score.zeta_support},
@@ -44,6 +44,12 @@ Json evaluation_json(const Evaluation& e, double gamma) {
           {"balance_error", e.rest.balance_error},
           {"core_translation_m", vec(e.rest.core_translation)},
           {"min_det_F", e.rest.min_det_f}};
+  if (e.state.support.size() > 0) {
+    j["deformable_support"] = {{"max_displacement_m", e.rest.support_max_displacement},
+                               {"min_det_F", e.rest.support_min_det_f},
+                               {"base_force_N", vec(e.rest.support_base_force)}};
+  }
+  return j;
 }
 
 // Writes one side (before/after) from simulation 0 at evaluation e, with the
@@ -61,6 +67,7 @@ Json write_state(const std::filesystem::path& out, const std::string& tag, rest:
   support.point_data.push_back(DataArray{"pose_to_seat_Pa", pts.support_pressure});
   if (displacement != nullptr) support.point_data.push_back(DataArray{"design_displacement_m", *displacement});
   write_vtu(out / fmt::format("support_{}.vtu", tag), support);
+  if (sim.deformable_support()) write_vtu(out / fmt::format("support_volume_{}.vtu", tag), sim.support_volume_grid());
   rest::write_skin_ply(out / fmt::format("skin_{}.ply", tag), sim,
                        {{"pressure_Pa", e.score.body_pressure},
                         {"pressure_smoothed_Pa", e.score.body_smoothed},
@@ -100,7 +107,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
   const Json pts_after = write_state(out, "after", sim, after, &displacement, threshold);
 
-  SurfaceMesh optimized = rest::world_support(sim);
+  // The shape to make: for a deformable support its rest shape.
+  SurfaceMesh optimized{r.final.support, sim.support().triangles()};
   write_surface_mesh(out / "support.obj", optimized);
   optimized.V *= 1e3;
   write_surface_mesh(out / "support_mm.stl", optimized);

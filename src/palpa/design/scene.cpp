@@ -53,6 +53,15 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
       copy.body_shift.setZero();
       Baseline base;
       base.name = b.at("name").as_string();
+      for (const char* key : {"support", "sit_and_relax"}) {
+        const auto part = b.find(key);
+        if (!part) continue;
+        const auto sp = std::string(key) == "support" ? part : part->find("support");
+        if (sp && sp->has("deformable")) {
+          sp->at("deformable").fail("a material of its own",
+                                    "nothing: baselines are made of the scene's support (give \"deformable\" there)");
+        }
+      }
       if (const auto sr = b.find("sit_and_relax")) {
         sr->expect_only({"support", "smoothness"});
         rest::read_scene_support(sr->at("support"), path, copy);

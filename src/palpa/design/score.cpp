@@ -87,16 +87,87 @@ void add_area_gradient(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, con
   }
 }
 
+void ErgonomicScore::sum(const rest::RestSimulation& sim, const Eigen::VectorXd& support_area, Score& s,
+                         Eigen::VectorXd& wb, Eigen::VectorXd& ws) const {
+  const int e = options_.exponent;
+  s.body_smoothed = body_smoothing_ * s.body_pressure;
+  s.support_smoothed = support_smoothing_ * s.support_pressure;
+  const std::vector<double>& spring = sim.contact_term().spring_area();
+  wb = Eigen::VectorXd::Zero(s.body_pressure.size());
+  ws = Eigen::VectorXd::Zero(s.support_pressure.size());
+  for (int v : sim.surface_vertices()) {
+    const double pb = s.body_smoothed[v];
+    if (pb <= 0.0) continue;
+    const double sa = spring[static_cast<std::size_t>(v)];
+    s.zeta_body += sa * power(pb, e);
+    wb[v] = e * sa * power(pb, e - 1);
+  }
+  for (Eigen::Index v = 0; v < ws.size(); ++v) {
+    const double ps = s.support_smoothed[v];
+    if (ps <= 0.0) continue;
+    s.zeta_support += support_area[v] * power(ps, e);
+    ws[v] = e * support_area[v] * power(ps, e - 1);
+  }
+  s.zeta = s.zeta_body + s.zeta_support;
+}
+
+Score ErgonomicScore::evaluate_deformable(const rest::RestSimulation& sim, bool gradient) const {
+  // p_i = ‖f_i‖/A_i with f the nodal forces of both passes, so
+  // ∂p_i/∂y = −f̂_iᵀ H_c(i, ·)/A_i (f = −∂E_c/∂y) and ∂ζ/∂y = −H_c v with
+  // v_i = (∂ζ/∂p_i / A_i) f̂_i: one product with the contact Hessian.
+  const rest::RestSimulation::ContactPressures cp = sim.contact_pressures();
+  const Eigen::Index nb = sim.model().num_vertices();
+  const Eigen::Index ns = sim.support().vertices().rows();
+  const int e = options_.exponent;
+  Score s;
+  s.body_pressure = cp.body;
+  s.support_pressure = cp.support;
+  s.body_contacts = static_cast<int>((cp.body.array() > 0.0).count());
+  s.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
+  const std::vector<double>& spring = sim.contact_term().spring_area();
+  const Eigen::MatrixX3d& X = sim.support_rest_vertices();
+  const Eigen::MatrixX3i& F = sim.support().triangles();
+  const Eigen::VectorXd support_area = contact::vertex_areas(X, F);
+  Eigen::VectorXd wb, ws;
+  sum(sim, support_area, s, wb, ws);
+  if (!gradient) return s;
+
+  const Eigen::VectorXd gb = body_smoothing_.transpose() * wb;
+  const Eigen::VectorXd gs = support_smoothing_.transpose() * ws;
+  Eigen::Matrix3Xd vb = Eigen::Matrix3Xd::Zero(3, nb), vs = Eigen::Matrix3Xd::Zero(3, ns);
+  for (int v : sim.surface_vertices()) {
+    const double f = cp.body_force.col(v).norm();
+    if (f > 0.0 && gb[v] != 0.0) vb.col(v) = gb[v] / (spring[static_cast<std::size_t>(v)] * f) * cp.body_force.col(v);
+  }
+  // ζ_s = Σ A_j p̄_j^e with p_j = ‖f_j‖/A_j: the area enters twice.
+  Eigen::VectorXd area_weight = Eigen::VectorXd::Zero(ns);
+  for (Eigen::Index j = 0; j < ns; ++j) {
+    const double f = cp.support_force.col(j).norm();
+    if (s.support_smoothed[j] > 0.0) area_weight[j] = power(s.support_smoothed[j], e);
+    if (f > 0.0 && gs[j] != 0.0) {
+      vs.col(j) = gs[j] / (support_area[j] * f) * cp.support_force.col(j);
+      area_weight[j] -= gs[j] * s.support_pressure[j] / support_area[j];
+    }
+  }
+  Eigen::Matrix3Xd hb, hs;
+  sim.contact_hessian_product(vb, vs, hb, hs);
+  s.d_body = -Eigen::Map<const Eigen::VectorXd>(hb.data(), hb.size());
+  s.d_support = -hs.transpose();
+  s.d_support_area = Eigen::MatrixX3d::Zero(ns, 3);
+  add_area_gradient(X, F, area_weight, s.d_support_area);
+  return s;
+}
+
 Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) const {
+  if (sim.deformable_support()) return evaluate_deformable(sim, gradient);
   const sim3d::RigidContactTerm& term = sim.contact_term();
   const contact::Obstacle& support = sim.support();
-  const double k = term.stiffness();
+  const double k = sim.contact_stiffness();
   const double abar = term.mean_area();
   const double scale = 2.0 * k / abar;  // pressure per depth [Pa/m]
   const Eigen::VectorXd Y = sim.system().positions(sim.dofs());
   const Eigen::Index nb = sim.model().num_vertices();
   const Eigen::Index ns = support.vertices().rows();
-  const int e = options_.exponent;
 
   Score s;
   s.body_pressure = Eigen::VectorXd::Zero(nb);
@@ -132,27 +203,13 @@ Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) c
     ++s.support_contacts;
   }
 
-  s.body_smoothed = body_smoothing_ * s.body_pressure;
-  s.support_smoothed = support_smoothing_ * s.support_pressure;
-  const std::vector<double>& spring = term.spring_area();
-  const Eigen::VectorXd support_area = contact::vertex_areas(support.vertices(), support.triangles());
-  Eigen::VectorXd wb = Eigen::VectorXd::Zero(nb), ws = Eigen::VectorXd::Zero(ns);  // ∂ζ/∂p̄
-  Eigen::VectorXd area_weight = Eigen::VectorXd::Zero(ns);                          // ∂ζ/∂s (support)
-  for (int v : sim.surface_vertices()) {
-    const double pb = s.body_smoothed[v];
-    if (pb <= 0.0) continue;
-    const double sa = spring[static_cast<std::size_t>(v)];
-    s.zeta_body += sa * power(pb, e);
-    wb[v] = e * sa * power(pb, e - 1);
-  }
+  const Eigen::VectorXd support_area = contact::vertex_areas(sim.support_rest_vertices(), support.triangles());
+  Eigen::VectorXd wb, ws;  // ∂ζ/∂p̄
+  sum(sim, support_area, s, wb, ws);
+  Eigen::VectorXd area_weight = Eigen::VectorXd::Zero(ns);  // ∂ζ/∂s (support)
   for (Eigen::Index v = 0; v < ns; ++v) {
-    const double ps = s.support_smoothed[v];
-    if (ps <= 0.0) continue;
-    s.zeta_support += support_area[v] * power(ps, e);
-    ws[v] = e * support_area[v] * power(ps, e - 1);
-    area_weight[v] = power(ps, e);
+    if (s.support_smoothed[v] > 0.0) area_weight[v] = power(s.support_smoothed[v], options_.exponent);
   }
-  s.zeta = s.zeta_body + s.zeta_support;
   if (!gradient) return s;
 
   // ∂ζ/∂p = Sᵀ ∂ζ/∂p̄, then through the depths.
@@ -176,7 +233,8 @@ Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) c
       s.d_body.segment<3>(3 * d.vertices[static_cast<std::size_t>(i)]) += w * d.d_depth.segment<3>(3 * (i + 1));
     }
   }
-  add_area_gradient(support.vertices(), support.triangles(), area_weight, s.d_support);
+  s.d_support_area = Eigen::MatrixX3d::Zero(ns, 3);
+  add_area_gradient(sim.support_rest_vertices(), support.triangles(), area_weight, s.d_support_area);
   return s;
 }
 

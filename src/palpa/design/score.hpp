@@ -24,6 +24,12 @@
 // contact/penalty.hpp) has ∂δ/∂z = ∂(δ²)/∂z / (2δ), z = (p, q_0, q_1, q_2);
 // areas differentiate as ∂A/∂a = ½ n̂ × (c − b) for triangle (a, b, c).
 //
+// A deformable support (§7.4.3) presses back on the body's skin (two contact
+// passes, rest/coupled.hpp), so depths no longer give the pressures: there
+// p_i = ‖f_i‖/s_i, f_i the nodal force of both passes on vertex i (a
+// support vertex's s_i its rest area), and ∂ζ/∂y = −H_c v with H_c the
+// contact energy's Hessian and v_i = (∂ζ/∂p_i / s_i) f_i/‖f_i‖.
+//
 // Smoothness (7.14): ψ(X) = Σ_{v ∈ D} ‖X_v − (T X)_v‖², T = ((I + μL)(I + λL))^m
 // Taubin smoothing (λ = 0.5, μ = −0.53) on the support's mesh, D the design
 // vertices (so a fixed outline does not weigh). Units: ψ [m²].
@@ -55,10 +61,13 @@ struct Score {
   Eigen::VectorXd support_smoothed;
   int body_contacts = 0;
   int support_contacts = 0;
-  // With gradients: ∂ζ/∂Y (3N, the body's vertex positions) and the
-  // explicit ∂ζ/∂X (support vertices, #V×3).
+  // With gradients: ∂ζ/∂Y (3N, the body's vertex positions), ∂ζ/∂Y_s (the
+  // support's vertex positions where they are, #V×3: through the depths) and
+  // ∂ζ/∂X (the support's rest positions, #V×3: through its vertex areas).
+  // For a rigid support Y_s = X and the explicit gradient is their sum.
   Eigen::VectorXd d_body;
   Eigen::MatrixX3d d_support;
+  Eigen::MatrixX3d d_support_area;
 };
 
 class ErgonomicScore {
@@ -72,6 +81,13 @@ class ErgonomicScore {
   Score evaluate(const rest::RestSimulation& sim, bool gradient) const;
 
  private:
+  // A deformable support: pressures are the nodal forces of both contact
+  // passes over the vertices' areas (rest::RestSimulation::contact_pressures).
+  Score evaluate_deformable(const rest::RestSimulation& sim, bool gradient) const;
+  // Smooths s's pressures and sums ζ; wb, ws: ∂ζ/∂p̄ on the body and the
+  // support (support_area: the support's vertex areas).
+  void sum(const rest::RestSimulation& sim, const Eigen::VectorXd& support_area, Score& s, Eigen::VectorXd& wb,
+           Eigen::VectorXd& ws) const;
   ScoreOptions options_;
   Eigen::SparseMatrix<double> body_smoothing_;     // S over the body's vertices (skin rows)
   Eigen::SparseMatrix<double> support_smoothing_;  // S over the support's vertices

@@ -78,6 +78,7 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
   ensure_directory(out);
   write_vtu(out / "body.vtu", sim.body_grid(r));
   write_vtu(out / "support.vtu", sim.support_grid(r));
+  if (sim.deformable_support()) write_vtu(out / "support_volume.vtu", sim.support_volume_grid());
   write_skin_ply(out / "skin.ply", sim, {{"pressure_Pa", r.body_pressure}});
   const SurfaceMesh support = world_support(sim);
   write_ply(out / "support.ply", support, {.vertex_scalars = {{"pressure_Pa", r.support_pressure}}});
@@ -123,6 +124,14 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
             {"min_det_F", r.min_det_f},
             {"seconds", r.seconds},
             {"detection_seconds", r.detection_seconds}};
+  if (const tet::ElasticModel* m = sim.support_model()) {
+    s["support"]["deformable"] = {{"tetrahedra", m->num_elements()},
+                                  {"vertices", m->num_vertices()},
+                                  {"max_displacement_m", r.support_max_displacement},
+                                  {"min_det_F", r.support_min_det_f},
+                                  {"base_force_N", vec(r.support_base_force)},
+                                  {"reverse_contacts", r.reverse_contacts}};
+  }
   if (!r.message.empty()) s["note"] = r.message;
   write_json_file(out / "summary.json", s);
   return s;

@@ -12,6 +12,8 @@
 
 #include "palpa/contact/contact.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/mesh/tetrahedralize.hpp"
+#include "palpa/rest/coupled.hpp"
 #include "palpa/tet/mesh.hpp"
 
 namespace palpa::rest {
@@ -92,7 +94,10 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
   body_area_ = contact::vertex_areas(mesh.V, surface_faces_);
 
   support_ = std::make_unique<contact::Obstacle>(support, options_.support_name);
-  support_area_ = contact::vertex_areas(support_->vertices(), support_->triangles());
+  support_rest_ = support_->vertices();
+  support_area_ = contact::vertex_areas(support_rest_, support_->triangles());
+  support_fixed_.assign(static_cast<std::size_t>(support_rest_.rows()), 0);
+  if (options_.deformable_support) build_deformable_support();
 
   // The body must start above the support.
   int inside = 0;
@@ -122,9 +127,15 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
     k = contact::stiffness_for_penetration(load, std::max(10.0, 0.1 * static_cast<double>(surface_.size())),
                                            options_.target_penetration);
   }
-  term_ = std::make_unique<sim3d::RigidContactTerm>(*support_, mesh.V, surface_faces_, k);
+  // Two passes on a deformable support share the spring law: each at k/2.
+  term_ = std::make_unique<sim3d::RigidContactTerm>(*support_, mesh.V, surface_faces_, k / contact_passes());
   mean_area_ = term_->mean_area();
   system_->add_term(term_.get());
+  if (support_model_) {
+    std::vector<int> surface(static_cast<std::size_t>(support_rest_.rows()));
+    for (std::size_t j = 0; j < surface.size(); ++j) surface[j] = static_cast<int>(j);
+    coupled_ = std::make_unique<CoupledSystem>(*system_, *support_system_, *support_, std::move(surface), *term_);
+  }
 
   NewtonOptions opt;
   opt.line_search = options_.line_search;
@@ -141,6 +152,89 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
 
 RestSimulation::~RestSimulation() = default;
 
+void RestSimulation::build_deformable_support() {
+  const DeformableSupport& d = *options_.deformable_support;
+  const std::string& name = options_.support_name;
+  if (!d.material) throw Error(ErrorKind::Input, fmt::format("the deformable {} has no material", name));
+  if (!(d.edge >= 0.0) || !std::isfinite(d.edge)) {
+    throw Error(ErrorKind::Input, fmt::format("the deformable {}: its tet edge must be ≥ 0 m, got {}", name, d.edge));
+  }
+  if (!(d.base_tolerance >= 0.0) || !std::isfinite(d.base_tolerance)) {
+    throw Error(ErrorKind::Input, fmt::format("the deformable {}: its base tolerance must be ≥ 0 m, got {}", name,
+                                              d.base_tolerance));
+  }
+  mesh::TetQuality q;
+  if (d.edge > 0.0) q.max_volume = d.edge * d.edge * d.edge / (6.0 * std::sqrt(2.0));
+  TetMesh tets = mesh::tetrahedralize(SurfaceMesh{support_rest_, support_->triangles()}, q);
+  const Eigen::Index ns = support_rest_.rows();
+  if (tets.V.rows() < ns || !tets.V.topRows(ns).isApprox(support_rest_, 1e-12)) {
+    throw Error(ErrorKind::Internal, fmt::format("meshing the deformable {} moved its surface vertices", name));
+  }
+  tet::prepare_tet_mesh(tets, name);
+  support_model_ = std::make_unique<tet::ElasticModel>(std::move(tets),
+                                                       std::vector<tet::BodyMaterial>{{d.material, 0.0}});
+  // The base: the vertices lowest along gravity (−z without gravity).
+  const Eigen::Vector3d down =
+      options_.gravity.norm() > 0.0 ? Eigen::Vector3d(options_.gravity.normalized()) : Eigen::Vector3d(0.0, 0.0, -1.0);
+  const Eigen::MatrixX3d& V = support_model_->mesh().V;
+  const Eigen::VectorXd depth = V * down;
+  const double lowest = depth.maxCoeff();
+  std::vector<char> fixed(static_cast<std::size_t>(3 * V.rows()), 0);
+  Eigen::Index held = 0;
+  for (Eigen::Index v = 0; v < V.rows(); ++v) {
+    if (depth[v] < lowest - d.base_tolerance) continue;
+    fixed[static_cast<std::size_t>(3 * v)] = fixed[static_cast<std::size_t>(3 * v + 1)] =
+        fixed[static_cast<std::size_t>(3 * v + 2)] = 1;
+    if (v < ns) support_fixed_[static_cast<std::size_t>(v)] = 1;
+    ++held;
+  }
+  if (held < 3) {
+    throw Error(ErrorKind::Input, fmt::format("the deformable {} has {} vertices on its base (within {} of the lowest "
+                                              "along gravity): it needs a flat base to stand on",
+                                              name, held, format_quantity(d.base_tolerance, Dimension::Length)));
+  }
+  support_system_ = std::make_unique<tet::StaticSystem>(*support_model_, std::move(fixed));
+  support_system_->set_true_hessian(true);
+  support_x_ = Eigen::VectorXd::Zero(support_system_->num_dofs());
+  spdlog::info("rest: {} is deformable: {} tets, {} vertices, {} of them held at its base", name,
+               support_model_->num_elements(), support_model_->num_vertices(), held);
+}
+
+Eigen::Matrix3Xd RestSimulation::body_contact_forces() const {
+  Eigen::Matrix3Xd f = term_->vertex_forces(system_->positions(x_));
+  // The support's vertices press on the body's skin too (two passes).
+  if (coupled_) f += coupled_->reverse_body_forces(coupled_dofs());
+  return f;
+}
+
+Eigen::VectorXd RestSimulation::coupled_dofs() const {
+  Eigen::VectorXd y(x_.size() + support_x_.size());
+  y << x_, support_x_;
+  return y;
+}
+
+RestSimulation::ContactPressures RestSimulation::contact_pressures() const {
+  if (!coupled_) throw Error(ErrorKind::Internal, "contact pressures of both passes need a deformable support");
+  ContactPressures out;
+  coupled_->contact_forces(coupled_dofs(), out.body_force, out.support_force);
+  out.body = Eigen::VectorXd::Zero(out.body_force.cols());
+  out.support = Eigen::VectorXd::Zero(out.support_force.cols());
+  const std::vector<double>& spring = term_->spring_area();
+  for (int v : surface_) out.body[v] = out.body_force.col(v).norm() / spring[static_cast<std::size_t>(v)];
+  for (Eigen::Index j = 0; j < out.support.size(); ++j) {
+    if (support_area_[j] > 0.0) out.support[j] = out.support_force.col(j).norm() / support_area_[j];
+  }
+  return out;
+}
+
+void RestSimulation::contact_hessian_product(const Eigen::Matrix3Xd& v_body, const Eigen::Matrix3Xd& v_support,
+                                             Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const {
+  if (!coupled_) throw Error(ErrorKind::Internal, "the contact Hessian of both passes needs a deformable support");
+  coupled_->contact_hessian_product(coupled_dofs(), v_body, v_support, body, support);
+}
+
+bool RestSimulation::support_vertex_fixed(int j) const { return support_fixed_.at(static_cast<std::size_t>(j)) != 0; }
+
 RestResult RestSimulation::solve() {
   const auto t0 = std::chrono::steady_clock::now();
   term_->reset_timers();
@@ -153,7 +247,17 @@ RestResult RestSimulation::solve() {
   constexpr int kMaxAreaUpdates = 3;
   int area_updates = 0;
   for (;;) {
-    const NewtonResult res = newton_->solve(*system_, x_);
+    NewtonResult res;
+    if (coupled_) {
+      Eigen::VectorXd y(x_.size() + support_x_.size());
+      y << x_, support_x_;
+      res = newton_->solve(*coupled_, y);
+      x_ = y.head(x_.size());
+      support_x_ = y.tail(support_x_.size());
+      coupled_->place_obstacle(y);  // where the solution is, not the last trial
+    } else {
+      res = newton_->solve(*system_, x_);
+    }
     r.newton_iterations += res.iterations;
     ++r.solves;
     r.residual = res.gradient_norm;
@@ -168,7 +272,7 @@ RestResult RestSimulation::solve() {
     }
     const double ratio = term_->contacts().max_depth() / options_.target_penetration;
     spdlog::info("rest: solve {}: {} Newton iterations, {} contacts, k = {:.4g} N/m, deepest penetration {} ({:.2f}× the target)",
-                 r.solves, res.iterations, term_->contacts().size(), term_->stiffness(),
+                 r.solves, res.iterations, term_->contacts().size(), contact_stiffness(),
                  format_quantity(term_->contacts().max_depth(), Dimension::Length), ratio);
     const bool k_ok = !automatic_ || (ratio > 0.85 && ratio < 1.15);
     if (r.solves == kMaxSolves) {
@@ -191,7 +295,8 @@ RestResult RestSimulation::solve() {
   const Eigen::VectorXd p = system_->positions(x_);
   r.core_translation = system_->core_translation(x_);
   r.core_rotation = system_->core_rotation(x_);
-  const Eigen::Matrix3Xd f = term_->vertex_forces(p);
+  const Eigen::Matrix3Xd f = body_contact_forces();
+  if (coupled_) r.reverse_contacts = static_cast<int>(coupled_->reverse_contacts().size());
   const Eigen::Vector3d c = system_->core().centre + r.core_translation;
   for (Eigen::Index v = 0; v < f.cols(); ++v) {
     if (f.col(v).squaredNorm() == 0.0) continue;
@@ -206,19 +311,37 @@ RestResult RestSimulation::solve() {
   }
   r.balance_error = r.load.norm() > 0.0 ? imbalance.norm() / r.load.norm() : imbalance.norm();
   r.max_penetration = term_->contacts().max_depth();
-  r.stiffness = term_->stiffness();
+  r.stiffness = contact_stiffness();
   r.contacts = static_cast<int>(term_->contacts().size());
   r.body_pressure = term_->pressures(p);
   r.min_det_f = model_->min_jacobian(system_->full_displacement(x_));
+  if (support_model_) {
+    const Eigen::VectorXd u = support_system_->full_displacement(support_x_);
+    r.support_min_det_f = support_model_->min_jacobian(u);
+    const Eigen::VectorXd reaction = support_system_->reactions(support_x_);
+    for (Eigen::Index v = 0; v < u.size() / 3; ++v) {
+      r.support_max_displacement = std::max(r.support_max_displacement, u.segment<3>(3 * v).norm());
+      r.support_base_force += reaction.segment<3>(3 * v);
+    }
+  }
 
   // The support's side: its vertices against the deformed body. A support
   // vertex at depth δ carries the pressure of a body vertex at that depth,
   // 2kδ/Ā (the body's springs are k·A/Ā), so both sides show the same
   // pressure field.
-  r.support_pressure = Eigen::VectorXd::Zero(support_->vertices().rows());
-  for (const ReverseContact& rc : reverse_contacts()) {
-    r.support_pressure[rc.support_vertex] = 2.0 * r.stiffness * rc.closest.distance / mean_area_;
-    ++r.support_contacts;
+  if (coupled_) {
+    // Two passes: a vertex's pressure is the force of both on it over its
+    // area (the body's spring area, the support's vertex area at rest).
+    const ContactPressures cp = contact_pressures();
+    r.body_pressure = cp.body;
+    r.support_pressure = cp.support;
+    r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
+  } else {
+    r.support_pressure = Eigen::VectorXd::Zero(support_->vertices().rows());
+    for (const ReverseContact& rc : reverse_contacts()) {
+      r.support_pressure[rc.support_vertex] = 2.0 * r.stiffness * rc.closest.distance / mean_area_;
+      ++r.support_contacts;
+    }
   }
   r.detection_seconds = term_->detection_seconds();
   r.seconds = seconds_since(t0);
@@ -273,6 +396,7 @@ RestState RestSimulation::state() const {
   s.core = system_->committed();
   s.spring_areas = term_->spring_area();
   s.stiffness = term_->stiffness();
+  s.support = support_x_;
   return s;
 }
 
@@ -280,6 +404,11 @@ void RestSimulation::restore(const RestState& s) {
   if (s.x.size() != x_.size() || !s.x.allFinite()) {
     throw Error(ErrorKind::Input, fmt::format("a saved state has {} DOFs for a body with {}", s.x.size(), x_.size()));
   }
+  if (s.support.size() != support_x_.size() || !s.support.allFinite()) {
+    throw Error(ErrorKind::Input, fmt::format("a saved state has {} support DOFs for a support with {}",
+                                              s.support.size(), support_x_.size()));
+  }
+  support_x_ = s.support;
   term_->set_areas(s.spring_areas);
   term_->set_stiffness(s.stiffness);
   system_->set_committed(s.core);
@@ -287,8 +416,67 @@ void RestSimulation::restore(const RestState& s) {
 }
 
 void RestSimulation::set_support_vertices(const Eigen::MatrixX3d& V) {
-  support_->set_vertices(V, false);
-  support_area_ = contact::vertex_areas(support_->vertices(), support_->triangles());
+  if (V.rows() != support_rest_.rows()) {
+    throw Error(ErrorKind::Input, fmt::format("{} support vertices for a support of {}", V.rows(), support_rest_.rows()));
+  }
+  if (support_model_) {
+    Eigen::MatrixX3d all = support_model_->mesh().V;
+    all.topRows(V.rows()) = V;
+    support_model_->set_rest_positions(all);  // Solver error if a tet inverts; nothing changed then
+    support_rest_ = V;
+    coupled_->place_obstacle(coupled_dofs());
+  } else {
+    support_->set_vertices(V, false);
+    support_rest_ = V;
+  }
+  support_area_ = contact::vertex_areas(support_rest_, support_->triangles());
+}
+
+bool RestSimulation::shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support,
+                                      Eigen::MatrixX3d& out, std::string& failure) {
+  if (!coupled_) {
+    // Y_support = X: the direct part, and the equilibrium's response through
+    // the contacts' mixed blocks H_pq (K z = Pᵀ d_body, then −Σ H_qpᵀ P z).
+    const FactorStatus st = newton_->factor_hessian(*system_, x_);
+    if (st != FactorStatus::Ok) {
+      failure = fmt::format("the equilibrium's Hessian could not be factored for the adjoint ({})", to_string(st));
+      return false;
+    }
+    const Eigen::VectorXd z = newton_->factorization().solve(system_->pull_back(x_, d_body));
+    const Eigen::VectorXd w = system_->push_forward(x_, z);
+    const Eigen::VectorXd Y = system_->positions(x_);
+    out = d_support;
+    for (const contact::Contact& c : term_->contacts().contacts()) {
+      const contact::FeatureGeometry g = contact::feature_geometry(*support_, c.closest);
+      const contact::Matrix12d H = contact::penalty_hessian_full(Y.segment<3>(3 * c.point), g,
+                                                                 term_->contacts().stiffness_of(c, term_->stiffness()));
+      const Eigen::Vector3d wc = w.segment<3>(3 * c.point);
+      for (int i = 0; i < g.m; ++i) {
+        out.row(c.closest.vertices[static_cast<std::size_t>(i)]) -= (H.block<3, 3>(3 * (i + 1), 0) * wc).transpose();
+      }
+    }
+    return true;
+  }
+  // Deformable (7.21–7.23): f sees the deformed positions y only; X enters
+  // the equilibrium through the support's elastic forces, so
+  // df/dX = −(∂g/∂X)ᵀ z with K z = ∂f/∂y.
+  const Eigen::VectorXd y = coupled_dofs();
+  const FactorStatus st = newton_->factor_hessian(*coupled_, y);
+  if (st != FactorStatus::Ok) {
+    failure = fmt::format("the equilibrium's Hessian could not be factored for the adjoint ({})", to_string(st));
+    return false;
+  }
+  Eigen::VectorXd rhs(y.size());
+  rhs << system_->pull_back(x_, d_body), coupled_->support_free_part(d_support);
+  const Eigen::VectorXd z = newton_->factorization().solve(rhs);
+  // z over the support's full DOFs (0 on its base).
+  Eigen::VectorXd zs = Eigen::VectorXd::Zero(support_model_->num_dofs());
+  const std::vector<int>& free = support_system_->free_dofs();
+  for (std::size_t k = 0; k < free.size(); ++k) zs[free[k]] = z[x_.size() + static_cast<Eigen::Index>(k)];
+  const Eigen::MatrixX3d G =
+      support_model_->rest_gradient_product(support_system_->full_displacement(support_x_), zs);
+  out = -G.topRows(support_rest_.rows());
+  return true;
 }
 
 UnstructuredGrid RestSimulation::body_grid(const RestResult& r) const {
@@ -301,7 +489,7 @@ UnstructuredGrid RestSimulation::body_grid(const RestResult& r) const {
   Eigen::MatrixXd disp(mesh.V.rows(), 3);
   for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) disp.row(v) = u.segment<3>(3 * v).transpose();
   grid.point_data.push_back(DataArray{"displacement_m", disp});
-  const Eigen::Matrix3Xd f = term_->vertex_forces(system_->positions(x_));
+  const Eigen::Matrix3Xd f = body_contact_forces();
   grid.point_data.push_back(DataArray{"contact_force_N", f.transpose()});
   grid.point_data.push_back(DataArray{"pressure_Pa", r.body_pressure});
   Eigen::VectorXd attached = Eigen::VectorXd::Zero(mesh.V.rows());
@@ -317,6 +505,25 @@ UnstructuredGrid RestSimulation::support_grid(const RestResult& r) const {
   for (Eigen::Index v = 0; v < grid.points.rows(); ++v) grid.points.row(v) = support_->world_vertex(static_cast<int>(v)).transpose();
   grid.cells.push_back(CellBlock{VtkCellType::Triangle, support_->triangles()});
   grid.point_data.push_back(DataArray{"pressure_Pa", r.support_pressure});
+  if (support_model_) grid.point_data.push_back(DataArray{"displacement_m", grid.points - support_rest_});
+  return grid;
+}
+
+UnstructuredGrid RestSimulation::support_volume_grid() const {
+  if (!support_model_) throw Error(ErrorKind::Internal, "the support is rigid: it has no tets");
+  const Eigen::VectorXd u = support_system_->full_displacement(support_x_);
+  const TetMesh& mesh = support_model_->mesh();
+  UnstructuredGrid grid;
+  grid.points.resize(mesh.V.rows(), 3);
+  Eigen::MatrixXd disp(mesh.V.rows(), 3);
+  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) {
+    disp.row(v) = u.segment<3>(3 * v).transpose();
+    grid.points.row(v) = mesh.V.row(v) + disp.row(v);
+  }
+  grid.cells.push_back(CellBlock{VtkCellType::Tetra, mesh.T});
+  grid.point_data.push_back(DataArray{"displacement_m", disp});
+  grid.cell_data.push_back(
+      DataArray{"von_mises_stress_Pa", tet::ElasticModel::von_mises(support_model_->cauchy_stress(u))});
   return grid;
 }
 

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,8 +25,11 @@
 #include "palpa/sim3d/contact_term.hpp"
 #include "palpa/solve/newton.hpp"
 #include "palpa/tet/model.hpp"
+#include "palpa/tet/system.hpp"
 
 namespace palpa::rest {
+
+class CoupledSystem;
 
 struct RestBody {
   TetMesh mesh;                             // the layer, positively oriented [m]
@@ -39,6 +43,19 @@ struct RestBody {
 Eigen::MatrixX3i skin_faces(const TetMesh& mesh, const std::vector<int>& attached);
 // The skin as a closed surface of its own (vertices renumbered).
 SurfaceMesh body_skin(const RestBody& body);
+
+// A deformable support (thesis §7.4.3): the inside of the support's closed
+// surface meshed with tets (TetGen, the surface kept as it is), of one
+// hyperelastic material, its base held in place. Its own weight is left out
+// (it does not press on the body).
+struct DeformableSupport {
+  std::shared_ptr<const material::Material> material;
+  // Largest tet edge inside [m] (a TetGen volume bound, edge³/(6√2)); 0: only
+  // TetGen's quality bounds.
+  double edge = 0.0;
+  // Vertices within this height of the lowest one (along gravity) are fixed [m].
+  double base_tolerance = 1e-3;
+};
 
 struct RestOptions {
   body::CoreSpec core;  // attached is taken from the body; centre: see below
@@ -55,6 +72,8 @@ struct RestOptions {
   // the support's shape (shape optimization).
   bool update_areas = true;
   std::string support_name = "support";
+  // Set: the support deforms (see DeformableSupport); else it is rigid.
+  std::optional<DeformableSupport> deformable_support;
 };
 
 struct RestResult {
@@ -68,12 +87,16 @@ struct RestResult {
   double stiffness = 0.0;            // k [N/m]
   int contacts = 0;
   int support_contacts = 0;
+  int reverse_contacts = 0;          // deformable: support vertices held out of the body's skin
   int newton_iterations = 0;
   int solves = 0;
   double seconds = 0.0;
   double detection_seconds = 0.0;
   double residual = 0.0;             // ‖g‖∞ [N]
   double min_det_f = 0.0;
+  double support_max_displacement = 0.0;  // deformable support [m]
+  double support_min_det_f = 1.0;         // deformable support
+  Eigen::Vector3d support_base_force = Eigen::Vector3d::Zero();  // deformable: the ground on its base [N]
   Eigen::VectorXd body_pressure;     // per body vertex [Pa] (0 off contact)
   Eigen::VectorXd support_pressure;  // per support vertex [Pa]
   std::string message;
@@ -94,6 +117,7 @@ struct RestState {
   body::CoreSystem::Committed core;    // committed core pose
   std::vector<double> spring_areas;    // per body vertex [m²]
   double stiffness = 0.0;              // k [N/m]
+  Eigen::VectorXd support;             // a deformable support's DOFs (empty if rigid)
 };
 
 class RestSimulation {
@@ -101,7 +125,9 @@ class RestSimulation {
   // support: closed surface in world coordinates. Throws palpa::Error (Input)
   // for a support that is not a closed, manifold, outward surface, a core
   // without attached vertices or with nothing free, and a body that starts
-  // inside the support (it must start above it).
+  // inside the support (it must start above it). With
+  // options.deformable_support the inside of the surface is meshed with tets
+  // (its surface vertices keep their numbering).
   RestSimulation(RestBody body, const SurfaceMesh& support, RestOptions options);
   ~RestSimulation();
   RestSimulation(const RestSimulation&) = delete;
@@ -114,9 +140,45 @@ class RestSimulation {
   const tet::ElasticModel& model() const noexcept { return *model_; }
   body::CoreSystem& system() noexcept { return *system_; }
   const body::CoreSystem& system() const noexcept { return *system_; }
+  // The support's surface, where it is now (deformed, for a deformable one).
   const contact::Obstacle& support() const noexcept { return *support_; }
+  // The support's surface at rest (its shape as made) [m]: the design's X.
+  const Eigen::MatrixX3d& support_rest_vertices() const noexcept { return support_rest_; }
+  bool deformable_support() const noexcept { return coupled_ != nullptr; }
+  // A deformable support's tets (nullptr if rigid), its DOFs and whether
+  // surface vertex j is held in place (its base; false for a rigid support).
+  const tet::ElasticModel* support_model() const noexcept { return support_model_.get(); }
+  CoupledSystem* coupled_system() noexcept { return coupled_.get(); }
+  const Eigen::VectorXd& support_dofs() const noexcept { return support_x_; }
+  bool support_vertex_fixed(int j) const;
+  // The contact force on every body vertex at the current state (3×N) [N]:
+  // both passes on a deformable support.
+  Eigen::Matrix3Xd body_contact_forces() const;
+  // Body and support DOFs together (deformable support).
+  Eigen::VectorXd coupled_dofs() const;
+  // Deformable support: the nodal contact forces of both passes on the
+  // body's vertices (3×N) and the support's surface vertices [N], and the
+  // pressures they make, force over area (the body's spring areas, the
+  // support's vertex areas at rest) [Pa]. palpa::Error (Internal) if rigid.
+  struct ContactPressures {
+    Eigen::Matrix3Xd body_force, support_force;
+    Eigen::VectorXd body, support;
+  };
+  ContactPressures contact_pressures() const;
+  // H_c v, H_c the Hessian of the contact energy (both passes) over the
+  // vertex positions of the body (3×N) and the support's surface.
+  void contact_hessian_product(const Eigen::Matrix3Xd& v_body, const Eigen::Matrix3Xd& v_support,
+                               Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const;
   const Eigen::VectorXd& dofs() const noexcept { return x_; }
   const sim3d::RigidContactTerm& contact_term() const noexcept { return *term_; }
+  // The contact's pressure law: a depth δ means a pressure 2kδ/Ā, k this
+  // stiffness [N/m]. On a deformable support the support's vertices press
+  // on the body's skin too (two passes, rest/coupled.hpp), each pass with
+  // half of k, so that where both surfaces sink into each other alike the
+  // pressure is still 2kδ/Ā; its pressures are the nodal forces of both
+  // passes over the vertices' areas (contact_pressures()).
+  double contact_passes() const noexcept { return options_.deformable_support ? 2.0 : 1.0; }
+  double contact_stiffness() const noexcept { return term_->stiffness() * contact_passes(); }
   NewtonSolver& newton() noexcept { return *newton_; }
   const std::vector<int>& surface_vertices() const noexcept { return surface_; }
   const Eigen::MatrixX3i& boundary_faces() const noexcept { return boundary_faces_; }
@@ -126,8 +188,19 @@ class RestSimulation {
   // Throws palpa::Error (Input) for a state of another body.
   void restore(const RestState& s);
   // Moves the support's vertices (world [m], same triangles and count); the
-  // next solve starts from the current state.
+  // next solve starts from the current state. For a deformable support these
+  // are its rest positions (its inner tet vertices stay); palpa::Error
+  // (Solver) if that inverts a tet.
   void set_support_vertices(const Eigen::MatrixX3d& V);
+  // The derivative with respect to the support's rest vertices X (#V×3) of a
+  // function f(Y_body, Y_support) of the body's vertex positions (3N) and the
+  // support's surface positions (#V×3) at the equilibrium, given its partial
+  // derivatives d_body and d_support there: the adjoint (thesis 7.17–7.23),
+  // one factorization of the equilibrium's Hessian and one back-solve.
+  // Returns false (with the reason in `failure`) when the Hessian cannot be
+  // factored.
+  bool shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support, Eigen::MatrixX3d& out,
+                        std::string& failure);
   // Keeps k and the spring areas as they are in later solves (no automatic
   // correction, no area updates): the equilibrium becomes one smooth function
   // of the support's shape.
@@ -145,10 +218,15 @@ class RestSimulation {
   // pressure_Pa, for the result r.
   UnstructuredGrid body_grid(const RestResult& r) const;
   UnstructuredGrid support_grid(const RestResult& r) const;
+  // A deformable support's deformed tets (point data displacement_m, cell
+  // data von_mises_stress_Pa); palpa::Error (Internal) for a rigid one.
+  UnstructuredGrid support_volume_grid() const;
   // The deformed outer skin with pressure_Pa (tet-mesh vertex numbering kept).
   SurfaceMesh deformed_skin() const;
 
  private:
+  void build_deformable_support();
+
   RestBody body_;
   RestOptions options_;
   std::unique_ptr<tet::ElasticModel> model_;
@@ -164,6 +242,13 @@ class RestSimulation {
   double mean_area_ = 0.0;            // mean skin vertex area Ā [m²]
   Eigen::VectorXd x_;
   bool automatic_ = true;
+  // The support at rest, and a deformable support's tets, system and DOFs.
+  Eigen::MatrixX3d support_rest_;
+  std::unique_ptr<tet::ElasticModel> support_model_;
+  std::unique_ptr<tet::StaticSystem> support_system_;
+  std::unique_ptr<CoupledSystem> coupled_;
+  std::vector<char> support_fixed_;   // per surface vertex
+  Eigen::VectorXd support_x_;
 };
 
 }  // namespace palpa::rest

@@ -28,6 +28,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// An inline material object or the path of a material file.
+std::shared_ptr<const material::Material> read_scene_material(const JsonView& mv, const fs::path& file) {
+  if (mv.is_object()) return std::shared_ptr<material::Material>(material::material_from_json(mv));
+  return std::shared_ptr<material::Material>(
+      material::read_material_file(resolve_scene_path(file, mv.as_string())).material);
+}
+
 double unit_of(const JsonView& parent) {
   if (const auto u = parent.find("unit")) return parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
   return 1.0;
@@ -144,9 +151,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   s.body.mesh.V = ((s.body.mesh.V * R.transpose()).rowwise() + t.transpose()).eval();
 
   tet::BodyMaterial bm;
-  const JsonView mv = b.at("material");
-  bm.material = mv.is_object() ? std::shared_ptr<material::Material>(material::material_from_json(mv))
-                               : std::shared_ptr<material::Material>(material::read_material_file(resolve_scene_path(file, mv.as_string())).material);
+  bm.material = read_scene_material(b.at("material"), file);
   bm.density = b.has("density") ? b.at("density").as_quantity(Dimension::Density) : 1000.0;
   if (!(bm.density >= 0.0)) b.at("density").fail("must be ≥ 0", "a density such as \"1000 kg/m^3\"");
   s.body.materials = {bm};
@@ -158,8 +163,17 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
 SurfaceMesh read_box(const JsonView& box) {
   box.expect_only({"size", "divisions", "bevel"});
   const Eigen::Vector3d size = read_quantity3(box.at("size"), Dimension::Length);
-  const int n = box.has("divisions") ? static_cast<int>(box.at("divisions").as_integer()) : 40;
-  if (n < 1 || n > 1000) box.at("divisions").fail(fmt::format("{}", n), "1 to 1000");
+  // One count for every axis, or one per axis ([nx, ny, nz]).
+  Eigen::Vector3i n = Eigen::Vector3i::Constant(40);
+  if (const auto d = box.find("divisions")) {
+    if (d->is_array()) {
+      if (d->size() != 3) d->fail(fmt::format("{} counts", d->size()), "one count, or three [nx, ny, nz]");
+      for (int k = 0; k < 3; ++k) n[k] = static_cast<int>(d->at(static_cast<std::size_t>(k)).as_integer());
+    } else {
+      n.setConstant(static_cast<int>(d->as_integer()));
+    }
+    if (n.minCoeff() < 1 || n.maxCoeff() > 1000) d->fail(fmt::format("{} {} {}", n[0], n[1], n[2]), "1 to 1000");
+  }
   SurfaceMesh m = sim3d::make_box_surface(size, n);
   m.V.col(2).array() -= size.z();  // the top face at the origin
   if (const auto bevel = box.find("bevel")) {
@@ -199,7 +213,8 @@ SurfaceMesh read_box(const JsonView& box) {
 }  // namespace
 
 void read_scene_support(const JsonView& sp, const fs::path& file, RestScene& s) {
-  sp.expect_only({"box", "spheres", "level", "smoothing", "negative_image", "file", "unit", "position", "rotation"});
+  sp.expect_only(
+      {"box", "spheres", "level", "smoothing", "negative_image", "file", "unit", "position", "rotation", "deformable"});
   SurfaceMesh m;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
@@ -263,6 +278,21 @@ void read_scene_support(const JsonView& sp, const fs::path& file, RestScene& s) 
     sp.fail("no support shape", "\"box\", \"spheres\", \"negative_image\" or \"file\"");
   }
   s.support = m;
+  if (const auto d = sp.find("deformable")) {
+    // A foam or gel support (§7.4.3): its inside meshed with tets, its base held.
+    d->expect_only({"material", "edge", "base_tolerance"});
+    DeformableSupport ds;
+    ds.material = read_scene_material(d->at("material"), file);
+    if (const auto v = d->find("edge")) ds.edge = read_positive(*v, Dimension::Length);
+    if (const auto v = d->find("base_tolerance")) {
+      ds.base_tolerance = v->as_quantity(Dimension::Length);
+      if (!(ds.base_tolerance >= 0.0)) v->fail("a negative height", "a height ≥ 0 such as \"1 mm\"");
+    }
+    s.options.deformable_support = ds;
+    s.support_source += ", deformable";
+  } else {
+    s.options.deformable_support.reset();
+  }
 }
 
 RestScene read_rest_scene(const fs::path& path, const std::string& version_key,

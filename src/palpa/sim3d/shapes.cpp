@@ -37,37 +37,46 @@ SurfaceMesh make_cylinder(double radius, double height, int segments) {
 }
 
 SurfaceMesh make_box_surface(const Eigen::Vector3d& size, int n) {
-  require(size.allFinite() && size.minCoeff() > 0.0, "box sizes must be > 0 m");
   require(n >= 1, fmt::format("box faces need at least 1 division, got {}", n));
+  return make_box_surface(size, Eigen::Vector3i::Constant(n));
+}
+
+SurfaceMesh make_box_surface(const Eigen::Vector3d& size, const Eigen::Vector3i& n) {
+  require(size.allFinite() && size.minCoeff() > 0.0, "box sizes must be > 0 m");
+  require(n.minCoeff() >= 1, fmt::format("box faces need at least 1 division, got {} {} {}", n[0], n[1], n[2]));
   std::vector<Eigen::Vector3d> v;
   std::vector<Eigen::Vector3i> f;
   std::map<std::array<long, 3>, int> index;  // grid coordinates -> vertex, shared along edges
   const auto vertex = [&](const Eigen::Vector3d& unit) {
-    const std::array<long, 3> key{std::lround(unit[0] * n), std::lround(unit[1] * n), std::lround(unit[2] * n)};
+    const std::array<long, 3> key{std::lround(unit[0] * n[0]), std::lround(unit[1] * n[1]),
+                                  std::lround(unit[2] * n[2])};
     auto [it, inserted] = index.try_emplace(key, static_cast<int>(v.size()));
     if (inserted) {
       v.emplace_back((unit[0] - 0.5) * size[0], (unit[1] - 0.5) * size[1], unit[2] * size[2]);
     }
     return it->second;
   };
-  // Each face: an origin corner and two in-face directions whose cross
-  // product points outward (unit-cube coordinates).
+  // Each face: an origin corner and two in-face axes whose cross product
+  // points outward (unit-cube coordinates).
   struct Face {
-    Eigen::Vector3d o, a, b;
+    Eigen::Vector3d o;
+    int a, b;
   };
   const Face faces[6] = {
-      {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}},  // z = 0, normal −z
-      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  // z = 1, +z
-      {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}},  // y = 0, −y
-      {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},  // y = 1, +y
-      {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}},  // x = 0, −x
-      {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},  // x = 1, +x
+      {{0, 0, 0}, 1, 0},  // z = 0, normal −z
+      {{0, 0, 1}, 0, 1},  // z = 1, +z
+      {{0, 0, 0}, 0, 2},  // y = 0, −y
+      {{0, 1, 0}, 2, 0},  // y = 1, +y
+      {{0, 0, 0}, 2, 1},  // x = 0, −x
+      {{1, 0, 0}, 1, 2},  // x = 1, +x
   };
   for (const Face& face : faces) {
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) {
+    const int na = n[face.a], nb = n[face.b];
+    const Eigen::Vector3d ea = Eigen::Vector3d::Unit(face.a), eb = Eigen::Vector3d::Unit(face.b);
+    for (int i = 0; i < na; ++i) {
+      for (int j = 0; j < nb; ++j) {
         const auto at = [&](int di, int dj) {
-          return vertex(face.o + (double(i + di) / n) * face.a + (double(j + dj) / n) * face.b);
+          return vertex(face.o + (double(i + di) / na) * ea + (double(j + dj) / nb) * eb);
         };
         const int p00 = at(0, 0), p10 = at(1, 0), p11 = at(1, 1), p01 = at(0, 1);
         f.emplace_back(p00, p10, p11);

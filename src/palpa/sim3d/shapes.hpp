@@ -15,6 +15,9 @@ SurfaceMesh make_cylinder(double radius, double height, int segments = 64);
 // A box sx × sy × sz [m], centred in x and y, bottom face at z = 0; each face
 // split into n × n squares (n ≥ 1) of two triangles.
 SurfaceMesh make_box_surface(const Eigen::Vector3d& size, int n = 1);
+// The same with n[k] divisions along axis k (so a thin slab's sides need not
+// be slivers: a tet mesh of its inside stays well shaped).
+SurfaceMesh make_box_surface(const Eigen::Vector3d& size, const Eigen::Vector3i& n);
 
 // A sphere of radius r [m] centred at (0, 0, r): an icosahedron subdivided
 // `level` times (20·4^level triangles) with vertices on the sphere.

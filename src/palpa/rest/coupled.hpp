@@ -1,0 +1,140 @@
+#pragma once
+// A body on its rigid core resting on a deformable support (thesis §7.4.3):
+// the two bodies and their penalty contact as one System, so that Newton and
+// the adjoint see one equilibrium.
+//
+// Unknowns. y = (x, v): x the body's CoreSystem DOFs (its free vertex
+// displacements and core pose), v the free displacement DOFs of the support's
+// tet mesh (its base is fixed). Energy:
+//   E(y) = E_body(x) + E_support(v) + E_contact(positions of the body's skin,
+//                                              deformed support surface).
+// The contact term is the body's own vertex term (sim3d::RigidContactTerm,
+// already in the CoreSystem); its obstacle is the support's boundary surface,
+// which this system moves to the deformed positions at v before every call.
+// So calls must not run concurrently on one object (Newton's line searches
+// evaluate their trials one after the other).
+//
+// Two passes. The body's skin vertices press on the support's triangles, and
+// — for a deformable support — the support's surface vertices press on the
+// body's skin triangles as well, with springs k·A_j/Ā (A_j the support
+// vertex's area when the system is built, Ā the body's mean skin vertex area,
+// so the same depth means the same pressure 2kδ/Ā on both sides). A soft
+// support otherwise bulges up between the body's vertices, through its skin.
+// Contacts whose closest body feature touches the core are left out (a
+// support vertex that deep is a failed simulation, not a contact).
+//
+// Derivatives. With the committed contacts and sliding anchors, the contact
+// energy of one contact is a function of the body vertex p and the feature's
+// support vertices q (contact/penalty.hpp): its p-block is in the body's
+// Hessian already; the (q, q) blocks are added to the support's, and the
+// (q, p) blocks couple the two (contact never touches a core-attached vertex,
+// so the core's rotational curvature does not see it). The Hessian is
+//   [ K_body            ]
+//   [ C        K_support]   (lower triangle),
+// whose coupling pattern C holds every (support vertex, body vertex) pair that
+// has been in contact so far: it only grows, so the sparse factorization is
+// analysed again only when a new pair touches.
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+#include <memory>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "palpa/body/core_system.hpp"
+#include "palpa/contact/contact.hpp"
+#include "palpa/contact/obstacle.hpp"
+#include "palpa/sim3d/contact_term.hpp"
+#include "palpa/solve/system.hpp"
+#include "palpa/tet/system.hpp"
+
+namespace palpa::rest {
+
+class CoupledSystem final : public System {
+ public:
+  // body: the body, with `term` among its vertex terms; support: the support's
+  // static system (base fixed, nothing else attached); obstacle: the support's
+  // boundary surface, whose vertex j is vertex surface[j] of the support's tet
+  // mesh, and the obstacle of `term`. All must outlive this system.
+  CoupledSystem(body::CoreSystem& body, tet::StaticSystem& support, contact::Obstacle& obstacle,
+                std::vector<int> surface, const sim3d::RigidContactTerm& term);
+
+  Eigen::Index num_body_dofs() const noexcept { return body_->num_dofs(); }
+  Eigen::Index num_support_dofs() const noexcept { return support_->num_dofs(); }
+  const std::vector<int>& surface() const noexcept { return surface_; }
+
+  // The support's deformed boundary at y (#surface × 3) [m], and the obstacle
+  // moved there.
+  Eigen::MatrixX3d surface_positions(const Eigen::VectorXd& y) const;
+  void place_obstacle(const Eigen::VectorXd& y) const;
+  // The reverse contacts (support surface vertices in the body's skin)
+  // committed at the last prepare(), and the forces they put on the body's
+  // vertices at y (3×N) [N].
+  const contact::ContactSet& reverse_contacts() const noexcept { return reverse_; }
+  Eigen::Matrix3Xd reverse_body_forces(const Eigen::VectorXd& y) const;
+  // The nodal contact forces of both passes at y (committed features) on the
+  // body's vertices (3×N) and the support's surface vertices (3×#surface)
+  // [N]: the pressure a vertex feels is its force over its area.
+  void contact_forces(const Eigen::VectorXd& y, Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const;
+  // H_c v for the contact energy's Hessian H_c over the vertex positions of
+  // both bodies (both passes, committed features): v and the result over
+  // the body's vertices (3×N) and the support's surface vertices.
+  void contact_hessian_product(const Eigen::VectorXd& y, const Eigen::Matrix3Xd& v_body,
+                               const Eigen::Matrix3Xd& v_support, Eigen::Matrix3Xd& body,
+                               Eigen::Matrix3Xd& support) const;
+  // The free support DOFs (v) of a vector over the support surface
+  // (#surface × 3): its rows scattered to their tet vertices, fixed DOFs
+  // dropped.
+  Eigen::VectorXd support_free_part(const Eigen::MatrixX3d& per_surface_vertex) const;
+
+  // System
+  Eigen::Index num_dofs() const override { return num_body_dofs() + num_support_dofs(); }
+  double energy(const Eigen::VectorXd& y) const override;
+  void gradient(const Eigen::VectorXd& y, Eigen::VectorXd& g) const override;
+  double energy_gradient(const Eigen::VectorXd& y, Eigen::VectorXd& g) const override;
+  void hessian(const Eigen::VectorXd& y, Eigen::SparseMatrix<double>& H) const override;
+  void prepare(const Eigen::VectorXd& y) override;
+
+ private:
+  double evaluate(const Eigen::VectorXd& y, Eigen::VectorXd* g) const;
+  // One contact of either pass: its point and feature vertices (slot 0, 1…m)
+  // as vertices of the body (on_body) or of the support's surface.
+  struct Pair {
+    contact::FeatureGeometry feature;
+    Eigen::Vector3d point;
+    double k = 0.0;
+    std::array<int, 4> vertex{};
+    bool forward = true;  // body vertex on a support feature
+    bool on_body(int slot) const { return forward == (slot == 0); }
+  };
+  std::vector<Pair> pairs(const Eigen::VectorXd& y) const;
+  // Whether a reverse contact's body feature lies on the skin.
+  bool on_skin(const contact::Contact& c) const;
+  // The support DOF of vertex `v`, component c, or −1 if fixed.
+  int support_dof(int v, int c) const { return full_to_free_[static_cast<std::size_t>(3 * v + c)]; }
+
+  body::CoreSystem* body_;
+  tet::StaticSystem* support_;
+  contact::Obstacle* obstacle_;
+  std::vector<int> surface_;
+  const sim3d::RigidContactTerm* term_;
+  // The body's whole boundary as an obstacle (its vertex i is body vertex
+  // body_vertex_[i]), moved with the body; the committed reverse contacts
+  // and their springs' factors.
+  std::unique_ptr<contact::Obstacle> body_surface_;
+  std::vector<int> body_vertex_;
+  std::vector<char> attached_;          // per body vertex
+  contact::ContactSet reverse_;
+  std::vector<double> reverse_scale_;   // per support surface vertex
+  std::vector<int> full_to_free_;         // support full DOF -> free index or −1
+  std::vector<int> body_full_to_free_;    // body full DOF -> CoreSystem DOF or −1
+  // Scratch kept between Hessians so the sub-patterns are built once (calls
+  // are serial, see above).
+  mutable Eigen::SparseMatrix<double> body_hessian_;
+  mutable Eigen::SparseMatrix<double> support_hessian_;
+  mutable std::set<std::pair<int, int>> pairs_;  // (support surface vertex, body vertex) ever in contact
+};
+
+}  // namespace palpa::rest
