@@ -14,13 +14,28 @@
 
 namespace palpa::design {
 
-PressureEstimate pose_to_seat(const rest::RestSimulation& sim, const rest::RestResult& r, double threshold) {
-  if (!(threshold > 0.0)) throw Error(ErrorKind::Input, fmt::format("the contact threshold must be > 0 m, got {}", threshold));
+namespace {
+
+// The body's rest vertices carried rigidly by the core's current pose (the
+// undeformed body as it sits: both estimates without elasticity start here).
+std::vector<Eigen::Vector3d> placed_undeformed(const rest::RestSimulation& sim) {
   const TetMesh& mesh = sim.model().mesh();
   const body::CoreSystem& system = sim.system();
   const Eigen::Vector3d c0 = system.core().centre;
   const Eigen::Vector3d t = system.core_translation(sim.dofs());
   const Eigen::Matrix3d R = system.core_rotation(sim.dofs());
+  std::vector<Eigen::Vector3d> Y(static_cast<std::size_t>(mesh.V.rows()));
+  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) Y[static_cast<std::size_t>(v)] = c0 + t + R * (mesh.V.row(v).transpose() - c0);
+  return Y;
+}
+
+}  // namespace
+
+PressureEstimate pose_to_seat(const rest::RestSimulation& sim, const rest::RestResult& r, double threshold) {
+  if (!(threshold > 0.0)) throw Error(ErrorKind::Input, fmt::format("the contact threshold must be > 0 m, got {}", threshold));
+  const TetMesh& mesh = sim.model().mesh();
+  const body::CoreSystem& system = sim.system();
+  const std::vector<Eigen::Vector3d> Y = placed_undeformed(sim);
   const contact::Obstacle& support = sim.support();
 
   // Gravity frame: z along −gravity (the load's direction reversed).
@@ -35,7 +50,7 @@ PressureEstimate pose_to_seat(const rest::RestSimulation& sim, const rest::RestR
   std::vector<int> C;
   std::vector<Eigen::Vector3d> X;
   for (int v : sim.surface_vertices()) {
-    const Eigen::Vector3d x = c0 + t + R * (mesh.V.row(v).transpose() - c0);
+    const Eigen::Vector3d& x = Y[static_cast<std::size_t>(v)];
     const contact::ClosestPoint cp = support.closest_point(x);
     if (cp.inside || cp.distance <= threshold) {
       C.push_back(v);
@@ -136,14 +151,8 @@ bool line_hits(const Eigen::Vector3d& x, const Eigen::Vector3d& n, const Eigen::
 Eigen::MatrixX3d sit_and_relax(const rest::RestSimulation& sim, const DesignSpace& space, const Eigen::VectorXd& frozen,
                                double lambda) {
   if (!(lambda >= 0.0)) throw Error(ErrorKind::Input, fmt::format("the Sit & Relax smoothness must be ≥ 0, got {}", lambda));
-  const TetMesh& mesh = sim.model().mesh();
-  const body::CoreSystem& system = sim.system();
-  const Eigen::Vector3d c0 = system.core().centre;
-  const Eigen::Vector3d t = system.core_translation(sim.dofs());
-  const Eigen::Matrix3d R = system.core_rotation(sim.dofs());
   const Eigen::MatrixX3i& F = sim.surface_faces();
-  std::vector<Eigen::Vector3d> Y(static_cast<std::size_t>(mesh.V.rows()));
-  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) Y[static_cast<std::size_t>(v)] = c0 + t + R * (mesh.V.row(v).transpose() - c0);
+  const std::vector<Eigen::Vector3d> Y = placed_undeformed(sim);
 
   const std::vector<int>& D = space.vertices();
   const auto n = static_cast<Eigen::Index>(D.size());
