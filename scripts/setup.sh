@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages palpa needs, and only those that are missing.
 # Idempotent: when everything is installed it prints one line and changes nothing.
+# OpenBLAS (pthread build) takes over libblas.so.3 and liblapack.so.3 from the
+# ATLAS that Ceres brings, by the priority of Debian's alternatives: CHOLMOD's
+# supernodal factorizations run on it (`palpa --version` names the BLAS in use).
 set -euo pipefail
 
 packages=(
@@ -10,6 +13,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libceres-dev
+  libopenblas0-pthread
   python3 python3-meshio
   calculix-ccx
 )

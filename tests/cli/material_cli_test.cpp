@@ -98,6 +98,9 @@ TEST(Cli, VersionHelpAndUsageErrors) {
   auto r = run_palpa("--version");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("palpa 0."), std::string::npos);
+  // The dense libraries CHOLMOD runs on, as loaded, with their files.
+  EXPECT_NE(r.out.find("BLAS: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("LAPACK: /"), std::string::npos) << r.out;
   r = run_palpa("--help");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("material"), std::string::npos);

@@ -19,6 +19,7 @@
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/mesh/csg.hpp"
+#include "palpa/solve/blas.hpp"
 
 namespace palpa::design {
 
@@ -346,6 +347,9 @@ std::vector<Evaluation> ShapeOptimizer::evaluate_all(const std::vector<Eigen::Ma
                                                      const rest::RestState& warm) {
   std::vector<Evaluation> out(shapes.size());
   const int slots = static_cast<int>(sims_.size());
+  // The trials factor concurrently, one per core: a multi-threaded BLAS under
+  // each of them would oversubscribe the cores.
+  const ScopedBlasThreads one_blas_thread(slots > 1 ? 1 : blas_threads());
   tbb::parallel_for(0, slots, [&](int s) {
     for (std::size_t i = static_cast<std::size_t>(s); i < shapes.size(); i += static_cast<std::size_t>(slots)) {
       out[i] = evaluate(shapes[i], warm, true, s);
