@@ -1,7 +1,10 @@
 // `palpa material` and `palpa demo` end to end: results on good input, and for
 // bad input a clear message, exit code 2 and nothing written.
+#include <dlfcn.h>
 #include <gtest/gtest.h>
+#include <link.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -92,6 +95,20 @@ TEST(DemoCli, RunsOnTheBundledExamples) {
   EXPECT_NE(r.out.find("poke         3 mm punch, 10 mm layer"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("tissue (neo-hookean-volume): small-strain E = 10 kPa"), std::string::npos)
       << r.out;
+}
+
+// The BLAS that palpa runs on is the libblas.so.3 that the system's dynamic
+// linker finds (Debian's alternatives), not a library linked ahead of it.
+TEST(Cli, VersionNamesTheSystemsLibblas) {
+  void* handle = dlopen("libblas.so.3", RTLD_LAZY | RTLD_LOCAL);
+  ASSERT_NE(handle, nullptr) << dlerror();
+  link_map* map = nullptr;
+  ASSERT_EQ(dlinfo(handle, RTLD_DI_LINKMAP, &map), 0) << dlerror();
+  const std::string libblas = std::filesystem::canonical(map->l_name).string();
+  dlclose(handle);
+  const auto r = run_palpa("--version");
+  ASSERT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("(" + libblas + ")"), std::string::npos) << "libblas.so.3 is " << libblas << "\n" << r.out;
 }
 
 TEST(Cli, VersionHelpAndUsageErrors) {
