@@ -84,7 +84,7 @@ void add_log_options(CLI::App& cmd, int& order, double& cutoff, acquire::Plateau
                       "Identical samples at a log's extreme for this long mean a clipped sensor (default 0.1 s)");
 }
 
-struct PokeArgs {
+struct AcquirePokeArgs {
   std::string force, laser, calibration, output, unloading, plots, summary;
   std::string force_columns, laser_columns, calibration_columns;
   std::string force_window, laser_window;
@@ -93,7 +93,7 @@ struct PokeArgs {
   bool no_tare = false;
 };
 
-void run_acquire_poke(PokeArgs& a) {
+void run_acquire_poke(AcquirePokeArgs& a) {
   acquire::PokeOptions o = a.o;
   set_columns(a.force_columns, "--force-columns", o.force_time, o.force_value);
   set_columns(a.laser_columns, "--laser-columns", o.laser_time, o.laser_value);
@@ -157,7 +157,7 @@ void add_acquire_poke(CLI::App& acquire) {
       "poke",
       "Force gauge + laser logs -> force-indentation curve (indentation_m,force_N) for palpa fit.\n"
       "  palpa acquire poke --force force.csv --laser laser.csv --calibration laser-calibration.csv -o curve.csv");
-  auto a = std::make_shared<PokeArgs>();
+  auto a = std::make_shared<AcquirePokeArgs>();
   cmd->add_option("--force", a->force, "Force gauge log (CSV: time and force columns)")->required();
   cmd->add_option("--laser", a->laser, "Laser log (CSV: time and voltage, or time and distance)")->required();
   cmd->add_option("--calibration", a->calibration, "Laser calibration table (CSV: voltage and distance, monotone)");

@@ -24,12 +24,12 @@ using palpa::test::derivatives_match;
 using namespace palpa::axisym::test;
 
 constexpr double kR = 5e-3;  // sample radius [m]
-constexpr double kH = 5e-3;  // sample height [m]
+constexpr double kHeight = 5e-3;  // sample height [m]
 
 // ---------------------------------------------------------------- mesh
 
 TEST(CylinderMesh, CoversTheSampleAndGradesTowardTheFreeCorners) {
-  for (const auto& [radius, height] : {std::pair{kR, kH}, std::pair{kR, 4 * kH}, std::pair{4 * kR, kH}}) {
+  for (const auto& [radius, height] : {std::pair{kR, kHeight}, std::pair{kR, 4 * kHeight}, std::pair{4 * kR, kHeight}}) {
     const AxisymMesh m0 = make_cylinder_mesh(LayerGeometry{radius, height, 0.0}, 0);
     EXPECT_EQ(m0.geometry.punch_radius, radius);
     EXPECT_EQ(m0.geometry.outer_radius, radius);
@@ -60,7 +60,7 @@ TEST(CylinderMesh, CoversTheSampleAndGradesTowardTheFreeCorners) {
     EXPECT_EQ(side_wall_nodes(m2).size(), static_cast<std::size_t>(m2.rows - 2));
   }
   // The sample radius may be given as the outer radius instead.
-  EXPECT_EQ(make_cylinder_mesh(LayerGeometry{0.0, kH, kR}, 0).geometry.punch_radius, kR);
+  EXPECT_EQ(make_cylinder_mesh(LayerGeometry{0.0, kHeight, kR}, 0).geometry.punch_radius, kR);
 }
 
 // ---------------------------------------------------------------- system derivatives
@@ -69,7 +69,7 @@ TEST(CylinderMesh, CoversTheSampleAndGradesTowardTheFreeCorners) {
 // platens; returns the equilibrium.
 Eigen::VectorXd folded_state(PokeSimulator& sim) {
   PokeOptions o;
-  o.max_depth = 0.6 * kH;
+  o.max_depth = 0.6 * kHeight;
   o.steps = 12;
   Eigen::VectorXd x_star;
   sim.run(o, [&](const PokeModel&, const Eigen::VectorXd& x, const PokeSample&) { x_star = x; });
@@ -78,7 +78,7 @@ Eigen::VectorXd folded_state(PokeSimulator& sim) {
 
 TEST(CompressionModel, GradientAndHessianMatchFiniteDifferencesWithTheWallOnThePlatens) {
   const material::NeoHookean m(kE, 0.45);
-  PokeSimulator sim(m, compression_setup(kR, kH, 0, PunchContact::Stick));
+  PokeSimulator sim(m, compression_setup(kR, kHeight, 0, PunchContact::Stick));
   Eigen::VectorXd x_star = folded_state(sim);
   PokeModel& model = sim.model();
   const int touching = model.diagnostics(x_star).contact_nodes;
@@ -91,7 +91,7 @@ TEST(CompressionModel, GradientAndHessianMatchFiniteDifferencesWithTheWallOnTheP
     double out = std::numeric_limits<double>::infinity();
     for (int n : side_wall_nodes(mesh)) {
       const double z = mesh.nodes(n, 1) + u(n, 1);
-      out = std::min({out, std::abs(z + model.depth()), std::abs(z + kH)});
+      out = std::min({out, std::abs(z + model.depth()), std::abs(z + kHeight)});
     }
     return out;
   };
@@ -133,7 +133,7 @@ TEST(CompressionModel, GradientAndHessianMatchFiniteDifferencesWithTheWallOnTheP
 
 TEST(CompressionModel, PlatenForcesBalanceAndIncludeTheFoldedWall) {
   const material::NeoHookean m(kE, 0.45);
-  PokeSimulator sim(m, compression_setup(kR, kH, 0, PunchContact::Stick));
+  PokeSimulator sim(m, compression_setup(kR, kHeight, 0, PunchContact::Stick));
   const Eigen::VectorXd x = folded_state(sim);
   const PokeModel& model = sim.model();
   const AxisymMesh& mesh = model.mesh();
@@ -155,7 +155,7 @@ TEST(CompressionModel, PlatenForcesBalanceAndIncludeTheFoldedWall) {
   double wall_on_base = 0.0;
   for (int n : side_wall_nodes(mesh)) {
     const double area = 2 * std::numbers::pi * kR * 0.5 * (mesh.nodes(n + mesh.columns, 1) - mesh.nodes(n - mesh.columns, 1));
-    (mesh.nodes(n, 1) + u(n, 1) > -0.5 * kH - 0.5 * model.depth() ? wall_on_top : wall_on_base) += p[n] * area;
+    (mesh.nodes(n, 1) + u(n, 1) > -0.5 * kHeight - 0.5 * model.depth() ? wall_on_top : wall_on_base) += p[n] * area;
   }
   EXPECT_GT(wall_on_top, 0.0) << "a wall node should press on the top platen";
   EXPECT_GT(wall_on_base, 0.0) << "a wall node should press on the base";
@@ -175,10 +175,10 @@ TEST(CompressionSensitivities, MatchFiniteDifferencesOfWholeCurves) {
                                         static_cast<const material::Material*>(&spline)}) {
       PokeOptions o;
       // Bonded: deep enough for the wall to fold onto the platens.
-      o.max_depth = 0.6 * kH;
+      o.max_depth = 0.6 * kHeight;
       o.steps = 6;
       o.sensitivities = true;
-      PokeSimulator sim(*m, compression_setup(kR, kH, 0, platens));
+      PokeSimulator sim(*m, compression_setup(kR, kHeight, 0, platens));
       const PokeCurve c = sim.run(o);
       if (platens == PunchContact::Stick) {
         ASSERT_GT(c.samples.back().contact_nodes, 0);
@@ -195,9 +195,9 @@ TEST(CompressionInput, RefusesImpossibleSetups) {
   using palpa::test::throws_error;
   EXPECT_TRUE(throws_error([&] { PokeSimulator(m, compression_setup(kR, -1.0, 0, PunchContact::Stick)); },
                            ErrorKind::Input, {"sample height", "not a positive length"}));
-  EXPECT_TRUE(throws_error([&] { PokeSimulator(m, compression_setup(0.0, kH, 0, PunchContact::Stick)); },
+  EXPECT_TRUE(throws_error([&] { PokeSimulator(m, compression_setup(0.0, kHeight, 0, PunchContact::Stick)); },
                            ErrorKind::Input, {"sample radius", "not a positive length"}));
-  PokeSetup s = compression_setup(kR, kH, 0, PunchContact::Stick);
+  PokeSetup s = compression_setup(kR, kHeight, 0, PunchContact::Stick);
   s.fillet_radius = 0.1 * kR;
   EXPECT_TRUE(throws_error([&] { PokeSimulator sim(m, s); }, ErrorKind::Input, {"fillet", "compression"}));
   s.fillet_radius = 0.0;
@@ -207,7 +207,7 @@ TEST(CompressionInput, RefusesImpossibleSetups) {
   s.geometry.outer_radius = kR;  // the same radius twice is fine
   PokeSimulator sim(m, s);
   PokeOptions o;
-  o.max_depth = 0.95 * kH;
+  o.max_depth = 0.95 * kHeight;
   EXPECT_TRUE(throws_error([&] { sim.run(o); }, ErrorKind::Input, {"below 90% of the sample height"}));
   EXPECT_EQ(parse_poke_test("compression"), PokeTest::Compression);
   EXPECT_EQ(parse_platen_contact("bonded"), PunchContact::Stick);

@@ -11,7 +11,7 @@ namespace {
 using test::run_palpa;
 using test::ScratchDir;
 
-constexpr const char* kScene = R"({
+constexpr const char* kDesignScene = R"({
   "palpa_design": 1,
   "body": {
     "generate": {"shape": "sphere", "length": "60 mm"},
@@ -30,7 +30,7 @@ nlohmann::json summary(const std::filesystem::path& p) { return nlohmann::json::
 
 TEST(DesignCli, LowersTheScoreAndWritesTheShapeAndTheMaps) {
   ScratchDir dir;
-  dir.write("scene.json", kScene);
+  dir.write("scene.json", kDesignScene);
   const auto r = run_palpa("design scene.json -o out", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* f : {"support.obj", "support_mm.stl", "support_before.vtu", "support_after.vtu", "support_before.ply",
@@ -51,7 +51,7 @@ TEST(DesignCli, ScoresBaselinesAndComparesMaps) {
   // The sphere's negative image as a baseline, scored alike; then palpa
   // compare between palpa's support map and the Pose-to-Seat estimate on it.
   ScratchDir dir;
-  std::string scene = kScene;
+  std::string scene = kDesignScene;
   scene.replace(scene.rfind('}'), 1,
                 R"(, "baselines": [{"name": "negative image", "support": {"negative_image": {
                       "box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 20},
@@ -81,7 +81,7 @@ TEST(DesignCli, ScoresBaselinesAndComparesMaps) {
 
 TEST(DesignCli, ResumesAnInterruptedRun) {
   ScratchDir dir;
-  dir.write("scene.json", kScene);
+  dir.write("scene.json", kDesignScene);
   ASSERT_EQ(run_palpa("design scene.json -o straight", dir.path()).exit_code, 0);
   ASSERT_EQ(run_palpa("design scene.json -o out --iterations 2", dir.path()).exit_code, 0);
   // Without --resume a used folder is refused.
@@ -103,19 +103,19 @@ TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {
   const auto none = run_palpa("design missing.json -o out --resume", dir.path());
   EXPECT_EQ(none.exit_code, 2);
   EXPECT_NE(none.err.find("nothing to resume"), std::string::npos) << none.err;
-  std::string empty = kScene;
+  std::string empty = kDesignScene;
   empty.replace(empty.find("\"-5 mm\"]"), 8, "\"-15 mm\"]").replace(empty.find("\"5 mm\"]"), 7, "\"-8 mm\"]");
   dir.write("empty.json", empty);
   const auto a = run_palpa("design empty.json -o out", dir.path());
   EXPECT_EQ(a.exit_code, 2);
   EXPECT_NE(a.err.find("no support vertex lies in the design region"), std::string::npos) << a.err;
-  std::string direction = kScene;
+  std::string direction = kDesignScene;
   direction.replace(direction.find("\"iterations\": 4"), 15, "\"direction\": \"sideways\"");
   dir.write("direction.json", direction);
   const auto b = run_palpa("design direction.json -o out", dir.path());
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("unknown direction 'sideways'"), std::string::npos) << b.err;
-  std::string rest = kScene;
+  std::string rest = kDesignScene;
   rest.replace(rest.find("palpa_design"), 12, "palpa_rest");
   dir.write("rest.json", rest);
   const auto c = run_palpa("design rest.json -o out", dir.path());
@@ -157,7 +157,7 @@ namespace {
 
 // The sphere on a foam block (deformable, E 60 kPa, base held).
 std::string foam_scene() {
-  std::string scene = kScene;
+  std::string scene = kDesignScene;
   const std::string box = R"("support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}})";
   scene.replace(scene.find(box), box.size(),
                 R"("support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": [20, 20, 3]},

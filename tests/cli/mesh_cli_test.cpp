@@ -17,7 +17,7 @@
 namespace palpa {
 namespace {
 
-std::string q(const std::filesystem::path& p) { return fmt::format("'{}'", p.string()); }
+using test::shell_quote;
 
 class MeshCli : public ::testing::Test {
  protected:
@@ -28,7 +28,7 @@ class MeshCli : public ::testing::Test {
   std::filesystem::path sphere() {
     const auto p = in / "sphere.obj";
     const test::CommandResult r =
-        test::run_palpa("mesh body sphere --length 100mm --edge 10mm -o " + q(p));
+        test::run_palpa("mesh body sphere --length 100mm --edge 10mm -o " + shell_quote(p));
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return p;
   }
@@ -45,8 +45,8 @@ class MeshCli : public ::testing::Test {
 
 TEST_F(MeshCli, LayerOfASphereWritesEveryOutputAndTheShellVolume) {
   const auto s = sphere();
-  const test::CommandResult r = test::run_palpa("mesh layer --surface " + q(s) +
-                                                " --depth 10mm --edge 10mm -o " + q(out / "b.vtu"));
+  const test::CommandResult r = test::run_palpa("mesh layer --surface " + shell_quote(s) +
+                                                " --depth 10mm --edge 10mm -o " + shell_quote(out / "b.vtu"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* f : {"b.vtu", "b.node", "b.ele", "b.face", "b_core.obj", "b_outer.obj",
                         "b_attached.csv", "b_summary.json"}) {
@@ -71,9 +71,9 @@ TEST_F(MeshCli, DepthAndStiffnessSamplesFromCsv) {
   const auto moduli = in.write("moduli.csv",
                                "x_mm,y_mm,z_mm,youngs_modulus_kPa\n50,0,0,5\n-50,0,0,15\n");
   const test::CommandResult r = test::run_palpa(
-      "mesh layer --surface " + q(s) + " --depth-samples " + q(depths) +
-      " --depth-column bone_distance --stiffness-samples " + q(moduli) + " --edge 10mm -o " +
-      q(out / "b.vtu"));
+      "mesh layer --surface " + shell_quote(s) + " --depth-samples " + shell_quote(depths) +
+      " --depth-column bone_distance --stiffness-samples " + shell_quote(moduli) + " --edge 10mm -o " +
+      shell_quote(out / "b.vtu"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Json j = read_json_file(out / "b_summary.json");
   EXPECT_DOUBLE_EQ(j["requested_depth_m"]["min"].get<double>(), 0.008);
@@ -88,17 +88,17 @@ TEST_F(MeshCli, BadInputLeavesNothing) {
   std::string text = test::read_text(s);
   text.erase(text.rfind("f "));
   const auto open = in.write("open.obj", text);
-  expect_failure("layer --surface " + q(open) + " --depth 10mm --edge 10mm -o " + q(out / "b.vtu"),
+  expect_failure("layer --surface " + shell_quote(open) + " --depth 10mm --edge 10mm -o " + shell_quote(out / "b.vtu"),
                  {"open.obj", "open"});
-  expect_failure("layer --surface " + q(s) + " --depth 85mm --edge 10mm -o " + q(out / "b.vtu"),
+  expect_failure("layer --surface " + shell_quote(s) + " --depth 85mm --edge 10mm -o " + shell_quote(out / "b.vtu"),
                  {"sphere.obj", "does not fit"});
   const auto far = in.write("far.csv", "x_mm,y_mm,z_mm,depth_mm\n50,0,0,8\n0,0,90,9\n");
-  expect_failure("layer --surface " + q(s) + " --depth-samples " + q(far) + " --edge 10mm -o " +
-                     q(out / "b.vtu"),
+  expect_failure("layer --surface " + shell_quote(s) + " --depth-samples " + shell_quote(far) + " --edge 10mm -o " +
+                     shell_quote(out / "b.vtu"),
                  {"far.csv", "line 3", "from the surface"});
-  expect_failure("layer --surface " + q(s) + " --edge 10mm -o " + q(out / "b.vtu"),
+  expect_failure("layer --surface " + shell_quote(s) + " --edge 10mm -o " + shell_quote(out / "b.vtu"),
                  {"--depth"});
-  expect_failure("body hand -o " + q(out / "h.obj"), {"'hand'"});
+  expect_failure("body hand -o " + shell_quote(out / "h.obj"), {"'hand'"});
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ namespace {
 using test::run_palpa;
 using test::ScratchDir;
 
-constexpr const char* kScene = R"({
+constexpr const char* kRestScene = R"({
   "palpa_rest": 1,
   "body": {
     "generate": {"shape": "sphere", "length": "60 mm"},
@@ -25,7 +25,7 @@ constexpr const char* kScene = R"({
 
 TEST(RestCli, WritesPressureMapsAndASummary) {
   ScratchDir dir;
-  dir.write("scene.json", kScene);
+  dir.write("scene.json", kRestScene);
   const auto r = run_palpa("rest scene.json -o out", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* f : {"body.vtu", "skin.ply", "support.vtu", "support.ply", "pressure_histogram.svg", "summary.json"}) {
@@ -39,13 +39,13 @@ TEST(RestCli, WritesPressureMapsAndASummary) {
 
 TEST(RestCli, RefusesABodyInsideTheSupportAndUnknownDofs) {
   ScratchDir dir;
-  std::string inside = kScene;
+  std::string inside = kRestScene;
   inside.replace(inside.find("\"31 mm\""), 7, "\"20 mm\"");
   dir.write("inside.json", inside);
   const auto a = run_palpa("rest inside.json -o out", dir.path());
   EXPECT_EQ(a.exit_code, 2);
   EXPECT_NE(a.err.find("starts inside"), std::string::npos) << a.err;
-  std::string dof = kScene;
+  std::string dof = kRestScene;
   dof.replace(dof.find("[\"z\"]"), 5, "[\"up\"]");
   dir.write("dof.json", dof);
   const auto b = run_palpa("rest dof.json -o out", dir.path());
@@ -58,8 +58,8 @@ TEST(RestCli, ANegativeImageSupportSpreadsThePressure) {
   // The same sphere on a flat box and on the box with its negative image
   // (pressed 10 mm in): the hollow carries the same load with a lower peak.
   ScratchDir dir;
-  dir.write("flat.json", kScene);
-  std::string hollow = kScene;
+  dir.write("flat.json", kRestScene);
+  std::string hollow = kRestScene;
   const std::string box = R"({"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}})";
   hollow.replace(hollow.find(box), box.size(),
                  R"({"negative_image": {"box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 15},
@@ -105,7 +105,7 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
   ScratchDir dir;
   const std::string box = R"({"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}})";
   const auto with_support = [&](const std::string& support) {
-    std::string s = kScene;
+    std::string s = kRestScene;
     s.replace(s.find(box), box.size(), support);
     return s;
   };
@@ -119,7 +119,7 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
   const auto b = run_palpa("rest bevel.json -o out", dir.path());
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("bevel.radius"), std::string::npos) << b.err;
-  std::string cut = kScene;
+  std::string cut = kRestScene;
   const std::string edge = "\"edge\": \"7 mm\"";
   cut.replace(cut.find(edge), edge.size(),
               R"("cut": [{"min": ["0 mm", "0 mm", "0 mm"], "max": ["0 mm", "1 mm", "1 mm"]}], "edge": "7 mm")");

@@ -95,4 +95,6 @@ CommandResult run_palpa(const std::string& args, const std::filesystem::path& cw
   return r;
 }
 
+std::string shell_quote(const std::filesystem::path& p) { return fmt::format("'{}'", p.string()); }
+
 }  // namespace palpa::test

@@ -49,6 +49,9 @@ std::string read_text(const std::filesystem::path& path);
 // Path of a file in the source tree (examples, test data).
 std::filesystem::path source_path(const std::string& relative);
 
+// A path in single quotes, for the command lines of run_palpa.
+std::string shell_quote(const std::filesystem::path& p);
+
 // Result of running the palpa binary.
 struct CommandResult {
   int exit_code = -1;

@@ -19,7 +19,7 @@ using test::derivatives_match;
 using test::fd_gradient;
 using test::fd_jacobian;
 
-constexpr double kStiffness = 1e4;  // N/m
+constexpr double kPenalty = 1e4;  // N/m
 
 // A torus obstacle (concave and convex regions, all three feature kinds),
 // posed, and random points around it.
@@ -83,12 +83,12 @@ TEST(ContactDetection, DetectedEnergyEqualsCommittedEnergyAtThePreparedPoint) {
   Scene s;
   ContactSet set;
   set.detect(s.obstacle, s.points, s.which);
-  const double detected = detected_energy(s.obstacle, s.points, s.which, kStiffness);
+  const double detected = detected_energy(s.obstacle, s.points, s.which, kPenalty);
   EXPECT_GT(detected, 0.0);
-  EXPECT_NEAR(set.energy(s.obstacle, s.points, kStiffness), detected, 1e-12 * detected);
+  EXPECT_NEAR(set.energy(s.obstacle, s.points, kPenalty), detected, 1e-12 * detected);
   double sum = 0.0;
   for (const Contact& c : set.contacts())
-    sum += kStiffness * c.closest.distance * c.closest.distance;
+    sum += kPenalty * c.closest.distance * c.closest.distance;
   EXPECT_NEAR(sum, detected, 1e-12 * detected);
   EXPECT_GT(set.max_depth(), 0.0);
   EXPECT_LE(set.max_depth(), 0.015);
@@ -124,11 +124,11 @@ TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePrepar
     return full;
   };
   const auto energy = [&](const Eigen::VectorXd& r) {
-    return set.energy(s.obstacle, as_points(expand(r)), kStiffness);
+    return set.energy(s.obstacle, as_points(expand(r)), kPenalty);
   };
   const auto gradient = [&](const Eigen::VectorXd& r) {
     Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, s.points.cols());
-    set.add_gradient(s.obstacle, as_points(expand(r)), kStiffness, g);
+    set.add_gradient(s.obstacle, as_points(expand(r)), kPenalty, g);
     return restrict(g.reshaped());
   };
   const Eigen::VectorXd r = restrict(x);
@@ -136,7 +136,7 @@ TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePrepar
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(r.size(), r.size());
   for (std::size_t c = 0; c < set.size(); ++c) {
     H.block<3, 3>(3 * static_cast<Eigen::Index>(c), 3 * static_cast<Eigen::Index>(c)) =
-        hessian_block(s.obstacle, set.contacts()[c], kStiffness);
+        hessian_block(s.obstacle, set.contacts()[c], kPenalty);
   }
   EXPECT_TRUE(derivatives_match(H, fd_jacobian(gradient, r, 1e-6), 1e-7));
 }
@@ -157,12 +157,12 @@ TEST(ContactCommitted, ObstacleGradientMatchesFiniteDifferences) {
     Obstacle o = Obstacle(sphere, "sphere");
     o.set_vertices(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
         v.data(), sphere.V.rows(), 3));
-    return set.energy(o, points, kStiffness);
+    return set.energy(o, points, kPenalty);
   };
   const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> rows = sphere.V;
   const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(rows.data(), rows.size());
   Eigen::Matrix3Xd grad = Eigen::Matrix3Xd::Zero(3, sphere.V.rows());
-  set.add_obstacle_gradient(obstacle, points, kStiffness, grad);
+  set.add_obstacle_gradient(obstacle, points, kPenalty, grad);
   EXPECT_TRUE(derivatives_match(grad.reshaped(), fd_gradient(energy, v, 1e-6), 1e-7));
 }
 
@@ -171,7 +171,7 @@ TEST(ContactForces, BalanceForceAndTorque) {
   ContactSet set;
   set.detect(s.obstacle, s.points, s.which);
   Eigen::Matrix3Xd f;
-  set.forces(s.obstacle, s.points, kStiffness, f);
+  set.forces(s.obstacle, s.points, kPenalty, f);
   ASSERT_EQ(f.cols(), s.points.cols());
   const Eigen::Vector3d about(0.003, -0.02, 0.01);
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
@@ -180,14 +180,14 @@ TEST(ContactForces, BalanceForceAndTorque) {
     force += f.col(i);
     torque += (s.points.col(i) - about).cross(f.col(i));
   }
-  const Wrench w = set.obstacle_wrench(s.obstacle, s.points, kStiffness, about);
+  const Wrench w = set.obstacle_wrench(s.obstacle, s.points, kPenalty, about);
   EXPECT_GT(w.force.norm(), 0.0);
   EXPECT_LT((w.force + force).norm(), 1e-12 * f.colwise().norm().sum());
   EXPECT_LT((w.torque + torque).norm(), 1e-12 * 0.1 * f.colwise().norm().sum());
   EXPECT_GT(w.torque.norm(), 0.0);
   // The reaction is also what the obstacle's vertices feel: −∂E/∂q.
   Eigen::Matrix3Xd gq = Eigen::Matrix3Xd::Zero(3, s.obstacle.vertices().rows());
-  set.add_obstacle_gradient(s.obstacle, s.points, kStiffness, gq);
+  set.add_obstacle_gradient(s.obstacle, s.points, kPenalty, gq);
   Eigen::Vector3d vertex_torque = Eigen::Vector3d::Zero();
   for (Eigen::Index v = 0; v < gq.cols(); ++v) {
     vertex_torque += (s.obstacle.world_vertex(static_cast<int>(v)) - about).cross(-gq.col(v));
@@ -209,12 +209,12 @@ TEST(ContactForces, PressureOnAFlatFace) {
   set.detect(box, points);
   ASSERT_EQ(set.size(), 1U);
   Eigen::Matrix3Xd f;
-  set.forces(box, points, kStiffness, f);
-  EXPECT_NEAR(f(2, 0), 2.0 * kStiffness * 2e-4, 1e-12);
+  set.forces(box, points, kPenalty, f);
+  EXPECT_NEAR(f(2, 0), 2.0 * kPenalty * 2e-4, 1e-12);
   EXPECT_LT(f.col(0).head<2>().norm(), 1e-12 * f(2, 0));
   EXPECT_EQ(f.col(1).norm(), 0.0);
   const Eigen::VectorXd p = pressures(f, Eigen::Vector2d(1e-6, 0.0));
-  EXPECT_NEAR(p[0], 2.0 * kStiffness * 2e-4 / 1e-6, 1e-6);
+  EXPECT_NEAR(p[0], 2.0 * kPenalty * 2e-4 / 1e-6, 1e-6);
   EXPECT_EQ(p[1], 0.0);
 }
 

@@ -14,15 +14,15 @@ namespace {
 
 using test::throws_error;
 
-constexpr double kRadius = 0.05;  // m
+constexpr double kSphereRadius = 0.05;  // m
 
-// #S points on the sphere of radius kRadius·(1 + offset), seeded.
+// #S points on the sphere of radius kSphereRadius·(1 + offset), seeded.
 Eigen::MatrixX3d sphere_samples(int count, double offset, std::uint64_t salt) {
   auto rng = test::make_rng(salt);
   std::normal_distribution<double> normal;
   Eigen::MatrixX3d P(count, 3);
   for (int s = 0; s < count; ++s) {
-    P.row(s) = Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)).normalized() * kRadius *
+    P.row(s) = Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)).normalized() * kSphereRadius *
                (1.0 + offset);
   }
   return P;
@@ -40,7 +40,7 @@ InterpolationOptions options_for(SurfaceInterpolation method, bool clamp) {
 class BothMethods : public ::testing::TestWithParam<SurfaceInterpolation> {};
 
 TEST_P(BothMethods, ReproduceTheSamplesAtTheirPointsAndStayInRange) {
-  const SurfaceMesh sphere = test::icosphere(3, kRadius);
+  const SurfaceMesh sphere = test::icosphere(3, kSphereRadius);
   const Eigen::MatrixX3d P = sphere_samples(32, 0.01, 1);
   auto rng = test::make_rng(2);
   std::uniform_real_distribution<double> depth(2e-3, 12e-3);
@@ -63,7 +63,7 @@ TEST_P(BothMethods, ReproduceTheSamplesAtTheirPointsAndStayInRange) {
 }
 
 TEST_P(BothMethods, ReproduceConstants) {
-  const SurfaceMesh sphere = test::icosphere(3, kRadius);
+  const SurfaceMesh sphere = test::icosphere(3, kSphereRadius);
   const Eigen::MatrixX3d P = sphere_samples(10, -0.01, 3);
   const Eigen::VectorXd u = interpolate_over_surface(sphere, P, Eigen::VectorXd::Constant(10, 7e3),
                                                      options_for(GetParam(), false));
@@ -75,7 +75,7 @@ INSTANTIATE_TEST_SUITE_P(Interpolation, BothMethods,
                                            SurfaceInterpolation::Biharmonic));
 
 TEST(SurfaceInterpolation, HarmonicObeysTheMaximumPrincipleWithoutClamping) {
-  const SurfaceMesh sphere = test::icosphere(3, kRadius);
+  const SurfaceMesh sphere = test::icosphere(3, kSphereRadius);
   const Eigen::MatrixX3d P = sphere_samples(20, 0.0, 4);
   Eigen::VectorXd values = Eigen::VectorXd::LinSpaced(20, 5e3, 15e3);
   const Eigen::VectorXd u = interpolate_over_surface(
@@ -86,7 +86,7 @@ TEST(SurfaceInterpolation, HarmonicObeysTheMaximumPrincipleWithoutClamping) {
 }
 
 TEST(SurfaceInterpolation, BiharmonicOvershootsWithoutTheClampAndNotWithIt) {
-  const SurfaceMesh sphere = test::icosphere(3, kRadius);
+  const SurfaceMesh sphere = test::icosphere(3, kSphereRadius);
   const Eigen::MatrixX3d P = sphere_samples(32, 0.01, 1);
   auto rng = test::make_rng(2);
   std::uniform_real_distribution<double> depth(2e-3, 12e-3);
@@ -110,7 +110,7 @@ TEST(SurfaceInterpolation, BiharmonicOvershootsWithoutTheClampAndNotWithIt) {
 }
 
 TEST(SurfaceInterpolation, BiharmonicReproducesLinearFunctionsOfPositionExactly) {
-  const SurfaceMesh sphere = test::icosphere(3, kRadius);
+  const SurfaceMesh sphere = test::icosphere(3, kSphereRadius);
   // Every 25th vertex, pushed 1 mm outward (so samples do not share vertices).
   Eigen::MatrixX3d P(sphere.V.rows() / 25, 3);
   for (Eigen::Index s = 0; s < P.rows(); ++s) P.row(s) = sphere.V.row(25 * s) * 1.02;
@@ -134,10 +134,10 @@ TEST(SurfaceInterpolation, BiharmonicReproducesLinearFunctionsOfPositionExactly)
 }
 
 TEST(SurfaceInterpolation, BiharmonicIsMoreAccurateThanHarmonicForASmoothField) {
-  const SurfaceMesh sphere = test::icosphere(4, kRadius);
+  const SurfaceMesh sphere = test::icosphere(4, kSphereRadius);
   const Eigen::MatrixX3d P = sphere_samples(60, 0.0, 6);
   const auto field = [](const Eigen::MatrixX3d& X) {
-    return Eigen::VectorXd((X.col(2).array() / kRadius).square() * 1e4 + 5e3);
+    return Eigen::VectorXd((X.col(2).array() / kSphereRadius).square() * 1e4 + 5e3);
   };
   const Eigen::VectorXd exact = field(sphere.V);
   const Eigen::VectorXd b = interpolate_over_surface(
@@ -153,7 +153,7 @@ TEST(SurfaceInterpolation, BiharmonicIsMoreAccurateThanHarmonicForASmoothField) 
 }
 
 TEST(SurfaceInterpolation, SeveralColumnsAtOnceMatchOneAtATime) {
-  const SurfaceMesh sphere = test::icosphere(2, kRadius);
+  const SurfaceMesh sphere = test::icosphere(2, kSphereRadius);
   const Eigen::MatrixX3d P = sphere_samples(8, 0.0, 7);
   const SurfaceInterpolator interpolator(sphere, P);
   Eigen::MatrixXd values(8, 2);
@@ -165,7 +165,7 @@ TEST(SurfaceInterpolation, SeveralColumnsAtOnceMatchOneAtATime) {
 }
 
 TEST(SurfaceInterpolation, FewSamplesStillWork) {
-  const SurfaceMesh sphere = test::icosphere(2, kRadius);
+  const SurfaceMesh sphere = test::icosphere(2, kSphereRadius);
   for (int count : {1, 2, 3}) {
     const Eigen::MatrixX3d P = sphere_samples(count, 0.0, 8);
     const Eigen::VectorXd values = Eigen::VectorXd::LinSpaced(count, 1.0, 2.0);
@@ -178,7 +178,7 @@ TEST(SurfaceInterpolation, FewSamplesStillWork) {
 }
 
 TEST(SurfaceInterpolation, ASampleOffTheSurfaceIsNamed) {
-  const SurfaceMesh sphere = test::icosphere(2, kRadius);
+  const SurfaceMesh sphere = test::icosphere(2, kSphereRadius);
   Eigen::MatrixX3d P = sphere_samples(5, 0.0, 9);
   P.row(3) *= 1.5;  // 25 mm outside
   auto options = options_for(SurfaceInterpolation::Biharmonic, true);
@@ -190,8 +190,8 @@ TEST(SurfaceInterpolation, ASampleOffTheSurfaceIsNamed) {
 }
 
 TEST(SurfaceInterpolation, APartWithoutSamplesIsRefused) {
-  SurfaceMesh two = test::icosphere(1, kRadius);
-  const SurfaceMesh other = test::icosphere(1, kRadius);
+  SurfaceMesh two = test::icosphere(1, kSphereRadius);
+  const SurfaceMesh other = test::icosphere(1, kSphereRadius);
   const Eigen::Index nv = two.V.rows(), nf = two.F.rows();
   two.V.conservativeResize(2 * nv, 3);
   two.V.bottomRows(nv) = other.V.rowwise() + Eigen::RowVector3d(1.0, 0, 0);
@@ -203,7 +203,7 @@ TEST(SurfaceInterpolation, APartWithoutSamplesIsRefused) {
 }
 
 TEST(SurfaceInterpolation, CoincidentSamplesAndBadValuesAreRefused) {
-  const SurfaceMesh sphere = test::icosphere(2, kRadius);
+  const SurfaceMesh sphere = test::icosphere(2, kSphereRadius);
   Eigen::MatrixX3d P = sphere_samples(4, 0.0, 12);
   P.row(2) = P.row(0);
   EXPECT_TRUE(throws_error([&] { SurfaceInterpolator(sphere, P); }, ErrorKind::Input,

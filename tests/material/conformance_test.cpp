@@ -23,6 +23,8 @@
 namespace palpa::material {
 namespace {
 
+using test::param_scale;
+
 using palpa::test::derivatives_match;
 using palpa::test::fd_gradient;
 using palpa::test::fd_jacobian;
@@ -111,18 +113,6 @@ TEST_P(Conformance, StretchHessianMatchesFiniteDifferences) {
     EXPECT_TRUE(derivatives_match(m_->d2psi_dlambda2(l), fd_jacobian(g, l, 1e-4), 1e-6))
         << describe(l);
   }
-}
-
-// Size of each parameter, for steps and for comparing derivatives per relative
-// change of the parameter (so every column is a stress [Pa]).
-Eigen::VectorXd param_scale(const Material& m, double ref) {
-  const Eigen::VectorXd theta0 = m.params();
-  Eigen::VectorXd scale(theta0.size());
-  for (Eigen::Index k = 0; k < theta0.size(); ++k) {
-    const double floor = m.param_info(k).dimension == Dimension::Pressure ? ref : 1e-3 * std::abs(theta0[k]);
-    scale[k] = std::max(std::abs(theta0[k]), floor);
-  }
-  return scale;
 }
 
 // Finite differences in θ with a step relative to each parameter's size.

@@ -24,6 +24,8 @@
 namespace palpa::material {
 namespace {
 
+using test::param_scale;
+
 using palpa::test::derivatives_match;
 using palpa::test::fd_jacobian;
 using palpa::test::ZeroPolicy;
@@ -58,20 +60,6 @@ std::vector<double> probe_loads(LoadCase c, bool inversion_safe = true) {
   if (c == LoadCase::SimpleShear) return {0.05, 0.5, -0.3};
   if (c == LoadCase::Equibiaxial && !inversion_safe) return {0.6, 0.9, 1.3, kStvkMaxEquibiaxial};
   return {0.6, 0.9, 1.3, 1.8};
-}
-
-// Size of each parameter: steps and comparisons are per relative change of θk,
-// so every derivative column of a stress is a stress [Pa]. Moduli are floored
-// at the shear modulus (spline control values may be near zero).
-Eigen::VectorXd param_scale(const Material& m, double modulus) {
-  const Eigen::VectorXd theta = m.params();
-  Eigen::VectorXd scale(theta.size());
-  for (Eigen::Index k = 0; k < theta.size(); ++k) {
-    const double floor =
-        m.param_info(k).dimension == Dimension::Pressure ? modulus : 1e-3 * std::abs(theta[k]);
-    scale[k] = std::max(std::abs(theta[k]), floor);
-  }
-  return scale;
 }
 
 // Rows (nominal, cauchy, lateral) × parameters, by central differences in θ;

@@ -1,5 +1,8 @@
 #include "model_fixtures.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "palpa/material/models.hpp"
 #include "palpa/material/spline_material.hpp"
 
@@ -69,6 +72,16 @@ std::vector<ModelCase> all_model_cases() {
                    },
                    iso(3800.0), 0.10});
   return cases;
+}
+
+Eigen::VectorXd param_scale(const Material& m, double modulus) {
+  const Eigen::VectorXd theta = m.params();
+  Eigen::VectorXd scale(theta.size());
+  for (Eigen::Index k = 0; k < theta.size(); ++k) {
+    const double floor = m.param_info(k).dimension == Dimension::Pressure ? modulus : 1e-3 * std::abs(theta[k]);
+    scale[k] = std::max(std::abs(theta[k]), floor);
+  }
+  return scale;
 }
 
 }  // namespace palpa::material::test

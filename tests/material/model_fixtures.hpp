@@ -22,6 +22,12 @@ struct ModelCase {
 
 std::vector<ModelCase> all_model_cases();
 
+// Size of each parameter: finite-difference steps and comparisons are per
+// relative change of θk, so every derivative column of a stress is a stress
+// [Pa]. Moduli are floored at `modulus` (spline control values may be near
+// zero), other parameters at 1e-3 of their value.
+Eigen::VectorXd param_scale(const Material& m, double modulus);
+
 // Test names and messages show the case name only.
 inline void PrintTo(const ModelCase& c, std::ostream* os) { *os << c.name; }
 

@@ -17,13 +17,12 @@ namespace palpa::mesh {
 namespace {
 
 using test::throws_error;
-constexpr double kPi = std::numbers::pi;
-constexpr double kRadius = 0.05;  // m
+constexpr double kBodyRadius = 0.05;  // m
 
 SurfaceMesh sphere(const Eigen::Vector3d& centre, double edge = 4e-3) {
   BodyOptions o;
   o.shape = BodyShape::Sphere;
-  o.size = Eigen::Vector3d::Constant(2 * kRadius);
+  o.size = Eigen::Vector3d::Constant(2 * kBodyRadius);
   o.edge_length = edge;
   SurfaceMesh s = make_body(o);
   s.V.rowwise() += centre.transpose();
@@ -58,7 +57,7 @@ TEST(Csg, BooleansObeyInclusionExclusionAndTheLensVolume) {
   EXPECT_NEAR(enclosed_volume(u) + enclosed_volume(i), va + vb, 1e-9 * va);
   EXPECT_NEAR(enclosed_volume(ab) + enclosed_volume(i), va, 1e-9 * va);
   // And the lens is the analytic one within the polyhedral error (1 %).
-  const double lens = kPi * (4 * kRadius + d) * std::pow(2 * kRadius - d, 2) / 12.0;
+  const double lens = std::numbers::pi * (4 * kBodyRadius + d) * std::pow(2 * kBodyRadius - d, 2) / 12.0;
   EXPECT_NEAR(enclosed_volume(i), lens, 0.01 * lens);
   // Apart spheres stay two shells; the union is their sum.
   const SurfaceMesh far = sphere(Eigen::Vector3d(0.3, 0, 0));
@@ -70,12 +69,12 @@ TEST(Csg, BooleansObeyInclusionExclusionAndTheLensVolume) {
 TEST(Csg, ClippingASphereGivesTheCapClosedFlat) {
   const SurfaceMesh s = sphere(Eigen::Vector3d::Zero(), 3e-3);
   const double h = 0.03;  // keep the cap z ≥ r − h
-  const Eigen::AlignedBox3d keep(Eigen::Vector3d(-1, -1, kRadius - h), Eigen::Vector3d(1, 1, 1));
+  const Eigen::AlignedBox3d keep(Eigen::Vector3d(-1, -1, kBodyRadius - h), Eigen::Vector3d(1, 1, 1));
   const SurfaceMesh cap = clip_to_box(s, keep, "sphere.obj");
   EXPECT_NO_THROW(check_closed_surface(cap, "cap"));
-  const double analytic = kPi * h * h * (3 * kRadius - h) / 3.0;
+  const double analytic = std::numbers::pi * h * h * (3 * kBodyRadius - h) / 3.0;
   EXPECT_NEAR(enclosed_volume(cap), analytic, 0.01 * analytic);
-  EXPECT_NEAR(cap.V.col(2).minCoeff(), kRadius - h, 1e-12);
+  EXPECT_NEAR(cap.V.col(2).minCoeff(), kBodyRadius - h, 1e-12);
   const Eigen::AlignedBox3d away(Eigen::Vector3d(0.2, 0.2, 0.2), Eigen::Vector3d(0.3, 0.3, 0.3));
   EXPECT_TRUE(throws_error([&] { clip_to_box(s, away, "sphere.obj"); }, ErrorKind::Input,
                            {"sphere.obj", "leaves nothing"}));
@@ -87,7 +86,7 @@ TEST(Csg, AFoldThroughTheSurfaceIsRemoved) {
   SurfaceMesh s = sphere(Eigen::Vector3d::Zero(), 8e-3);
   Eigen::Index top = 0;
   s.V.col(2).maxCoeff(&top);
-  s.V.row(top) << 0.0, 0.0, -1.2 * kRadius;
+  s.V.row(top) << 0.0, 0.0, -1.2 * kBodyRadius;
   EXPECT_TRUE(throws_error([&] { check_closed_surface(s, "fold.obj"); }, ErrorKind::Input,
                            {"intersects itself"}));
   Eigen::Index pairs = 0;
@@ -95,7 +94,7 @@ TEST(Csg, AFoldThroughTheSurfaceIsRemoved) {
   EXPECT_GT(pairs, 0);
   EXPECT_NO_THROW(check_closed_surface(fixed, "fixed"));
   // Only the fold's neighbourhood changed: the volume stays near the sphere's.
-  const double v = 4.0 / 3.0 * kPi * std::pow(kRadius, 3);
+  const double v = 4.0 / 3.0 * std::numbers::pi * std::pow(kBodyRadius, 3);
   EXPECT_NEAR(enclosed_volume(fixed), v, 0.1 * v);
   // A clean surface comes back unchanged.
   const SurfaceMesh clean = sphere(Eigen::Vector3d::Zero(), 8e-3);
@@ -109,7 +108,7 @@ TEST(Csg, TheNegativeImageHoldsThePressedBody) {
   // A 200 × 200 × 60 mm block with its top at z = 0; the sphere starts 30 mm
   // above it and is pressed 20 mm in.
   const SurfaceMesh block = box(Eigen::Vector3d(-0.1, -0.1, -0.06), Eigen::Vector3d(0.1, 0.1, 0.0));
-  const SurfaceMesh body = sphere(Eigen::Vector3d(0, 0, 0.03 + kRadius), 6e-3);
+  const SurfaceMesh body = sphere(Eigen::Vector3d(0, 0, 0.03 + kBodyRadius), 6e-3);
   NegativeImageOptions o;
   o.press = 0.02;
   o.edge_length = 6e-3;
@@ -122,8 +121,8 @@ TEST(Csg, TheNegativeImageHoldsThePressedBody) {
   EXPECT_NEAR(n.body_shift.head<2>().norm(), 0.0, 1e-15);
   // The hollow is the cap, 23 mm high, of the sphere grown by the clearance
   // (smoothing only rounds its rim).
-  const double R = kRadius + o.clearance, h = o.press + o.clearance;
-  const double cap = kPi * h * h * (3 * R - h) / 3.0;
+  const double R = kBodyRadius + o.clearance, h = o.press + o.clearance;
+  const double cap = std::numbers::pi * h * h * (3 * R - h) / 3.0;
   EXPECT_NEAR(enclosed_volume(block) - enclosed_volume(n.support), cap, 0.03 * cap);
   // The top stays; Taubin's inflating step lifts the rim by well under 1 mm.
   EXPECT_NEAR(n.support.V.col(2).maxCoeff(), 0.0, 5e-4);
@@ -136,8 +135,8 @@ TEST(Csg, TheNegativeImageHoldsThePressedBody) {
   // No vertex of the hollow comes closer to the pressed sphere than the
   // clearance (less the offset's approximation, a fifth of it, and the
   // polyhedral sphere's sagitta).
-  const Eigen::RowVector3d centre(0, 0, kRadius - o.press);
-  EXPECT_GE(((n.support.V.rowwise() - centre).rowwise().norm().array() - kRadius).minCoeff(), 0.8 * o.clearance - 2e-4);
+  const Eigen::RowVector3d centre(0, 0, kBodyRadius - o.press);
+  EXPECT_GE(((n.support.V.rowwise() - centre).rowwise().norm().array() - kBodyRadius).minCoeff(), 0.8 * o.clearance - 2e-4);
   // The block's corners are kept sharp by the remeshing.
   EXPECT_NEAR(n.support.V.col(0).maxCoeff(), 0.1, 1e-12);
   EXPECT_NEAR(n.support.V.col(2).minCoeff(), -0.06, 1e-12);

@@ -11,11 +11,12 @@
 #include "palpa/rest/rest.hpp"
 #include "palpa/sim3d/shapes.hpp"
 #include "palpa/tet/mesh.hpp"
+#include "rest/block_constants.hpp"
 
 namespace palpa::rest {
 namespace {
 
-constexpr double kRho = 1000.0, kG = 9.81, kH = 0.02, kW = 0.04;
+using namespace test;
 
 struct Block {
   RestBody body;

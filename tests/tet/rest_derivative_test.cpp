@@ -28,9 +28,9 @@ namespace {
 using palpa::test::derivatives_match;
 using palpa::test::fd_gradient;
 
-constexpr double kH = 2e-3;       // element edge length [m]
-constexpr double kE = 12e3;       // Young's modulus [Pa]
-constexpr double kNu = 0.45;
+constexpr double kEdge = 2e-3;       // element edge length [m]
+constexpr double kYoung = 12e3;       // Young's modulus [Pa]
+constexpr double kPoisson = 0.45;
 // Finite-difference step relative to the size of the tet (or mesh cell), and
 // the relative tolerance of the comparison: max |analytic − numeric| ≤
 // 1e-6 · max |analytic| (derivatives_match, which also refuses a zero
@@ -46,11 +46,11 @@ struct NamedMaterial {
   std::shared_ptr<const material::Material> material;
 };
 std::vector<NamedMaterial> test_materials() {
-  const double bulk = kE / (3.0 * (1.0 - 2.0 * kNu));  // K [Pa]
+  const double bulk = kYoung / (3.0 * (1.0 - 2.0 * kPoisson));  // K [Pa]
   return {
-      {"neo-hookean", std::make_shared<material::NeoHookean>(kE, kNu)},
+      {"neo-hookean", std::make_shared<material::NeoHookean>(kYoung, kPoisson)},
       {"ogden", std::make_shared<material::Ogden>(std::vector<double>{3e3, -0.5e3},
-                                                  std::vector<double>{2.5, -2.0}, kNu)},
+                                                  std::vector<double>{2.5, -2.0}, kPoisson)},
       {"mooney-rivlin", std::make_shared<material::IsochoricInvariant>(
                             material::IsochoricInvariant::mooney_rivlin(1.5e3, 0.4e3, 2.0 / bulk))},
   };
@@ -70,12 +70,12 @@ Eigen::VectorXd flatten(const Eigen::MatrixX3d& V) {
   const Eigen::MatrixXd Vt = V.transpose();
   return Eigen::Map<const Eigen::VectorXd>(Vt.data(), Vt.size());
 }
-Eigen::MatrixX3d unflatten(const Eigen::VectorXd& v) {
+Eigen::MatrixX3d unflatten_rows(const Eigen::VectorXd& v) {
   return Eigen::Map<const Eigen::MatrixXd>(v.data(), 3, v.size() / 3).transpose();
 }
 
-// A well-shaped tet: a regular one of edge kH with its corners moved randomly by
-// up to 0.1 kH, then rotated.
+// A well-shaped tet: a regular one of edge kEdge with its corners moved randomly by
+// up to 0.1 kEdge, then rotated.
 Mat34 random_rest_tet(std::mt19937_64& rng) {
   Mat34 X;
   X << 0.0, 1.0, 0.5, 0.5,  //
@@ -85,17 +85,17 @@ Mat34 random_rest_tet(std::mt19937_64& rng) {
   for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] += d(rng);
   const Eigen::Matrix3d R =
       Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.3, -1.0, 0.6).normalized()).toRotationMatrix();
-  return kH * (R * X);
+  return kEdge * (R * X);
 }
 
 // Deformed corners: a random homogeneous strain of up to ~15 %, a translation
-// and corner noise of up to 0.05 kH.
+// and corner noise of up to 0.05 kEdge.
 Mat34 random_deformed(const Mat34& X, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> d(-1.0, 1.0);
   Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
   for (Eigen::Index i = 0; i < 9; ++i) A.data()[i] += 0.15 * d(rng);
-  Mat34 x = (A * X).colwise() + Eigen::Vector3d(0.3, -0.2, 0.1) * kH;
-  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += 0.05 * kH * d(rng);
+  Mat34 x = (A * X).colwise() + Eigen::Vector3d(0.3, -0.2, 0.1) * kEdge;
+  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += 0.05 * kEdge * d(rng);
   return x;
 }
 
@@ -106,7 +106,7 @@ TEST(TetRestDerivative, ElementMatchesFiniteDifferencesAtFixedDeformedCorners) {
     for (int trial = 0; trial < 3; ++trial) {
       SCOPED_TRACE(name + ", trial " + std::to_string(trial));
       const Mat34 X = random_rest_tet(rng);
-      ASSERT_GT(signed_volume(X), 0.05 * kH * kH * kH);  // well shaped: regular is 0.118 kH³
+      ASSERT_GT(signed_volume(X), 0.05 * kEdge * kEdge * kEdge);  // well shaped: regular is 0.118 kEdge³
       const Mat34 x = random_deformed(X, rng);
       ASSERT_GT(deformation_gradient(tet_geometry(X), x).determinant(), 0.5);
       Mat34 z;
@@ -120,7 +120,7 @@ TEST(TetRestDerivative, ElementMatchesFiniteDifferencesAtFixedDeformedCorners) {
                                  material::PsdProjection::None, r));
         return r.gradient.dot(flatten34(z));
       };
-      const Eigen::VectorXd numeric = fd_gradient(force_along_z, flatten34(X), kRelStep * kH);
+      const Eigen::VectorXd numeric = fd_gradient(force_along_z, flatten34(X), kRelStep * kEdge);
       std::cout << "  element " << name << " trial " << trial
                 << ": relative error " << relative_error(flatten34(analytic), numeric) << "\n";
       EXPECT_TRUE(derivatives_match(flatten34(analytic), numeric, kRelTol));
@@ -132,7 +132,7 @@ TEST(TetRestDerivative, ElementDiffersFromTheDerivativeAtFixedDisplacement) {
   // The two shape derivatives differ by the Hessian times z; checking that it
   // is not zero here guards the test above against comparing the wrong one.
   auto rng = palpa::test::make_rng(402);
-  const material::NeoHookean nh(kE, kNu);
+  const material::NeoHookean nh(kYoung, kPoisson);
   const Mat34 X = random_rest_tet(rng);
   const Mat34 x = random_deformed(X, rng);
   Mat34 z;
@@ -151,7 +151,7 @@ TEST(TetRestDerivative, ElementDiffersFromTheDerivativeAtFixedDisplacement) {
                              material::PsdProjection::None, e));
     return e.gradient.dot(flatten34(z));
   };
-  const Eigen::VectorXd numeric = fd_gradient(force_along_z, flatten34(X), kRelStep * kH);
+  const Eigen::VectorXd numeric = fd_gradient(force_along_z, flatten34(X), kRelStep * kEdge);
   EXPECT_TRUE(derivatives_match(fixed_u, numeric, kRelTol));
   EXPECT_GT((fixed_u - flatten34(fixed_x)).cwiseAbs().maxCoeff(), 0.1 * fixed_u.cwiseAbs().maxCoeff());
 }
@@ -190,7 +190,7 @@ TEST(TetRestDerivative, ModelMatchesFiniteDifferencesAtFixedDeformedPositions) {
     const Eigen::VectorXd x = flatten(model.mesh().V) + u;  // held fixed
     const auto force_along_z = [&](const Eigen::VectorXd& Xv) {
       ElasticModel moved = model;
-      moved.set_rest_positions(unflatten(Xv));
+      moved.set_rest_positions(unflatten_rows(Xv));
       Eigen::VectorXd g;
       const double energy = moved.elastic_energy(x - Xv, &g);
       EXPECT_TRUE(std::isfinite(energy));
@@ -223,7 +223,7 @@ int nearest_vertex(const ElasticModel& model, const Eigen::Vector3d& p) {
 }
 
 ElasticModel cube_model(const TetMesh& mesh) {
-  return ElasticModel(mesh, {BodyMaterial{std::make_shared<material::NeoHookean>(kE, kNu), 1050.0}});
+  return ElasticModel(mesh, {BodyMaterial{std::make_shared<material::NeoHookean>(kYoung, kPoisson), 1050.0}});
 }
 
 TEST(TetSetRestPositions, GeometryAndMassEqualThoseOfTheMovedMesh) {

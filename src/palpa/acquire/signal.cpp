@@ -29,8 +29,6 @@ double median_of(std::span<const double> v, std::size_t first, std::size_t last)
   return *mid;
 }
 
-std::string seconds(double t) { return fmt::format("{:.4g} s", t); }
-
 double mean_over(const Signal& s, double t0, double t1, std::size_t& count) {
   double sum = 0.0;
   count = 0;
@@ -152,7 +150,7 @@ PokeWindow detect_poke(const Signal& s, const PlateauOptions& options, const std
   };
   const std::string expected =
       fmt::format("a rest of at least {} within {:.3g} ({}% of the poke) before and after the peak at {}; {}",
-                  seconds(options.min_duration), tolerance, options.tolerance * 100.0, seconds(s.t[p]), hint);
+                  format_seconds(options.min_duration), tolerance, options.tolerance * 100.0, format_seconds(s.t[p]), hint);
   std::optional<std::size_t> before, after;
   for (std::size_t i = 0; i + w <= p && i < spread.size(); ++i) {
     if (is_rest(i)) before = i;
@@ -166,8 +164,8 @@ PokeWindow detect_poke(const Signal& s, const PlateauOptions& options, const std
   if (!before || !after) {
     throw_input_error(
         fmt::format("{}: no rest plateau found {} the poke (signal from {} to {})", what,
-                    !before && !after ? "before or after" : (!before ? "before" : "after"), seconds(s.t.front()),
-                    seconds(s.t.back())),
+                    !before && !after ? "before or after" : (!before ? "before" : "after"), format_seconds(s.t.front()),
+                    format_seconds(s.t.back())),
         {}, expected);
   }
   // The signal leaves the rest where it rises above the window's median by
@@ -208,12 +206,12 @@ PokeWindow poke_from_window(const Signal& s, double start, double end, double mi
                             const std::string& option) {
   const ErrorContext where{"", 0, 0, "option " + option};
   if (!(start < end)) {
-    throw_input_error(fmt::format("{}: the poke window starts at {} and ends at {}", what, seconds(start), seconds(end)),
+    throw_input_error(fmt::format("{}: the poke window starts at {} and ends at {}", what, format_seconds(start), format_seconds(end)),
                       where, "START before END");
   }
   if (start < s.t.front() || end > s.t.back()) {
     throw_input_error(fmt::format("{}: the poke window {} .. {} is not inside the recording {} .. {}", what,
-                                  seconds(start), seconds(end), seconds(s.t.front()), seconds(s.t.back())),
+                                  format_seconds(start), format_seconds(end), format_seconds(s.t.front()), format_seconds(s.t.back())),
                       where, "a window on the log's own clock");
   }
   PokeWindow win;
@@ -228,8 +226,8 @@ PokeWindow poke_from_window(const Signal& s, double start, double end, double mi
   win.after.t1 = std::min(s.t.back(), end + min_duration);
   win.after.level = mean_over(s, win.after.t0, win.after.t1, na);
   if (nb < 2 || na < 2) {
-    throw_input_error(fmt::format("{}: the poke window {} .. {} leaves no rest samples {} it", what, seconds(start),
-                                  seconds(end), nb < 2 ? "before" : "after"),
+    throw_input_error(fmt::format("{}: the poke window {} .. {} leaves no rest samples {} it", what, format_seconds(start),
+                                  format_seconds(end), nb < 2 ? "before" : "after"),
                       where, "a window with rest samples on both sides");
   }
   double best = -std::numeric_limits<double>::infinity();
@@ -297,5 +295,7 @@ Alignment align_by_rank(const Signal& a, const Signal& b, double t0, double t1, 
   }
   return out;
 }
+
+std::string format_seconds(double t) { return fmt::format("{:.4g} s", t); }
 
 }  // namespace palpa::acquire

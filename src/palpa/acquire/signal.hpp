@@ -108,4 +108,7 @@ Alignment align_by_rank(const Signal& a, const Signal& b, double t0, double t1, 
 // Ranks of v (1-based; ties get their mean rank).
 std::vector<double> ranks(std::span<const double> v);
 
+// A time for messages, "12.5 s".
+std::string format_seconds(double t);
+
 }  // namespace palpa::acquire

@@ -16,8 +16,6 @@ namespace {
 // Samples per second of a spline, and of the grid, for the clock alignment.
 constexpr double kSplineRate = 1000.0;
 
-std::string seconds(double t) { return fmt::format("{:.4g} s", t); }
-
 }  // namespace
 
 CatmullRom::CatmullRom(std::vector<double> t, std::vector<double> y) : t_(std::move(t)), y_(std::move(y)) {
@@ -121,7 +119,7 @@ UltrasoundResult process_ultrasound(const std::filesystem::path& force_file,
   }
   if (r.time.size() < 2) {
     throw_input_error(fmt::format("{}: the poke from {} to its maximum at {} holds fewer than 2 samples", what,
-                                  seconds(fw.start), seconds(f.t[peak])),
+                                  format_seconds(fw.start), format_seconds(f.t[peak])),
                       ErrorContext{"", 0, 0, "option --force-window"}, "a poke window around the loading");
   }
   const double load0 = r.time.front() - r.clock_shift, load1 = r.time.back() - r.clock_shift;
@@ -134,7 +132,7 @@ UltrasoundResult process_ultrasound(const std::filesystem::path& force_file,
       throw_input_error(
           fmt::format("the picks of interface '{}' cover {} .. {} on the ultrasound clock, but the rest before the poke "
                       "ends at {} and the loading lasts until {} (ultrasound time + {:.4g} s = force time)",
-                      picks.name, seconds(s.t_first()), seconds(s.t_last()), seconds(rest1), seconds(load1),
+                      picks.name, format_seconds(s.t_first()), format_seconds(s.t_last()), format_seconds(rest1), format_seconds(load1),
                       r.clock_shift),
           ErrorContext{picks.file, 0, 0, ""},
           "picks from the rest before the poke to the maximum force (or give the clock offset with --offset)");

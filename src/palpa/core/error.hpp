@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace palpa {
 
@@ -37,6 +38,13 @@ struct ErrorContext {
     return *this;
   }
 };
+
+// The context of a problem with a whole file (no line, column or field).
+inline ErrorContext in_file(std::string file) {
+  ErrorContext c;
+  c.file = std::move(file);
+  return c;
+}
 
 class Error : public std::runtime_error {
  public:

@@ -198,9 +198,8 @@ class MshReader {
         const auto [it, inserted] = node_index_.try_emplace(tag, static_cast<int>(xyz_.size() / 3));
         if (!inserted) cursor_.fail_field(fmt::format("node {}", tag), "duplicate node tag");
         for (std::size_t c = 0; c < 3; ++c) {
-          static constexpr const char* kAxes[3] = {"x", "y", "z"};
           xyz_.push_back(
-              io_detail::parse_number(t[c], cursor_, fmt::format("node {} {}", tag, kAxes[c])));
+              io_detail::parse_number(t[c], cursor_, fmt::format("node {} {}", tag, io_detail::kAxisNames[c])));
         }
       }
       read += static_cast<std::size_t>(n);

@@ -18,7 +18,6 @@ namespace {
 using io_detail::LineCursor;
 
 constexpr std::size_t kMaxListedGroups = 30;
-constexpr const char* kAxes[3] = {"x", "y", "z"};
 
 struct PendingTriangle {
   io_detail::Triangle corners;  // 1-based, negative ones already resolved
@@ -94,7 +93,7 @@ SurfaceMesh read_obj(const std::filesystem::path& path, const MeshReadOptions& o
       }
       for (std::size_t c = 0; c < 3; ++c) {
         xyz.push_back(io_detail::parse_number(tokens[c + 1], cursor,
-                                              fmt::format("vertex {} {}", n, kAxes[c])));
+                                              fmt::format("vertex {} {}", n, io_detail::kAxisNames[c])));
       }
       if (n > io_detail::kMaxIndex) cursor.fail("too many vertices for 32-bit indices");
     } else if (key == "f") {

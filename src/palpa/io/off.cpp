@@ -15,7 +15,6 @@ namespace {
 
 constexpr std::array<std::string_view, 8> kHeaders = {"OFF",   "COFF",   "NOFF",   "CNOFF",
                                                       "STOFF", "STCOFF", "STNOFF", "STCNOFF"};
-constexpr const char* kAxes[3] = {"x", "y", "z"};
 
 }  // namespace
 
@@ -58,7 +57,7 @@ SurfaceMesh read_off(const std::filesystem::path& path, const MeshReadOptions& o
     }
     for (std::size_t c = 0; c < 3; ++c) {
       xyz.push_back(
-          io_detail::parse_number(tokens[c], cursor, fmt::format("vertex {} {}", i, kAxes[c])));
+          io_detail::parse_number(tokens[c], cursor, fmt::format("vertex {} {}", i, io_detail::kAxisNames[c])));
     }
   }
   std::vector<io_detail::Triangle> tris;

@@ -16,7 +16,6 @@ namespace {
 
 using io_detail::LineCursor;
 
-constexpr const char* kAxes[3] = {"x", "y", "z"};
 
 // A region attribute: TetGen writes integers, some tools write 1.0; anything
 // else is refused.
@@ -111,7 +110,7 @@ TetMesh read_tetgen(const std::filesystem::path& path, const MeshReadOptions& op
     }
     for (std::size_t c = 0; c < 3; ++c) {
       xyz.push_back(
-          io_detail::parse_number(t[c + 1], nodes, fmt::format("point {} {}", number, kAxes[c])));
+          io_detail::parse_number(t[c + 1], nodes, fmt::format("point {} {}", number, io_detail::kAxisNames[c])));
     }
   }
   mesh.V = io_detail::positions_from(xyz);

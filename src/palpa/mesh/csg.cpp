@@ -20,11 +20,6 @@ constexpr double kTaubinMu = -0.53;
 // Edges more than this far from flat are the block's features, kept sharp.
 constexpr double kFeatureAngleDeg = 60.0;
 
-ErrorContext in_file(const std::string& source) {
-  ErrorContext c;
-  c.file = source;
-  return c;
-}
 
 }  // namespace
 

@@ -30,11 +30,6 @@ constexpr double kRayOffset = 1e-3;
 
 std::string length(double v) { return format_quantity(v, Dimension::Length); }
 
-ErrorContext in_file(const std::string& source) {
-  ErrorContext c;
-  c.file = source;
-  return c;
-}
 
 // One point strictly inside each connected component of a closed surface.
 std::vector<Eigen::Vector3d> inside_points(const SurfaceMesh& s, double edge) {

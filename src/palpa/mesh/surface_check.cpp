@@ -24,11 +24,6 @@ using geometry::format_point;
 constexpr double kRelativeMergeTolerance = 1e-9;
 
 
-ErrorContext in_file(const std::string& source) {
-  ErrorContext c;
-  c.file = source;
-  return c;
-}
 
 using Edge = std::pair<int, int>;
 

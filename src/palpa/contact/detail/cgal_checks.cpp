@@ -13,18 +13,18 @@
 namespace palpa::contact::detail {
 
 namespace {
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
-using Face = Mesh::Face_index;
+using ExactKernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using CheckMesh = CGAL::Surface_mesh<ExactKernel::Point_3>;
+using Face = CheckMesh::Face_index;
 }  // namespace
 
 SelfIntersections self_intersections(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
                                      std::size_t cap) {
-  Mesh mesh;
-  std::vector<Mesh::Vertex_index> vertex;
+  CheckMesh mesh;
+  std::vector<CheckMesh::Vertex_index> vertex;
   vertex.reserve(static_cast<std::size_t>(V.rows()));
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
-    vertex.push_back(mesh.add_vertex(Kernel::Point_3(V(i, 0), V(i, 1), V(i, 2))));
+    vertex.push_back(mesh.add_vertex(ExactKernel::Point_3(V(i, 0), V(i, 1), V(i, 2))));
   }
   // Faces in the order of F, so that face i is triangle i. A face the
   // halfedge structure cannot take (a vertex where separate fans meet) is
@@ -35,7 +35,7 @@ SelfIntersections self_intersections(const Eigen::MatrixX3d& V, const Eigen::Mat
     const Face added = mesh.add_face(vertex[static_cast<std::size_t>(F(f, 0))],
                                      vertex[static_cast<std::size_t>(F(f, 1))],
                                      vertex[static_cast<std::size_t>(F(f, 2))]);
-    if (added != Mesh::null_face()) row.push_back(static_cast<int>(f));
+    if (added != CheckMesh::null_face()) row.push_back(static_cast<int>(f));
   }
   std::vector<std::pair<Face, Face>> pairs;
   CGAL::Polygon_mesh_processing::self_intersections(

@@ -14,6 +14,9 @@
 
 namespace palpa::io_detail {
 
+// Names of the coordinates, for messages about a point's x, y or z.
+inline constexpr const char* kAxisNames[3] = {"x", "y", "z"};
+
 // The whole file as bytes. Throws palpa::Error (Input) naming the file if it does
 // not exist, is a folder or cannot be read. With `allow_empty` false, an empty
 // file (0 bytes, or only white space for text formats: see require_content) is an
