@@ -149,6 +149,26 @@ TEST(PokeInput, RefusesImpossibleSetups) {
   EXPECT_TRUE(throws_error([] { parse_punch_contact("glue"); }, ErrorKind::Input, {"unknown contact 'glue'"}));
 }
 
+TEST(PokeInput, AFailedDepthHalvesTheStepOrGivesUpOnCrushedCells) {
+  const material::NeoHookean m(kE, 0.45);
+  PokeSimulator sim(m, setup_for(3 * kA, 0, PunchContact::Stick));
+  PokeOptions o;
+  o.max_depth = 0.2 * kA;
+  o.steps = 2;
+  o.newton.max_iterations = 1;  // no depth can converge
+  o.max_step_cuts = 3;
+  using palpa::test::throws_error;
+  EXPECT_TRUE(throws_error([&] { sim.run(o); }, ErrorKind::Solver, {"after 3 halvings of the step"}));
+  // The undeformed mesh's det F is 1: a limit above it gives up at the first
+  // failure and says why.
+  o.give_up_below_jacobian = 1.5;
+  EXPECT_TRUE(throws_error([&] { sim.run(o); }, ErrorKind::Solver,
+                           {"halving the step would not help", "keeps 100% of its volume"}));
+  // Below it, the step is halved as before.
+  o.give_up_below_jacobian = 0.5;
+  EXPECT_TRUE(throws_error([&] { sim.run(o); }, ErrorKind::Solver, {"after 3 halvings of the step"}));
+}
+
 TEST(PokeInput, InterruptStopsTheRun) {
   const material::NeoHookean m(kE, 0.45);
   PokeSimulator sim(m, setup_for(3 * kA, 0, PunchContact::Stick));

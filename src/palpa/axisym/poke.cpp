@@ -574,6 +574,18 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
         continue;
       }
       m.set_depth(depth);
+      if (options.give_up_below_jacobian > 0.0) {
+        const auto diag = m.diagnostics(x);
+        if (diag.min_jacobian < options.give_up_below_jacobian) {
+          throw_solver_error(fmt::format(
+              "the equilibrium at depth {:.6g} mm was not found ({}), and halving the step would not help: "
+              "at {:.6g} mm the most crushed cell keeps {:.3g}% of its volume (det F {:.3g}), "
+              "so this mesh cannot follow the material much deeper. A finer --mesh-level or a fillet "
+              "radius would",
+              next * 1e3, r.message.empty() ? std::string("the starting point was inadmissible") : r.message,
+              depth * 1e3, 100.0 * diag.min_jacobian, diag.min_jacobian));
+        }
+      }
       if (++cuts > options.max_step_cuts) {
         const auto diag = m.diagnostics(x);
         throw_solver_error(fmt::format(

@@ -92,6 +92,10 @@ class PokeCurveSimulator final : public CurveSimulator {
       // 100 Newton iterations each.
       po.max_step_cuts = 8;
       po.newton.max_iterations = 40;
+      // Once the rim cells keep under 5% of their volume, a failed depth
+      // ends the curve (with that reason) instead of eight halvings of 40
+      // iterations each.
+      po.give_up_below_jacobian = 0.05;
     }
     CurvePrediction p;
     std::vector<axisym::PokeSample> reached{axisym::PokeSample{}};
