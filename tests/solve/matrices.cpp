@@ -26,40 +26,46 @@ Eigen::SparseMatrix<double> laplacian_2d(int m) {
   return A;
 }
 
-Eigen::SparseMatrix<double> elasticity_3d_like(int m, double mass_diagonal) {
-  const int nodes = m * m * m;
-  const int n = 3 * nodes;
-  auto id = [m](int i, int j, int k) { return i + m * (j + m * k); };
+namespace {
+
+// Springs along every node pair of each cell of an m^D grid of nodes, D DOFs
+// per node, plus `mass_diagonal` on the diagonal.
+template <int D>
+Eigen::SparseMatrix<double> grid_elasticity_like(int m, double mass_diagonal) {
+  constexpr int kCorners = 1 << D;
+  using Vec = Eigen::Matrix<double, D, 1>;
+  int nodes = 1;
+  for (int d = 0; d < D; ++d) nodes *= m;
+  const int n = D * nodes;
+  int cells = 1;
+  for (int d = 0; d < D; ++d) cells *= m - 1;
   std::vector<Eigen::Triplet<double>> t;
-  t.reserve(static_cast<std::size_t>(m - 1) * (m - 1) * (m - 1) * 28 * 36 + n);
-  for (int k = 0; k + 1 < m; ++k) {
-    for (int j = 0; j + 1 < m; ++j) {
-      for (int i = 0; i + 1 < m; ++i) {
-        std::array<int, 8> corner{};
-        std::array<Eigen::Vector3d, 8> pos;
-        for (int c = 0; c < 8; ++c) {
-          const int di = c & 1;
-          const int dj = (c >> 1) & 1;
-          const int dk = (c >> 2) & 1;
-          corner[static_cast<std::size_t>(c)] = id(i + di, j + dj, k + dk);
-          pos[static_cast<std::size_t>(c)] = Eigen::Vector3d(di, dj, dk);
-        }
-        for (std::size_t a = 0; a < 8; ++a) {
-          for (std::size_t b = a + 1; b < 8; ++b) {
-            const Eigen::Vector3d u = (pos[b] - pos[a]).normalized();
-            const Eigen::Matrix3d block = u * u.transpose();
-            for (int r = 0; r < 3; ++r) {
-              for (int c = 0; c < 3; ++c) {
-                const int ra = 3 * corner[a] + r;
-                const int rb = 3 * corner[b] + r;
-                const int ca = 3 * corner[a] + c;
-                const int cb = 3 * corner[b] + c;
-                t.emplace_back(ra, ca, block(r, c));
-                t.emplace_back(rb, cb, block(r, c));
-                t.emplace_back(ra, cb, -block(r, c));
-                t.emplace_back(rb, ca, -block(r, c));
-              }
-            }
+  t.reserve(static_cast<std::size_t>(cells) * kCorners * (kCorners - 1) / 2 * 4 * D * D + n);
+  for (int cell = 0; cell < cells; ++cell) {
+    std::array<int, D> base{};
+    for (int d = 0, rest = cell; d < D; ++d, rest /= m - 1) base[static_cast<std::size_t>(d)] = rest % (m - 1);
+    std::array<int, kCorners> corner{};
+    std::array<Vec, kCorners> pos;
+    for (int c = 0; c < kCorners; ++c) {
+      int id = 0;
+      for (int d = D - 1; d >= 0; --d) id = id * m + base[static_cast<std::size_t>(d)] + ((c >> d) & 1);
+      corner[static_cast<std::size_t>(c)] = id;
+      for (int d = 0; d < D; ++d) pos[static_cast<std::size_t>(c)][d] = (c >> d) & 1;
+    }
+    for (std::size_t a = 0; a < kCorners; ++a) {
+      for (std::size_t b = a + 1; b < kCorners; ++b) {
+        const Vec u = (pos[b] - pos[a]).normalized();
+        const Eigen::Matrix<double, D, D> block = u * u.transpose();
+        for (int r = 0; r < D; ++r) {
+          for (int c = 0; c < D; ++c) {
+            const int ra = D * corner[a] + r;
+            const int rb = D * corner[b] + r;
+            const int ca = D * corner[a] + c;
+            const int cb = D * corner[b] + c;
+            t.emplace_back(ra, ca, block(r, c));
+            t.emplace_back(rb, cb, block(r, c));
+            t.emplace_back(ra, cb, -block(r, c));
+            t.emplace_back(rb, ca, -block(r, c));
           }
         }
       }
@@ -69,6 +75,16 @@ Eigen::SparseMatrix<double> elasticity_3d_like(int m, double mass_diagonal) {
   Eigen::SparseMatrix<double> A(n, n);
   A.setFromTriplets(t.begin(), t.end());
   return A;
+}
+
+}  // namespace
+
+Eigen::SparseMatrix<double> elasticity_2d_like(int m, double mass_diagonal) {
+  return grid_elasticity_like<2>(m, mass_diagonal);
+}
+
+Eigen::SparseMatrix<double> elasticity_3d_like(int m, double mass_diagonal) {
+  return grid_elasticity_like<3>(m, mass_diagonal);
 }
 
 Eigen::SparseMatrix<double> random_spd(int n, int offdiag_per_column, std::mt19937_64& rng) {

@@ -12,6 +12,11 @@ namespace palpa::test {
 // boundary: SPD, n = m², 4 ≤ nonzeros per row ≤ 5. Unit grid spacing.
 Eigen::SparseMatrix<double> laplacian_2d(int m);
 
+// The same in 2D, the pattern of the axisymmetric solver's bilinear quads:
+// m×m nodes, 2 DOFs per node, each cell couples its 4 nodes through springs
+// along its 6 node pairs. SPD, n = 2m², up to 18 nonzeros per row.
+Eigen::SparseMatrix<double> elasticity_2d_like(int m, double mass_diagonal = 1e-3);
+
 // A stiffness-like matrix with the structure of trilinear hexahedral elasticity:
 // m×m×m nodes on a unit grid, 3 DOFs per node, each cell couples its 8 nodes
 // through axial springs (stiffness 1) along all 28 node pairs, plus
