@@ -12,13 +12,13 @@ namespace palpa {
 namespace {
 
 // Auto chooses a supernodal factor when the analysis predicts at least this many
-// flops per nonzero of L. CHOLMOD's default (40) assumes an optimized BLAS; with
-// the reference BLAS that Debian installs by default, supernodal and simplicial
-// factorizations break even at about 300 both for 2D Laplacians and for 3D
-// stiffness-like matrices (bench/solve_bench.cpp, min of repetitions: 2D
-// fl/lnz 133 simplicial 1.5x faster, 244 even; 3D 109 simplicial 1.7x faster,
-// 351 even, 581 supernodal 2.2x faster).
-constexpr double kSupernodalSwitch = 300.0;
+// flops per nonzero of L. Measured with Debian's OpenBLAS (palpa_bench_solve,
+// simplicial / supernodal factorization time): 2D elasticity-like (the
+// axisymmetric pattern) fl/lnz 125 → 0.68, 221 → 1.52; 3D elasticity-like 109
+// → 0.54, 280 → 2.06; both break even near 165–170. (The scalar 2D Laplacian
+// breaks even near 240, but palpa factors vector problems.) With the
+// reference BLAS the break-even was near 300.
+constexpr double kSupernodalSwitch = 170.0;
 
 // A non-owning CHOLMOD view of a compressed, sorted Eigen matrix.
 cholmod_sparse view_of(const Eigen::SparseMatrix<double>& A, int stype) {

@@ -29,8 +29,8 @@ class SparseCholesky final : public SymmetricFactorization {
   // Supernodal factors use dense BLAS kernels on blocks of columns and win when
   // the factor is dense enough (large 3D meshes); simplicial wins on sparser
   // factors (small or 2D problems). Auto chooses from the analysis: supernodal
-  // when it predicts ≥ 300 flops per nonzero of L (the break-even measured with
-  // Debian's reference BLAS, see sparse_cholesky.cpp).
+  // when it predicts ≥ 170 flops per nonzero of L (the break-even measured with
+  // OpenBLAS, see sparse_cholesky.cpp).
   enum class Method { Auto, Supernodal, Simplicial };
 
   explicit SparseCholesky(Method method = Method::Auto);
