@@ -581,7 +581,7 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
               "the equilibrium at depth {:.6g} mm was not found ({}), and halving the step would not help: "
               "at {:.6g} mm the most crushed cell keeps {:.3g}% of its volume (det F {:.3g}), "
               "so this mesh cannot follow the material much deeper. A finer --mesh-level or a fillet "
-              "radius would",
+              "radius would help",
               next * 1e3, r.message.empty() ? std::string("the starting point was inadmissible") : r.message,
               depth * 1e3, 100.0 * diag.min_jacobian, diag.min_jacobian));
         }
