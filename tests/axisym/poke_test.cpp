@@ -2,8 +2,10 @@
 // the force, the curve's start, bad input. Physics: poke_physics_test.cpp.
 #include <gtest/gtest.h>
 
+#include <Eigen/SparseCholesky>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "common/finite_difference.hpp"
 #include "common/test_support.hpp"
@@ -107,6 +109,75 @@ TEST(PokeCurve, ZeroDepthHasZeroForceAndTheCurveStartsThere) {
     EXPECT_NEAR(c.samples[i].depth, i * 0.05 * kA / 3, 1e-15);
     EXPECT_GT(c.samples[i].force, c.samples[i - 1].force);
   }
+}
+
+// ---------------------------------------------------------------- predictor
+
+// The predictor's tangent dx/dd = −K⁻¹ ∂g/∂d against the central difference of
+// converged equilibria one depth step either side (no contact change there).
+TEST(PokePredictor, TheTangentIsTheDerivativeOfTheEquilibriumPath) {
+  const material::NeoHookean m(kE, 0.45);
+  PokeSimulator sim(m, setup_for(3 * kA, 0, PunchContact::Stick));
+  PokeOptions o;
+  o.max_depth = 0.3 * kA;
+  o.steps = 60;
+  std::vector<Eigen::VectorXd> xs;
+  std::vector<std::vector<char>> contacts;
+  sim.run(o, [&](const PokeModel& model, const Eigen::VectorXd& x, const PokeSample&) {
+    xs.push_back(x);
+    contacts.push_back(model.contact_set(x));
+  });
+  ASSERT_EQ(xs.size(), 60u);
+  const std::size_t k = 49;  // depth 50 δ
+  const double delta = o.max_depth / o.steps;
+  ASSERT_EQ(contacts[k - 1], contacts[k]);
+  ASSERT_EQ(contacts[k + 1], contacts[k]);
+  PokeModel& model = sim.model();
+  model.set_depth(static_cast<double>(k + 1) * delta);
+  model.set_true_hessian(true);
+  Eigen::SparseMatrix<double> h;
+  model.hessian(xs[k], h);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(h);
+  ASSERT_EQ(ldlt.info(), Eigen::Success);
+  const Eigen::VectorXd tangent = -ldlt.solve(model.gradient_depth_derivative(xs[k], 1e-4 * delta));
+  const Eigen::VectorXd path = (xs[k + 1] - xs[k - 1]) / (2.0 * delta);
+  ASSERT_GT(path.norm(), 0.1);  // a displacement per unit depth of order 1
+  EXPECT_LT((tangent - path).norm(), 1e-3 * path.norm());
+  // The depth derivative of the gradient is what moving the punch does: the
+  // gradient one step deeper at the same free DOFs, to first order.
+  Eigen::VectorXd g0;
+  Eigen::VectorXd g1;
+  model.gradient(xs[k], g0);
+  model.set_depth(static_cast<double>(k + 1) * delta + 1e-3 * delta);
+  model.gradient(xs[k], g1);
+  model.set_depth(static_cast<double>(k + 1) * delta);
+  EXPECT_TRUE(derivatives_match(model.gradient_depth_derivative(xs[k], 1e-4 * delta), (g1 - g0) / (1e-3 * delta),
+                                1e-3));
+}
+
+// Nodes a predicted step pushes into the punch start on its surface; nodes
+// already in contact keep their penetration.
+TEST(PokePredictor, NewContactsStartOnThePunchSurface) {
+  const material::NeoHookean m(kE, 0.45);
+  PokeSetup s = setup_for(3 * kA, 2, PunchContact::Frictionless);
+  s.fillet_radius = 0.4 * kA;
+  PokeModel model(m, s);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(model.num_dofs());
+  const std::vector<char> at_rest = model.contact_set(x);
+  for (char c : at_rest) ASSERT_EQ(c, 0);
+  // The undeformed surface under the fillet is inside the lowered punch.
+  model.set_depth(0.01 * kA);
+  ASSERT_GT(model.diagnostics(x).contact_nodes, 1);
+  ASSERT_TRUE(std::isfinite(model.energy(x)));
+  // Marked as already in contact: left where they are.
+  Eigen::VectorXd kept = x;
+  EXPECT_EQ(model.separate_new_contacts(kept, model.contact_set(x)), 0);
+  EXPECT_EQ(kept, x);
+  // New contacts: moved onto the punch.
+  const int caught = model.diagnostics(x).contact_nodes;
+  EXPECT_EQ(model.separate_new_contacts(x, at_rest), caught);
+  EXPECT_LT(model.diagnostics(x).max_penetration, 1e-12 * kA);
+  EXPECT_TRUE(std::isfinite(model.energy(x)));
 }
 
 // ---------------------------------------------------------------- sensitivities

@@ -468,6 +468,48 @@ std::vector<ElementState> PokeModel::element_states(const Eigen::VectorXd& x) co
   return out;
 }
 
+Eigen::VectorXd PokeModel::gradient_depth_derivative(const Eigen::VectorXd& x, double eps) {
+  if (!(eps > 0.0) || !std::isfinite(eps)) {
+    throw Error(ErrorKind::Internal, "depth difference must be positive");
+  }
+  const double depth = punch_.depth;
+  Eigen::VectorXd g_plus;
+  Eigen::VectorXd g_minus;
+  punch_.depth = depth + eps;
+  gradient(x, g_plus);
+  punch_.depth = depth - eps;
+  gradient(x, g_minus);
+  punch_.depth = depth;
+  return (g_plus - g_minus) / (2.0 * eps);
+}
+
+std::vector<char> PokeModel::contact_set(const Eigen::VectorXd& x) const {
+  const Eigen::VectorXd u = full_displacement(x);
+  std::vector<char> active(contacts_.size(), 0);
+  for (std::size_t c = 0; c < contacts_.size(); ++c) active[c] = distance(contacts_[c], u).phi < 0.0 ? 1 : 0;
+  return active;
+}
+
+int PokeModel::separate_new_contacts(Eigen::VectorXd& x, const std::vector<char>& previous) const {
+  if (previous.size() != contacts_.size()) {
+    throw Error(ErrorKind::Internal, "contact set of another model");
+  }
+  const Eigen::VectorXd u = full_displacement(x);
+  int moved = 0;
+  for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    if (previous[c] != 0) continue;
+    const PunchDistance d = distance(contacts_[c], u);
+    if (d.phi >= 0.0) continue;
+    const int node = contacts_[c].node;
+    for (int k = 0; k < 2; ++k) {
+      const int f = full_to_free_[static_cast<std::size_t>(2 * node + k)];
+      if (f >= 0) x[f] -= d.phi * d.normal[k];
+    }
+    ++moved;
+  }
+  return moved;
+}
+
 Eigen::VectorXd PokeModel::contact_pressure(const Eigen::VectorXd& x) const {
   const Eigen::VectorXd u = full_displacement(x);
   const Eigen::VectorXd g = full_elastic_gradient(u);
@@ -538,6 +580,33 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
   double last_increment = 0.0;
   const double step = options.max_depth / options.steps;
 
+  // Predictor. The equilibrium path x(d) has the tangent h = dx/dd given by
+  // K h = −∂g/∂d (K: the Hessian over the free DOFs at x, ∂g/∂d: how the
+  // gradient changes when the punch and the face nodes move down with the free
+  // DOFs held, by a central difference in d). K is the factorization Newton
+  // made on its last iteration, an unshifted Hessian within one quadratically
+  // convergent step of x, so the tangent costs two gradients and a back-solve.
+  // The next depth starts from the Taylor step x + Δh + ½Δ²x'', with x'' from
+  // the solution one increment back; a contact set that changes on the way is
+  // left to Newton. Without a tangent (a shifted last factorization, or no
+  // iteration), the last increment is extrapolated.
+  Eigen::VectorXd tangent;
+  bool have_tangent = false;
+  const auto update_tangent = [&]() {
+    tangent = -solver_.factorization().solve(m.gradient_depth_derivative(x, 1e-4 * step));
+    have_tangent = tangent.allFinite();
+  };
+  // Contact sets at x and one increment back: the curvature x'' is used only
+  // when they agree (across a change the path has a kink).
+  std::vector<char> contacts_at_x = m.contact_set(x);
+  std::vector<char> contacts_before = contacts_at_x;
+  // The first tangent, at rest: the linear-elastic response to the punch.
+  m.set_depth(0.0);
+  if (solver_.factor_hessian(m, x) == FactorStatus::Ok) {
+    update_tangent();
+    ++curve.factorizations;
+  }
+
   for (int k = 1; k <= options.steps; ++k) {
     const double target = k == options.steps ? options.max_depth : k * step;
     PokeSample sample;
@@ -553,12 +622,32 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
         newton.gradient_accept_tol = 1e-6 * force_scale_per_depth * next;
       }
       solver_.set_options(newton);
-      // Start from the last solution extrapolated along the last increment.
+      // Start from the predictor (see above); fall back to cruder ones while
+      // a guess inverts a cell.
+      const double delta = next - depth;
       Eigen::VectorXd guess = x;
-      if (last_increment > 0.0) guess += (x - x_before) * ((next - depth) / last_increment);
-      if (!std::isfinite(m.energy(guess))) guess = x;
+      bool admissible = false;
+      const auto try_guess = [&](Eigen::VectorXd candidate) {
+        if (admissible) return;
+        m.separate_new_contacts(candidate, contacts_at_x);
+        if (std::isfinite(m.energy(candidate))) {
+          guess = candidate;
+          admissible = true;
+        }
+      };
+      if (have_tangent) {
+        const Eigen::VectorXd first_order = x + delta * tangent;
+        if (last_increment > 0.0 && contacts_before == contacts_at_x) {
+          const Eigen::VectorXd curvature =
+              (2.0 / (last_increment * last_increment)) * (x_before - x + last_increment * tangent);
+          try_guess(first_order + (0.5 * delta * delta) * curvature);
+        }
+        try_guess(first_order);
+      }
+      if (last_increment > 0.0) try_guess(x + (x - x_before) * (delta / last_increment));
+      try_guess(x);
       NewtonResult r;
-      if (std::isfinite(m.energy(guess))) {
+      if (admissible) {
         r = solver_.solve(m, guess);
         sample.newton_iterations += r.iterations;
         curve.factorizations += r.factorizations;
@@ -571,6 +660,12 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
         depth = next;
         ++sample.substeps;
         sample.residual = r.gradient_norm;
+        contacts_before = std::move(contacts_at_x);
+        contacts_at_x = m.contact_set(x);
+        have_tangent = false;
+        if (r.iterations > 0 && r.history.back().shift == 0.0 && r.last_factor_status == FactorStatus::Ok) {
+          update_tangent();
+        }
         continue;
       }
       m.set_depth(depth);

@@ -140,6 +140,26 @@ class PokeModel final : public System, public ParametricSystem {
   };
   Diagnostics diagnostics(const Eigen::VectorXd& x) const;
 
+  // ∂g/∂d at fixed free DOFs x: how the out-of-balance forces change as the
+  // punch (top platen) and the face nodes move down [N/m], by a central
+  // difference of step eps [m] in the depth (g is smooth in d except where a
+  // node's contact starts or ends within ±eps). The path of equilibria x(d)
+  // has the tangent dx/dd = −K⁻¹ ∂g/∂d (K: the Hessian over the free DOFs).
+  // Leaves the depth as it was.
+  Eigen::VectorXd gradient_depth_derivative(const Eigen::VectorXd& x, double eps);
+
+  // Which contact checks (surface nodes against the punch or a platen) are
+  // active, φ < 0, at x and the current depth: one flag per check.
+  std::vector<char> contact_set(const Eigen::VectorXd& x) const;
+  // For a predicted x at the current depth: moves every node that is inside an
+  // obstacle but was not in contact in `previous` (contact_set of the last
+  // equilibrium) back onto the obstacle's surface, along its normal (free
+  // components only). A node newly caught by the punch then starts near its
+  // equilibrium (a penetration of ~1/penalty_factor of the strain times the
+  // cell) instead of deep inside, where the stiff penalty would dominate the
+  // residual. Returns the number of nodes moved.
+  int separate_new_contacts(Eigen::VectorXd& x, const std::vector<char>& previous) const;
+
   // Per-node contact pressure on the top surface [Pa]: punch force on the node
   // (reaction or penalty) over its ring area 2π r ℓ; #N (0 away from the top).
   // Compression: also the base platen's push on the base nodes, and the penalty
