@@ -148,6 +148,37 @@ TEST_P(NewtonLineSearch, MinimizesTheRosenbrockFunction) {
   }
 }
 
+// Chord steps reuse the factored Hessian once Newton converges quadratically:
+// the same minimizer to the same tolerance, with fewer factorizations.
+TEST(Newton, ChordStepsReachTheSameMinimizerWithFewerFactorizations) {
+  test::RosenbrockSystem r12(12);
+  NewtonOptions o;
+  o.gradient_abs_tol = 1e-12;
+  o.gradient_rel_tol = 0.0;
+  NewtonSolver plain(o);
+  Eigen::VectorXd x_plain = Eigen::VectorXd::Constant(12, 0.5);
+  const NewtonResult a = plain.solve(r12, x_plain);
+  ASSERT_TRUE(a.converged()) << a.message;
+  o.chord_ratio = 100.0;
+  NewtonSolver chord(o);
+  Eigen::VectorXd x_chord = Eigen::VectorXd::Constant(12, 0.5);
+  const NewtonResult b = chord.solve(r12, x_chord);
+  ASSERT_TRUE(b.converged()) << b.message;
+  EXPECT_LE(b.gradient_norm, 1e-12);
+  EXPECT_LT((x_chord - x_plain).lpNorm<Eigen::Infinity>(), 1e-10);
+  int chord_steps = 0;
+  for (std::size_t k = 0; k < b.history.size(); ++k) {
+    if (b.history[k].factorizations != 0) continue;
+    ++chord_steps;
+    // Each kept chord step cut the gradient by the chord ratio.
+    const double before = k == 0 ? b.initial_gradient_norm : b.history[k - 1].gradient_norm;
+    EXPECT_LE(100.0 * b.history[k].gradient_norm, before);
+  }
+  EXPECT_GT(chord_steps, 0);
+  EXPECT_LT(b.factorizations, a.factorizations);
+  EXPECT_EQ(b.hessian_evaluations + chord_steps, b.iterations);
+}
+
 // --- (d) indefinite Hessian at the start ---------------------------------------
 
 TEST_P(NewtonLineSearch, ShiftsAnIndefiniteHessianAndStillConverges) {

@@ -232,7 +232,9 @@ struct PokeOptions {
   // mesh cannot follow the material much deeper (for curves that are shown,
   // not fitted; 0 = always halve).
   double give_up_below_jacobian = 0.0;
-  NewtonOptions newton;          // tolerances default to the problem's scale
+  // Tolerances default to the problem's scale; chord_ratio 0 means 1000 here
+  // (chord steps on), a negative value turns chord steps off.
+  NewtonOptions newton;
 };
 
 struct PokeSample {

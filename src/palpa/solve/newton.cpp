@@ -198,6 +198,7 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
   Eigen::VectorXd trial(n);
   Eigen::VectorXd g_trial(n);
   double last_shift = 0.0;
+  bool chord_ready = false;  // the factorization holds the last unshifted H (see chord_ratio)
   NewtonStatus status = NewtonStatus::MaxIterations;
   std::string message;
 
@@ -224,6 +225,36 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
       message = fmt::format("no convergence in {} iterations: |g| = {:.3e} > {:.3e}", r.iterations,
                             gnorm, r.gradient_tolerance);
       break;
+    }
+
+    if (chord_ready) {
+      chord_ready = false;
+      d = factor_->solve(-g);
+      const double e1 = phi(1.0);
+      if (d.allFinite() && std::isfinite(e1)) {
+        system.gradient(trial, g_trial);
+        ++r.gradient_evaluations;
+        const double gnorm_trial = inf_norm(g_trial);
+        if (g_trial.allFinite() && gnorm_trial * options_.chord_ratio <= gnorm) {
+          x = trial;
+          system.prepare(x);
+          energy = system.energy_gradient(x, g);
+          ++r.energy_evaluations;
+          ++r.gradient_evaluations;
+          gnorm = inf_norm(g);
+          ++r.iterations;
+          r.history.push_back(NewtonIteration{energy, gnorm, 1.0, 0.0, 1, 0});
+          spdlog::debug("newton {:3d}: E = {:.12g}  |g| = {:.3e}  chord step", r.iterations, energy, gnorm);
+          if (!std::isfinite(energy) || !g.allFinite()) {
+            status = NewtonStatus::NonFiniteEnergy;
+            message = fmt::format("iteration {}: energy {} or its gradient is not finite after the chord step",
+                                  r.iterations, energy);
+            break;
+          }
+          chord_ready = true;
+          continue;
+        }
+      }
     }
 
     system.hessian(x, hessian_);
@@ -283,7 +314,10 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
     energy = system.energy_gradient(x, g);
     ++r.energy_evaluations;
     ++r.gradient_evaluations;
+    const double gnorm_before = gnorm;
     gnorm = inf_norm(g);
+    chord_ready = options_.chord_ratio > 0.0 && ls.step == 1.0 && dir.shift == 0.0 &&
+                  gnorm * options_.chord_ratio <= gnorm_before;
     ++r.iterations;
     r.history.push_back(
         NewtonIteration{energy, gnorm, ls.step, dir.shift, ls.evaluations, dir.factorizations});

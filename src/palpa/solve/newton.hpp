@@ -98,6 +98,15 @@ struct NewtonOptions {
   // bound cannot express. The test is |g·d| ≤ max(energy_noise·|E|, energy_noise_abs).
   double energy_noise_abs = 0.0;
 
+  // Chord steps (0 = off). Once a full, unshifted Newton step has cut ‖g‖∞
+  // by at least this factor (the quadratic phase), the next iteration first
+  // tries d = −H⁻¹ g with the Hessian already factored, which costs one
+  // gradient instead of a Hessian and a factorization. The chord step is kept
+  // when its energy is finite and it cuts ‖g‖∞ by the same factor again
+  // (H is then within a quadratically small step of the current Hessian);
+  // otherwise the iteration goes on with a fresh Hessian from the same x.
+  // Chord steps count as iterations with 0 factorizations.
+  double chord_ratio = 0.0;
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
   SparseCholesky::Method cholmod_method = SparseCholesky::Method::Auto;
 };
