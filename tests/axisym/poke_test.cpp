@@ -180,6 +180,34 @@ TEST(PokePredictor, NewContactsStartOnThePunchSurface) {
   EXPECT_TRUE(std::isfinite(model.energy(x)));
 }
 
+// A fit runs the same simulator again and again with other parameters: each
+// run starts from rest, whatever depth and contact the last one ended at, and
+// takes the same path as a fresh simulator.
+TEST(PokePredictor, ARunAfterAnotherIsTheSameAsAFreshOne) {
+  const material::NeoHookean first(kE, 0.45);
+  const material::NeoHookean second(1.01 * kE, 0.45);
+  PokeSetup s = setup_for(3 * kA, 1, PunchContact::Frictionless);
+  s.fillet_radius = 0.1 * kA;
+  PokeOptions o;
+  o.max_depth = 0.5 * kA;
+  o.steps = 10;
+  PokeSimulator again(first, s);
+  const PokeCurve before = again.run(o);
+  ASSERT_GT(before.samples.back().contact_nodes, 0) << "the test needs the rim in contact at the end";
+  again.model().set_material_params(second.params());
+  const PokeCurve repeated = again.run(o);
+  // (Built from the first material: the contact penalty and the F-bar
+  // stabilization are fixed by the material a model is built with.)
+  PokeSimulator fresh(first, s);
+  fresh.model().set_material_params(second.params());
+  const PokeCurve cold = fresh.run(o);
+  ASSERT_EQ(repeated.samples.size(), cold.samples.size());
+  for (std::size_t k = 1; k < cold.samples.size(); ++k) {
+    EXPECT_EQ(repeated.samples[k].newton_iterations, cold.samples[k].newton_iterations) << "step " << k;
+    EXPECT_NEAR(repeated.samples[k].force, cold.samples[k].force, 1e-12 * cold.samples[k].force) << "step " << k;
+  }
+}
+
 // ---------------------------------------------------------------- sensitivities
 
 TEST(PokeSensitivities, MatchFiniteDifferencesOfWholeCurves) {

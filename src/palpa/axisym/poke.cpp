@@ -604,10 +604,10 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
   };
   // Contact sets at x and one increment back: the curvature x'' is used only
   // when they agree (across a change the path has a kink).
+  m.set_depth(0.0);  // (a model that ran before is still at its last depth)
   std::vector<char> contacts_at_x = m.contact_set(x);
   std::vector<char> contacts_before = contacts_at_x;
   // The first tangent, at rest: the linear-elastic response to the punch.
-  m.set_depth(0.0);
   if (solver_.factor_hessian(m, x) == FactorStatus::Ok) {
     update_tangent();
     ++curve.factorizations;
