@@ -471,19 +471,20 @@ std::vector<ElementState> PokeModel::element_states(const Eigen::VectorXd& x) co
   return out;
 }
 
-Eigen::VectorXd PokeModel::gradient_depth_derivative(const Eigen::VectorXd& x, double eps) {
+bool PokeModel::gradient_depth_derivative(const Eigen::VectorXd& x, double eps, Eigen::VectorXd& dg) {
   if (!(eps > 0.0) || !std::isfinite(eps)) {
     throw Error(ErrorKind::Internal, "depth difference must be positive");
   }
   const double depth = punch_.depth;
-  Eigen::VectorXd g_plus;
   Eigen::VectorXd g_minus;
   punch_.depth = depth + eps;
-  gradient(x, g_plus);
+  const bool plus = std::isfinite(evaluate(x, &dg));
   punch_.depth = depth - eps;
-  gradient(x, g_minus);
+  const bool minus = plus && std::isfinite(evaluate(x, &g_minus));
   punch_.depth = depth;
-  return (g_plus - g_minus) / (2.0 * eps);
+  if (!minus) return false;
+  dg = (dg - g_minus) / (2.0 * eps);
+  return dg.allFinite();
 }
 
 std::vector<char> PokeModel::contact_set(const Eigen::VectorXd& x) const {
@@ -598,8 +599,13 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
   // iteration), the last increment is extrapolated.
   Eigen::VectorXd tangent;
   bool have_tangent = false;
+  Eigen::VectorXd dg_dd;
   const auto update_tangent = [&]() {
-    tangent = -solver_.factorization().solve(m.gradient_depth_derivative(x, 1e-4 * step));
+    // (Moving the face nodes of a crushed cell by ±eps may invert it: then
+    // there is no tangent and the last increment is extrapolated.)
+    have_tangent = m.gradient_depth_derivative(x, 1e-4 * step, dg_dd);
+    if (!have_tangent) return;
+    tangent = -solver_.factorization().solve(dg_dd);
     have_tangent = tangent.allFinite();
   };
   // Contact sets at x and one increment back: the curvature x'' is used only

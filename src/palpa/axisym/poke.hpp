@@ -145,8 +145,9 @@ class PokeModel final : public System, public ParametricSystem {
   // difference of step eps [m] in the depth (g is smooth in d except where a
   // node's contact starts or ends within ±eps). The path of equilibria x(d)
   // has the tangent dx/dd = −K⁻¹ ∂g/∂d (K: the Hessian over the free DOFs).
-  // Leaves the depth as it was.
-  Eigen::VectorXd gradient_depth_derivative(const Eigen::VectorXd& x, double eps);
+  // Leaves the depth as it was. Returns false (dg unspecified) where x at
+  // depth ± eps inverts a cell.
+  bool gradient_depth_derivative(const Eigen::VectorXd& x, double eps, Eigen::VectorXd& dg);
 
   // Which contact checks (surface nodes against the punch or a platen) are
   // active, φ < 0, at x and the current depth: one flag per check.
