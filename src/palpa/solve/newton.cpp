@@ -208,6 +208,28 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
     return system.energy(trial);
   };
 
+  // After x moved: prepare, evaluate E and g there and record the iteration
+  // (its energy and gradient norm filled in). False, with the status set,
+  // when E or g is not finite.
+  const auto commit_step = [&](NewtonIteration it, std::string_view what) {
+    system.prepare(x);
+    energy = system.energy_gradient(x, g);
+    ++r.energy_evaluations;
+    ++r.gradient_evaluations;
+    gnorm = inf_norm(g);
+    ++r.iterations;
+    it.energy = energy;
+    it.gradient_norm = gnorm;
+    r.history.push_back(it);
+    spdlog::debug("newton {:3d}: E = {:.12g}  |g| = {:.3e}  {} = {:.4g}  shift = {:.1e}  ({} trials)",
+                  r.iterations, energy, gnorm, what, it.step, it.shift, it.line_search_evaluations);
+    if (std::isfinite(energy) && g.allFinite()) return true;
+    status = NewtonStatus::NonFiniteEnergy;
+    message = fmt::format("iteration {}: energy {} or its gradient is not finite after the {}", r.iterations,
+                          energy, what);
+    return false;
+  };
+
   if (!std::isfinite(energy) || !g.allFinite()) {
     status = NewtonStatus::NonFiniteEnergy;
     message = fmt::format("energy {} or its gradient is not finite at the starting point", energy);
@@ -237,20 +259,7 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
         const double gnorm_trial = inf_norm(g_trial);
         if (g_trial.allFinite() && gnorm_trial * options_.chord_ratio <= gnorm) {
           x = trial;
-          system.prepare(x);
-          energy = system.energy_gradient(x, g);
-          ++r.energy_evaluations;
-          ++r.gradient_evaluations;
-          gnorm = inf_norm(g);
-          ++r.iterations;
-          r.history.push_back(NewtonIteration{energy, gnorm, 1.0, 0.0, 1, 0});
-          spdlog::debug("newton {:3d}: E = {:.12g}  |g| = {:.3e}  chord step", r.iterations, energy, gnorm);
-          if (!std::isfinite(energy) || !g.allFinite()) {
-            status = NewtonStatus::NonFiniteEnergy;
-            message = fmt::format("iteration {}: energy {} or its gradient is not finite after the chord step",
-                                  r.iterations, energy);
-            break;
-          }
+          if (!commit_step(NewtonIteration{0.0, 0.0, 1.0, 0.0, 1, 0}, "chord step")) break;
           chord_ready = true;
           continue;
         }
@@ -310,26 +319,12 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
     }
 
     x += ls.step * d;
-    system.prepare(x);
-    energy = system.energy_gradient(x, g);
-    ++r.energy_evaluations;
-    ++r.gradient_evaluations;
     const double gnorm_before = gnorm;
-    gnorm = inf_norm(g);
-    chord_ready = options_.chord_ratio > 0.0 && ls.step == 1.0 && dir.shift == 0.0 &&
-                  gnorm * options_.chord_ratio <= gnorm_before;
-    ++r.iterations;
-    r.history.push_back(
-        NewtonIteration{energy, gnorm, ls.step, dir.shift, ls.evaluations, dir.factorizations});
-    spdlog::debug(
-        "newton {:3d}: E = {:.12g}  |g| = {:.3e}  step = {:.4g}  shift = {:.1e}  ({} trials)",
-        r.iterations, energy, gnorm, ls.step, dir.shift, ls.evaluations);
-    if (!std::isfinite(energy) || !g.allFinite()) {
-      status = NewtonStatus::NonFiniteEnergy;
-      message = fmt::format("iteration {}: energy {} or its gradient is not finite after the step",
-                            r.iterations, energy);
+    if (!commit_step(NewtonIteration{0.0, 0.0, ls.step, dir.shift, ls.evaluations, dir.factorizations}, "step")) {
       break;
     }
+    chord_ready = options_.chord_ratio > 0.0 && ls.step == 1.0 && dir.shift == 0.0 &&
+                  gnorm * options_.chord_ratio <= gnorm_before;
   }
 
   r.status = status;
