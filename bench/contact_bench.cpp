@@ -55,8 +55,10 @@ Eigen::Matrix3Xd box_points(std::mt19937_64& rng) {
   const double z = kTubeRadius * 1.1;
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Eigen::Matrix3Xd p(3, kQueries);
-  for (int i = 0; i < kQueries; ++i)
-    p.col(i) = Eigen::Vector3d(xy * u(rng), xy * u(rng), z * u(rng));
+  for (int i = 0; i < kQueries; ++i) {
+    const double ux = u(rng), uy = u(rng), uz = u(rng);  // drawn in order on every compiler
+    p.col(i) = Eigen::Vector3d(xy * ux, xy * uy, z * uz);
+  }
   return p;
 }
 

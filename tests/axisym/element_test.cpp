@@ -31,7 +31,8 @@ class ElementDerivatives
     : public ::testing::TestWithParam<std::tuple<ElementFormulation, double>> {};
 
 TEST_P(ElementDerivatives, GradientHessianAndParametersMatchFiniteDifferences) {
-  const auto [form, r0] = GetParam();
+  const auto [form_p, r0] = GetParam();
+  const auto form = form_p;  // a plain variable: lambdas below capture it
   const material::NeoHookean nh(12e3, 0.45);
   const material::SplineMaterial spline = material::SplineMaterial::from_model(nh);
   const QuadGeometry g = quad_geometry(rest_cell(r0));

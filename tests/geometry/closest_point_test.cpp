@@ -43,7 +43,9 @@ TEST(ClosestPoint, OnASphereMatchesExhaustiveSearchAndTheRadialDistance) {
   auto rng = test::make_rng(11);
   std::normal_distribution<double> normal;
   for (int trial = 0; trial < 50; ++trial) {
-    const Eigen::Vector3d dir = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    Eigen::Vector3d dir;
+    for (int k = 0; k < 3; ++k) dir[k] = normal(rng);  // drawn in order on every compiler
+    dir.normalize();
     const double radius = r * (0.7 + 0.6 * (trial % 7) / 6.0);
     const Eigen::Vector3d p = radius * dir;
     const SurfacePoint q = closest_point(sphere, p);

@@ -22,8 +22,9 @@ Eigen::MatrixX3d sphere_samples(int count, double offset, std::uint64_t salt) {
   std::normal_distribution<double> normal;
   Eigen::MatrixX3d P(count, 3);
   for (int s = 0; s < count; ++s) {
-    P.row(s) = Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)).normalized() * kSphereRadius *
-               (1.0 + offset);
+    Eigen::RowVector3d d;
+    for (int k = 0; k < 3; ++k) d[k] = normal(rng);  // drawn in order on every compiler
+    P.row(s) = d.normalized() * kSphereRadius * (1.0 + offset);
   }
   return P;
 }

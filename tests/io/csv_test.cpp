@@ -84,7 +84,8 @@ TEST(Csv, WriteReadRoundTripIsBitExact) {
   std::vector<double> a;
   std::vector<double> b;
   for (int i = 0; i < 500; ++i) {
-    a.push_back(u(rng) * std::pow(10.0, e(rng)));  // includes subnormals and 0
+    const double mantissa = u(rng);
+    a.push_back(mantissa * std::pow(10.0, e(rng)));  // includes subnormals and 0
     b.push_back(std::nextafter(u(rng), 2.0));
   }
   a.push_back(-0.0);

@@ -21,7 +21,10 @@ SurfaceMesh random_surface(std::mt19937_64& rng, int nv, int nf) {
   SurfaceMesh m;
   m.V.resize(nv, 3);
   for (int i = 0; i < nv; ++i) {
-    for (int c = 0; c < 3; ++c) m.V(i, c) = mantissa(rng) * std::pow(10.0, exponent(rng));
+    for (int c = 0; c < 3; ++c) {
+      const double digits = mantissa(rng);  // drawn before the exponent on every compiler
+      m.V(i, c) = digits * std::pow(10.0, exponent(rng));
+    }
   }
   std::uniform_int_distribution<int> pick(0, nv - 1);
   m.F.resize(nf, 3);

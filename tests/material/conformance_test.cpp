@@ -42,7 +42,10 @@ std::vector<Vec3> probe_stretches(bool inversion_safe) {
   auto rng = palpa::test::make_rng(7);
   std::uniform_real_distribution<double> u(0.6, 1.6);
   std::vector<Vec3> pts;
-  for (int i = 0; i < 6; ++i) pts.emplace_back(u(rng), u(rng), u(rng));
+  for (int i = 0; i < 6; ++i) {
+    const double a = u(rng), b = u(rng), c = u(rng);  // drawn in order on every compiler
+    pts.emplace_back(a, b, c);
+  }
   pts.emplace_back(1.3, 1.3, 0.8);     // λ1 = λ2
   pts.emplace_back(0.9, 1.2, 0.9);     // λ1 = λ3
   pts.emplace_back(1.15, 1.15, 1.15);  // all equal
@@ -157,7 +160,8 @@ std::vector<Mat3> probe_gradients(bool inversion_safe) {
   std::uniform_real_distribution<double> u(0.7, 1.4);
   std::uniform_real_distribution<double> a(-3.0, 3.0);
   const auto rot = [&] {
-    return Eigen::AngleAxisd(a(rng), Vec3(a(rng), a(rng), a(rng)).normalized()).toRotationMatrix();
+    const double angle = a(rng), x = a(rng), y = a(rng), z = a(rng);  // drawn in order on every compiler
+    return Eigen::AngleAxisd(angle, Vec3(x, y, z).normalized()).toRotationMatrix();
   };
   std::vector<Mat3> fs;
   for (int i = 0; i < 4; ++i) {

@@ -102,7 +102,9 @@ Mat34 random_deformed(const Mat34& X, std::mt19937_64& rng) {
 TEST(TetRestDerivative, ElementMatchesFiniteDifferencesAtFixedDeformedCorners) {
   auto rng = palpa::test::make_rng(401);
   std::uniform_real_distribution<double> dz(-1.0, 1.0);
-  for (const auto& [name, m] : test_materials()) {
+  for (const auto& entry : test_materials()) {
+    const auto& name = entry.name;
+    const auto& m = entry.material;  // a plain reference: a lambda below captures it
     for (int trial = 0; trial < 3; ++trial) {
       SCOPED_TRACE(name + ", trial " + std::to_string(trial));
       const Mat34 X = random_rest_tet(rng);
