@@ -4,10 +4,13 @@
 # OpenBLAS (pthread build) takes over libblas.so.3 and liblapack.so.3 from the
 # ATLAS that Ceres brings, by the priority of Debian's alternatives: CHOLMOD's
 # supernodal factorizations run on it (`palpa --version` names the BLAS in use).
+# clang (with its sanitizer runtimes) builds the sanitizer pass of `make test`:
+# it compiles ASan + UBSan code in half the time g++ takes.
 set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config
+  clang libclang-rt-14-dev
   libeigen3-dev libsuitesparse-dev libtbb-dev
   libcgal-dev libgmp-dev libmpfr-dev libtet1.5-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
