@@ -1,7 +1,9 @@
 # palpa — the two commands of the README, plus a few conveniences.
-#   make demo    install Debian packages if missing, build (Release), run `palpa demo`
-#   make test    install, build, run the whole suite: sanitizer build over the unit
-#                tests, then the Release build over everything (ends with ctest's summary)
+#   make demo    install Debian packages if missing, build the command line (Release),
+#                run `palpa demo`
+#   make test    install, build, run the whole suite, every test once: the unit tests
+#                in the sanitizer build, then the physics and command-line tests in the
+#                Release build (ends with ctest's summary)
 #   make bench   build (Release) and run the benchmarks, one JSON line per figure
 # Repeated calls rebuild incrementally.
 
@@ -15,9 +17,10 @@ all: build
 setup:
 	@bash scripts/setup.sh
 
+# The command line alone: what `make demo` runs.
 build: setup
 	cmake --preset release >/dev/null
-	cmake --build --preset release -j $(JOBS)
+	cmake --build --preset release -j $(JOBS) --target palpa_cli
 
 demo: build
 	./build/release/apps/palpa/palpa demo --out $(DEMO_OUT)
@@ -27,7 +30,9 @@ test-asan: setup
 	cmake --build --preset asan -j $(JOBS)
 	ctest --preset asan -j $(JOBS)
 
-test-release: build
+test-release: setup
+	cmake --preset release >/dev/null
+	cmake --build --preset release -j $(JOBS)
 	ctest --preset release -j $(JOBS)
 
 # The sanitizer pass runs first so that the output ends with the summary of the

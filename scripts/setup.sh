@@ -4,8 +4,8 @@
 # OpenBLAS (pthread build) takes over libblas.so.3 and liblapack.so.3 from the
 # ATLAS that Ceres brings, by the priority of Debian's alternatives: CHOLMOD's
 # supernodal factorizations run on it (`palpa --version` names the BLAS in use).
-# clang (with its sanitizer runtimes) builds the sanitizer pass of `make test`:
-# it compiles ASan + UBSan code in half the time g++ takes.
+# clang (with its sanitizer runtimes) builds palpa: about 25% faster than g++
+# for the Release build, and half the time for the ASan + UBSan build.
 set -euo pipefail
 
 packages=(
