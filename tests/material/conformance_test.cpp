@@ -365,6 +365,20 @@ TEST(SignedSvd, TwoByTwoClosedFormReconstructs) {
     ASSERT_GE(s.sigma[0], std::abs(s.sigma[1]) - 1e-15);
     ASSERT_NEAR(s.sigma.prod(), F.determinant(), 1e-12);
   }
+  // Where one part vanishes or the half-angle root changes branch: a pure
+  // rotation by nearly π, a reflection, a zero matrix, a rank-one matrix.
+  const double pi = 3.14159265358979323846;
+  for (const Mat2& F : {Mat2((Mat2() << std::cos(pi - 1e-9), -std::sin(pi - 1e-9), std::sin(pi - 1e-9),
+                              std::cos(pi - 1e-9)).finished()),
+                        Mat2((Mat2() << -1.0, 0.0, 0.0, -1.0).finished()), Mat2((Mat2() << 1.0, 0.0, 0.0, -1.0).finished()),
+                        Mat2((Mat2() << 0.0, 2.0, 2.0, 0.0).finished()), Mat2(Mat2::Zero()),
+                        Mat2((Mat2() << 1.0, 2.0, 0.5, 1.0).finished()), Mat2((Mat2() << -0.3, 1e-12, -1e-12, -0.7).finished())}) {
+    const Svd2 s = signed_svd(F);
+    EXPECT_LE((s.U * s.sigma.asDiagonal() * s.V.transpose() - F).cwiseAbs().maxCoeff(), 1e-14) << F;
+    EXPECT_NEAR(s.U.determinant(), 1.0, 1e-14) << F;
+    EXPECT_NEAR(s.V.determinant(), 1.0, 1e-14) << F;
+    EXPECT_GE(s.sigma[0], std::abs(s.sigma[1])) << F;
+  }
   const Svd2 id = signed_svd(Mat2(Mat2::Identity()));
   EXPECT_NEAR(id.sigma[0], 1.0, 1e-15);
   EXPECT_NEAR(id.sigma[1], 1.0, 1e-15);

@@ -61,26 +61,45 @@ Svd3 signed_svd(const Mat3& F) {
   return out;
 }
 
+namespace {
+
+// The unit complex number (c, s) = e^{iθ}, and a square root of it: e^{iθ/2}
+// or −e^{iθ/2} (either serves: see signed_svd). Without trigonometry:
+// √w = (1 + w)/|1 + w| where Re w >= 0, else i (1 − w)/|1 − w|.
+Vec2 unit_sqrt(double c, double s) {
+  if (c >= 0.0) {
+    const double n = std::sqrt((1.0 + c) * (1.0 + c) + s * s);
+    return Vec2((1.0 + c) / n, s / n);
+  }
+  const double n = std::sqrt((1.0 - c) * (1.0 - c) + s * s);
+  return Vec2(s / n, (1.0 - c) / n);
+}
+
+}  // namespace
+
 Svd2 signed_svd(const Mat2& F) {
   // F = q R(φ1) + r R(φ2) K with K = diag(1, −1): the conformal and
-  // anti-conformal parts. Then F = R(α) diag(q + r, q − r) R(β)ᵀ with
-  // α = (φ1 + φ2)/2, β = (φ2 − φ1)/2.
+  // anti-conformal parts. Then F = R(α) diag(q + r, q − r) R(β)ᵀ for any α, β
+  // with α + β = φ2 and α − β = φ1 (mod 2π). With z1 = e^{iφ1}, z2 = e^{iφ2}:
+  // e^{iα} = √(z1 z2) (either root) and e^{iβ} = e^{iα} / z1, all algebraic.
   const double e = 0.5 * (F(0, 0) + F(1, 1));
   const double f = 0.5 * (F(0, 0) - F(1, 1));
   const double g = 0.5 * (F(1, 0) + F(0, 1));
   const double h = 0.5 * (F(1, 0) - F(0, 1));
   const double q = std::hypot(e, h);
   const double r = std::hypot(f, g);
-  const double phi1 = std::atan2(h, e);
-  const double phi2 = std::atan2(g, f);
-  const double alpha = 0.5 * (phi1 + phi2);
-  const double beta = 0.5 * (phi2 - phi1);
+  // z1, z2 (1 where the part vanishes: any angle serves there).
+  const double c1 = q > 0.0 ? e / q : 1.0;
+  const double s1 = q > 0.0 ? h / q : 0.0;
+  const double c2 = r > 0.0 ? f / r : 1.0;
+  const double s2 = r > 0.0 ? g / r : 0.0;
+  const Vec2 za = unit_sqrt(c1 * c2 - s1 * s2, s1 * c2 + c1 * s2);
+  const double ca = za[0];
+  const double sa = za[1];
+  const double cb = ca * c1 + sa * s1;  // e^{iα} · conj(z1)
+  const double sb = sa * c1 - ca * s1;
   Svd2 out;
   out.sigma = Vec2(q + r, q - r);
-  const double ca = std::cos(alpha);
-  const double sa = std::sin(alpha);
-  const double cb = std::cos(beta);
-  const double sb = std::sin(beta);
   out.U << ca, -sa, sa, ca;
   out.V << cb, -sb, sb, cb;
   return out;
