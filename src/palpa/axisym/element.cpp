@@ -95,56 +95,67 @@ Mat5 d2jacobian(const Vec5& x) {
   return h;
 }
 
-// Per Gauss point: the F-bar scaling s = (J̄/J)^(1/3) of x and its first and
-// second derivatives in u, through q = ln s = (ln J̄ − ln J)/3.
+// Per Gauss point: the F-bar scaling s = (J̄/J)^(1/3) of x and its first
+// derivative in u, through q = ln s = (ln J̄ − ln J)/3, J̄ = Σ w_p J_p / W.
+// The second derivative ∇²q_p = (A − B_p)/3, A = ∇²J̄/J̄ − ∇J̄∇J̄ᵀ/J̄²,
+// B_p = ∇²J_p/J_p − ∇J_p∇J_pᵀ/J_p², enters the element Hessian only as
+// Σ_p c_p ∇²q_p for scalars c_p known after the stresses, so it is never
+// formed per point (add_weighted_d2q).
 struct FBarKinematics {
   std::array<Vec5, kGaussPoints> x;
+  std::array<double, kGaussPoints> jac;
   std::array<double, kGaussPoints> s;
+  std::array<Vec8, kGaussPoints> dj;  // ∇J_p
   std::array<Vec8, kGaussPoints> dq;
-  std::array<Mat8, kGaussPoints> d2q;
+  double total_weight = 0.0;
+  double jbar = 0.0;
+  Vec8 djbar;
 };
 
 // Returns false for an inverted or degenerate Gauss point.
-bool fbar_kinematics(const QuadGeometry& g, const Vec8& u, bool first, bool second,
-                     FBarKinematics& k) {
-  std::array<double, kGaussPoints> jac{};
-  std::array<Vec8, kGaussPoints> dj{};
-  std::array<Mat8, kGaussPoints> d2j{};
-  double total_weight = 0.0;
-  double jbar = 0.0;
-  Vec8 djbar = Vec8::Zero();
-  Mat8 d2jbar = Mat8::Zero();
+bool fbar_kinematics(const QuadGeometry& g, const Vec8& u, bool first, FBarKinematics& k) {
+  k.total_weight = 0.0;
+  k.jbar = 0.0;
+  k.djbar.setZero();
   for (int p = 0; p < kGaussPoints; ++p) {
     const auto pp = static_cast<std::size_t>(p);
     k.x[pp] = rest_x() + g.b[pp] * u;
     const Vec5& x = k.x[pp];
     if (!(x[0] * x[3] - x[2] * x[1] > 0.0) || !(x[4] > 0.0)) return false;
-    jac[pp] = jacobian_of(x);
-    total_weight += g.weight[pp];
-    jbar += g.weight[pp] * jac[pp];
+    k.jac[pp] = jacobian_of(x);
+    k.total_weight += g.weight[pp];
+    k.jbar += g.weight[pp] * k.jac[pp];
     if (first) {
-      dj[pp] = g.b[pp].transpose() * djacobian(x);
-      djbar += g.weight[pp] * dj[pp];
-    }
-    if (second) {
-      d2j[pp] = g.b[pp].transpose() * d2jacobian(x) * g.b[pp];
-      d2jbar += g.weight[pp] * d2j[pp];
+      k.dj[pp].noalias() = g.b[pp].transpose() * djacobian(x);
+      k.djbar += g.weight[pp] * k.dj[pp];
     }
   }
-  jbar /= total_weight;
-  djbar /= total_weight;
-  d2jbar /= total_weight;
+  k.jbar /= k.total_weight;
+  k.djbar /= k.total_weight;
   for (int p = 0; p < kGaussPoints; ++p) {
     const auto pp = static_cast<std::size_t>(p);
-    k.s[pp] = std::cbrt(jbar / jac[pp]);
-    if (first) k.dq[pp] = (djbar / jbar - dj[pp] / jac[pp]) / 3.0;
-    if (second) {
-      k.d2q[pp] = ((d2jbar / jbar - djbar * djbar.transpose() / (jbar * jbar)) -
-                   (d2j[pp] / jac[pp] - dj[pp] * dj[pp].transpose() / (jac[pp] * jac[pp]))) /
-                  3.0;
-    }
+    k.s[pp] = std::cbrt(k.jbar / k.jac[pp]);
+    if (first) k.dq[pp] = (k.djbar / k.jbar - k.dj[pp] / k.jac[pp]) / 3.0;
   }
   return true;
+}
+
+// H += Σ_p c_p ∇²q_p (see FBarKinematics):
+// 3 Σ c_p ∇²q_p = Σ_p α_p ∇²J_p − (C/J̄²) ∇J̄∇J̄ᵀ + Σ_p (c_p/J_p²) ∇J_p∇J_pᵀ,
+// C = Σ c_p, α_p = C w_p/(W J̄) − c_p/J_p, ∇²J_p = B_pᵀ ∇²J(x_p) B_p.
+void add_weighted_d2q(const QuadGeometry& g, const FBarKinematics& k,
+                      const std::array<double, kGaussPoints>& c, Mat8& h) {
+  double csum = 0.0;
+  for (double v : c) csum += v;
+  Mat8 acc = (-csum / (k.jbar * k.jbar)) * (k.djbar * k.djbar.transpose());
+  for (int p = 0; p < kGaussPoints; ++p) {
+    const auto pp = static_cast<std::size_t>(p);
+    const double alpha = csum * g.weight[pp] / (k.total_weight * k.jbar) - c[pp] / k.jac[pp];
+    const Eigen::Matrix<double, 5, 8> hb = d2jacobian(k.x[pp]) * g.b[pp];
+    acc.noalias() += alpha * (g.b[pp].transpose() * hb);
+    acc.noalias() += (c[pp] / (k.jac[pp] * k.jac[pp])) * (k.dj[pp] * k.dj[pp].transpose());
+  }
+  h += acc / 3.0;
 }
 
 bool evaluate_fbar(const material::Material& m, const QuadGeometry& g, const Vec8& u,
@@ -153,8 +164,9 @@ bool evaluate_fbar(const material::Material& m, const QuadGeometry& g, const Vec
   const bool first = order != material::EvalOrder::Energy;
   const bool second = order == material::EvalOrder::Hessian;
   FBarKinematics k;
-  if (!fbar_kinematics(g, u, first, second, k)) return false;
+  if (!fbar_kinematics(g, u, first, k)) return false;
   material::StressAxisym st;
+  std::array<double, kGaussPoints> c{};  // the weights of ∇²q_p in the Hessian
   for (int p = 0; p < kGaussPoints; ++p) {
     const auto pp = static_cast<std::size_t>(p);
     if (kstab > 0.0) {
@@ -163,7 +175,10 @@ bool evaluate_fbar(const material::Material& m, const QuadGeometry& g, const Vec
       const double w9 = 9.0 * kstab * g.weight[pp];
       out.energy += 0.5 * w9 * q * q;
       if (first) out.gradient += w9 * q * k.dq[pp];
-      if (second) out.hessian += w9 * (k.dq[pp] * k.dq[pp].transpose() + q * k.d2q[pp]);
+      if (second) {
+        out.hessian.noalias() += w9 * (k.dq[pp] * k.dq[pp].transpose());
+        c[pp] += w9 * q;
+      }
     }
     const Vec5 xbar = k.s[pp] * k.x[pp];
     material::stress_axisymmetric(m, in_plane(xbar), xbar[4], order, projection, st);
@@ -178,10 +193,12 @@ bool evaluate_fbar(const material::Material& m, const QuadGeometry& g, const Vec
     const Vec8 btp = g.b[pp].transpose() * st.P;
     const double px = st.P.dot(k.x[pp]);
     const Vec8& dq = k.dq[pp];
-    out.hessian.noalias() += w * (d.transpose() * st.dPdF * d);
-    out.hessian.noalias() +=
-        (w * k.s[pp]) * (px * (dq * dq.transpose() + k.d2q[pp]) + dq * btp.transpose() + btp * dq.transpose());
+    const Eigen::Matrix<double, 5, 8> pd = st.dPdF * d;
+    out.hessian.noalias() += w * (d.transpose() * pd);
+    out.hessian.noalias() += (w * k.s[pp]) * (px * (dq * dq.transpose()) + dq * btp.transpose() + btp * dq.transpose());
+    c[pp] += w * k.s[pp] * px;
   }
+  if (second) add_weighted_d2q(g, k, c, out.hessian);
   return std::isfinite(out.energy);
 }
 
@@ -220,7 +237,7 @@ void element_dgradient_dparam(const material::Material& m, const QuadGeometry& g
   out.setZero();
   FBarKinematics k;
   const bool fbar = options.formulation == ElementFormulation::FBar;
-  if (fbar && !fbar_kinematics(g, u, true, false, k)) {
+  if (fbar && !fbar_kinematics(g, u, true, k)) {
     throw Error(ErrorKind::Internal, "parameter derivative requested at an inverted element");
   }
   for (int p = 0; p < kGaussPoints; ++p) {
@@ -232,7 +249,8 @@ void element_dgradient_dparam(const material::Material& m, const QuadGeometry& g
       d = k.s[pp] * (g.b[pp] + k.x[pp] * k.dq[pp].transpose());
     }
     material::dP_dparam_axisymmetric(m, in_plane(x), x[4], work3, work5);
-    out.noalias() += g.weight[pp] * d.transpose() * work5;
+    // (coefficient-based: a blocked product is slower for an 8×5 by 5×p)
+    out.noalias() += g.weight[pp] * d.transpose().lazyProduct(work5);
   }
 }
 
@@ -242,7 +260,7 @@ ElementState element_state(const material::Material& m, const QuadGeometry& g, c
   out.stretches.setZero();
   out.jacobian = 0.0;
   FBarKinematics k;
-  const bool fbar = options.formulation == ElementFormulation::FBar && fbar_kinematics(g, u, false, false, k);
+  const bool fbar = options.formulation == ElementFormulation::FBar && fbar_kinematics(g, u, false, k);
   double total = 0.0;
   material::StressAxisym st;
   for (int p = 0; p < kGaussPoints; ++p) {
