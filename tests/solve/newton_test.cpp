@@ -218,6 +218,102 @@ TEST(Newton, ShiftsAnIndefiniteHessianWithTheEigenFallbackToo) {
   EXPECT_GT(r.history.front().shift, 0.0);
 }
 
+// Wells alternately inside (|x| < 1/√3, negative curvature) and outside the
+// concave region, so H is indefinite but the clamped stand-in is definite.
+Eigen::VectorXd mixed_wells(Eigen::Index n) {
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) x[i] = (i % 4 == 0) ? 1.3 : 0.1 + 0.02 * std::sin(static_cast<double>(i));
+  return x;
+}
+
+TEST(Newton, StepsWithTheProjectedStandInWhereHIsIndefinite) {
+  const Eigen::Index n = 40;
+  test::DoubleWellChain system(n, 0.1);
+  system.offer_projected_hessian(test::DoubleWellChain::StandIn::Clamp);
+  EXPECT_LT(dense_hessian(system, mixed_wells(n)).selfadjointView<Eigen::Lower>().eigenvalues().minCoeff(), 0.0);
+  NewtonOptions o;
+  o.gradient_abs_tol = 1e-12;
+  o.gradient_rel_tol = 0.0;
+
+  Eigen::VectorXd x = mixed_wells(n);
+  NewtonSolver solver(o);
+  const NewtonResult r = solver.solve(system, x);
+  ASSERT_TRUE(r.converged()) << r.message;
+  EXPECT_LT((x - Eigen::VectorXd::Ones(n)).lpNorm<Eigen::Infinity>(), 1e-12);
+  ASSERT_FALSE(r.history.empty());
+  EXPECT_TRUE(r.history.front().projected);
+  EXPECT_EQ(r.history.front().shift, 0.0);           // the stand-in factors as it is
+  EXPECT_EQ(r.history.front().factorizations, 2);    // H failed, then P
+  EXPECT_FALSE(r.history.back().projected);          // H again near the minimizer
+  EXPECT_EQ(r.history.back().factorizations, 1);
+
+  // The same solve shifting H instead: the same minimizer, more work.
+  Eigen::VectorXd y = mixed_wells(n);
+  o.use_projected_hessian = false;
+  NewtonSolver shifting(o);
+  const NewtonResult s = shifting.solve(system, y);
+  ASSERT_TRUE(s.converged()) << s.message;
+  EXPECT_LT((y - x).lpNorm<Eigen::Infinity>(), 1e-12);
+  EXPECT_FALSE(s.history.front().projected);
+  EXPECT_GT(s.history.front().shift, 0.0);
+  EXPECT_LT(r.factorizations, s.factorizations);
+}
+
+// From the wells' maxima the |curvature| stand-in steps outward but the
+// gradient grows: after that one step Newton shifts H instead.
+TEST(Newton, StopsProjectingWhenTheStandInStopsCuttingTheGradient) {
+  const Eigen::Index n = 10;
+  test::DoubleWellChain system(n, 0.1);
+  system.offer_projected_hessian(test::DoubleWellChain::StandIn::Absolute);
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 0.1);
+  NewtonOptions o;
+  o.gradient_abs_tol = 1e-12;
+  o.gradient_rel_tol = 0.0;
+  NewtonSolver solver(o);
+  const NewtonResult r = solver.solve(system, x);
+  ASSERT_TRUE(r.converged()) << r.message;
+  EXPECT_LT((x - Eigen::VectorXd::Ones(n)).lpNorm<Eigen::Infinity>(), 1e-12);
+  ASSERT_GE(r.history.size(), 3u);
+  EXPECT_TRUE(r.history[0].projected);
+  EXPECT_GT(r.history[0].gradient_norm, o.projected_progress * 4.0 * 0.1 * (1.0 - 0.01));  // did not cut |g|
+  bool shifted = false;
+  for (std::size_t k = 1; k < r.history.size(); ++k) {
+    EXPECT_FALSE(r.history[k].projected) << "iteration " << k;
+    shifted = shifted || r.history[k].shift > 0.0;
+  }
+  EXPECT_TRUE(shifted) << "H was still indefinite after the projected step";
+}
+
+TEST(Newton, IgnoresASystemWithoutAStandIn) {
+  test::DoubleWellChain system(20, 0.1);  // offers none
+  Eigen::VectorXd x = mixed_wells(20);
+  NewtonOptions o;
+  o.gradient_abs_tol = 1e-12;
+  o.gradient_rel_tol = 0.0;
+  NewtonSolver solver(o);
+  const NewtonResult r = solver.solve(system, x);
+  ASSERT_TRUE(r.converged()) << r.message;
+  for (const NewtonIteration& it : r.history) EXPECT_FALSE(it.projected);
+  EXPECT_GT(r.history.front().shift, 0.0);
+}
+
+TEST(DoubleWellChain, TheStandInIsTheHessianWithEachWellClampedAtZero) {
+  test::DoubleWellChain system(6, 0.3);
+  Eigen::VectorXd x(6);
+  x << 0.1, 1.2, -0.3, 0.9, 0.0, -1.1;
+  SpMat P;
+  EXPECT_FALSE(system.projected_hessian(x, P));
+  system.offer_projected_hessian(test::DoubleWellChain::StandIn::Clamp);
+  ASSERT_TRUE(system.projected_hessian(x, P));
+  const Eigen::MatrixXd H = dense_hessian(system, x);
+  const Eigen::MatrixXd Pd(test::symmetric_from_lower(P));
+  for (Eigen::Index i = 0; i < 6; ++i) {
+    const double well = 12.0 * x[i] * x[i] - 4.0;
+    EXPECT_NEAR(Pd(i, i) - H(i, i), std::max(0.0, -well), 1e-14) << i;
+  }
+  EXPECT_GE(Pd.selfadjointView<Eigen::Lower>().eigenvalues().minCoeff(), -1e-12);
+}
+
 TEST(DoubleWellChain, GradientAndHessianMatchFiniteDifferences) {
   test::DoubleWellChain system(6, 0.3);
   auto rng = make_rng(23);

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -108,9 +109,21 @@ void DoubleWellChain::gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) con
 }
 
 void DoubleWellChain::hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const {
+  assemble(x, StandIn::None, H);
+}
+
+bool DoubleWellChain::projected_hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const {
+  if (stand_in_ == StandIn::None) return false;
+  assemble(x, stand_in_, H);
+  return true;
+}
+
+void DoubleWellChain::assemble(const Eigen::VectorXd& x, StandIn kind, Eigen::SparseMatrix<double>& H) const {
   ensure_banded_pattern(H, n_, true);
   for (Eigen::Index i = 0; i < n_; ++i) {
     double d = 12.0 * x[i] * x[i] - 4.0;
+    if (kind == StandIn::Clamp) d = std::max(d, 0.0);
+    if (kind == StandIn::Absolute) d = std::abs(d);
     if (i > 0) d += 2.0 * kappa_;
     if (i + 1 < n_) d += 2.0 * kappa_;
     H.coeffRef(i, i) = d;

@@ -49,10 +49,18 @@ class DoubleWellChain final : public System {
   double energy(const Eigen::VectorXd& x) const override;
   void gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
   void hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const override;
+  // A PSD stand-in (the coupling is PSD): each well's curvature clamped at 0,
+  // or its absolute value (which, near the wells' maxima, overestimates the
+  // curvature and makes steps that hardly cut the gradient).
+  enum class StandIn { None, Clamp, Absolute };
+  bool projected_hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const override;
+  void offer_projected_hessian(StandIn kind) { stand_in_ = kind; }
 
  private:
+  void assemble(const Eigen::VectorXd& x, StandIn kind, Eigen::SparseMatrix<double>& H) const;
   Eigen::Index n_;
   double kappa_;
+  StandIn stand_in_ = StandIn::None;
 };
 
 // E = Σ c_i x_i − ln x_i, +inf unless every x_i > 0. Minimizer x_i = 1/c_i.

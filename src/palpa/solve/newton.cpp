@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
@@ -60,19 +61,25 @@ Eigen::VectorXd shift_diagonal(const Eigen::SparseMatrix<double>& H) {
 struct Direction {
   bool ok = false;
   double shift = 0.0;
+  bool projected = false;  // the step came from the system's PSD stand-in for H
   int factorizations = 0;
   FactorStatus status = FactorStatus::NotFactored;
 };
 
-// d = −(H + σD)⁻¹ g with the smallest σ of the sequence 0, σ0, σ0·growth, ...
-// that factors and gives a descent direction (g·d < 0).
+// d = −A⁻¹ g, first with A = H; where H does not factor or gives no descent
+// direction, with A = P (the system's PSD stand-in, when it has one and
+// use_projected_hessian is on); then with A = M + σD (M: P if there is one,
+// else H) for the smallest σ of the sequence σ0, σ0·growth, ... that factors
+// and gives a descent direction (g·d < 0).
+using ProjectedHessian = std::function<const Eigen::SparseMatrix<double>*()>;
+
 Direction newton_direction(SymmetricFactorization& factor, const Eigen::SparseMatrix<double>& H,
-                           const Eigen::VectorXd& g, Eigen::VectorXd& d, double& last_shift,
-                           const NewtonOptions& options) {
+                           const ProjectedHessian& projected, const Eigen::VectorXd& g,
+                           Eigen::VectorXd& d, double& last_shift, const NewtonOptions& options) {
   Direction r;
-  auto attempt = [&](double sigma, const Eigen::VectorXd& D) {
+  auto attempt = [&](const Eigen::SparseMatrix<double>& A, double sigma, const Eigen::VectorXd& D) {
     ++r.factorizations;
-    r.status = factor.factorize(H, sigma, D);
+    r.status = factor.factorize(A, sigma, D);
     if (r.status != FactorStatus::Ok) return false;
     d = factor.solve(-g);
     return d.allFinite() && g.dot(d) < 0.0;
@@ -80,17 +87,27 @@ Direction newton_direction(SymmetricFactorization& factor, const Eigen::SparseMa
   auto hopeless = [](FactorStatus s) {
     return s == FactorStatus::NonFiniteInput || s == FactorStatus::OutOfMemory;
   };
-  if (attempt(0.0, Eigen::VectorXd())) {
+  if (attempt(H, 0.0, Eigen::VectorXd())) {
     r.ok = true;
     return r;
   }
   if (hopeless(r.status)) return r;
-  const Eigen::VectorXd D = shift_diagonal(H);
+  const Eigen::SparseMatrix<double>* P = projected();
+  if (P != nullptr) {
+    r.projected = true;
+    if (attempt(*P, 0.0, Eigen::VectorXd())) {
+      r.ok = true;
+      return r;
+    }
+    if (hopeless(r.status)) return r;
+  }
+  const Eigen::SparseMatrix<double>& M = P != nullptr ? *P : H;
+  const Eigen::VectorXd D = shift_diagonal(M);
   double sigma = last_shift > 0.0
                      ? std::max(options.shift_initial, last_shift / options.shift_growth)
                      : options.shift_initial;
   for (int k = 0; k < options.max_shift_attempts; ++k, sigma *= options.shift_growth) {
-    if (attempt(sigma, D)) {
+    if (attempt(M, sigma, D)) {
       r.ok = true;
       r.shift = sigma;
       last_shift = sigma;
@@ -153,6 +170,7 @@ void NewtonSolver::set_options(const NewtonOptions& options) {
 
 void NewtonSolver::reset_system() noexcept {
   hessian_ = Eigen::SparseMatrix<double>();
+  projected_ = Eigen::SparseMatrix<double>();
   bound_system_ = nullptr;
   bound_dofs_ = -1;
 }
@@ -162,6 +180,7 @@ void NewtonSolver::bind_system(const System& system) {
   if (&system != bound_system_ || n != bound_dofs_) {
     // A new system builds its own pattern into an empty matrix.
     hessian_ = Eigen::SparseMatrix<double>();
+    projected_ = Eigen::SparseMatrix<double>();
     bound_system_ = &system;
     bound_dofs_ = n;
   }
@@ -234,6 +253,7 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
     status = NewtonStatus::NonFiniteEnergy;
     message = fmt::format("energy {} or its gradient is not finite at the starting point", energy);
   }
+  bool projection_helps = options_.use_projected_hessian;
   while (status != NewtonStatus::NonFiniteEnergy) {
     check_interrupt();
     if (gnorm <= r.gradient_tolerance) {
@@ -268,7 +288,15 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
 
     system.hessian(x, hessian_);
     ++r.hessian_evaluations;
-    const Direction dir = newton_direction(*factor_, hessian_, g, d, last_shift, options_);
+    // The PSD stand-in is assembled only if H fails.
+    const ProjectedHessian projected = [&]() -> const Eigen::SparseMatrix<double>* {
+      if (!projection_helps) return nullptr;
+      if (projected_.rows() != hessian_.rows() || projected_.nonZeros() != hessian_.nonZeros()) projected_ = hessian_;
+      if (!system.projected_hessian(x, projected_)) return nullptr;
+      ++r.hessian_evaluations;
+      return &projected_;
+    };
+    const Direction dir = newton_direction(*factor_, hessian_, projected, g, d, last_shift, options_);
     r.last_factor_status = dir.status;
     if (!dir.ok) {
       status = NewtonStatus::FactorizationFailed;
@@ -320,10 +348,14 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
 
     x += ls.step * d;
     const double gnorm_before = gnorm;
-    if (!commit_step(NewtonIteration{0.0, 0.0, ls.step, dir.shift, ls.evaluations, dir.factorizations}, "step")) {
-      break;
-    }
-    chord_ready = options_.chord_ratio > 0.0 && ls.step == 1.0 && dir.shift == 0.0 &&
+    NewtonIteration it{0.0, 0.0, ls.step, dir.shift, ls.evaluations, dir.factorizations};
+    it.projected = dir.projected;
+    if (!commit_step(it, dir.projected ? "projected step" : "step")) break;
+    // Near a saddle or an instability the stand-in, blind to the negative
+    // curvature, creeps (‖g‖ falling by a constant factor near 1 per step):
+    // from then on this solve shifts H, which can move along that curvature.
+    if (dir.projected && gnorm > options_.projected_progress * gnorm_before) projection_helps = false;
+    chord_ready = options_.chord_ratio > 0.0 && ls.step == 1.0 && dir.shift == 0.0 && !dir.projected &&
                   gnorm * options_.chord_ratio <= gnorm_before;
   }
 

@@ -16,6 +16,10 @@ double System::energy_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) con
 
 void System::prepare(const Eigen::VectorXd& /*x*/) {}
 
+bool System::projected_hessian(const Eigen::VectorXd& /*x*/, Eigen::SparseMatrix<double>& /*H*/) const {
+  return false;
+}
+
 ParametricSystem::~ParametricSystem() = default;
 
 Eigen::MatrixXd solution_param_jacobian(const SymmetricFactorization& hessian_factor,

@@ -74,6 +74,14 @@ class System {
   // the true Hessian, so such a system should let the caller switch that off.
   virtual void hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const = 0;
 
+  // A positive semi-definite stand-in for H at x, in the pattern hessian()
+  // builds (e.g. the sum of each element's Hessian projected to PSD). Newton
+  // steps with it where H itself is not positive definite, before it shifts H
+  // (see newton.hpp): far from a minimizer it is a far better model of the
+  // energy than H + σD with a large σ. Returns false when the system has none
+  // (the default); H is then untouched.
+  virtual bool projected_hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const;
+
   // Commits state at x: called by the solver at the start and at each accepted
   // iterate, before gradient/Hessian there (see above). Default: nothing.
   virtual void prepare(const Eigen::VectorXd& x);
