@@ -2,6 +2,7 @@
 // the force, the curve's start, bad input. Physics: poke_physics_test.cpp.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <cmath>
 #include <random>
@@ -93,6 +94,52 @@ TEST(PokeModel, GradientAndHessianMatchFiniteDifferencesWithContactActive) {
                                   palpa::test::fd_gradient(e_of, zero, 1.0), 1e-6));
     EXPECT_TRUE(derivatives_match(full * v, palpa::test::fd_jacobian(g_of, zero, 1.0), 1e-5));
   }
+}
+
+// The adjoint product (∂g/∂θ)ᵀλ against the assembled ∂g/∂θ, and the PSD
+// stand-in: positive semi-definite at every depth, and H itself in the limit
+// of a vanishing strain.
+TEST(PokeModel, AdjointProductAndProjectedHessian) {
+  const material::NeoHookean nh(kE, 0.45);
+  const material::SplineMaterial spline = material::SplineMaterial::from_model(nh);
+  PokeSetup s = setup_for(3 * kA, 0, PunchContact::Stick);
+  s.fillet_radius = 0.1 * kA;
+  PokeSimulator sim(spline, s);
+  PokeOptions o;
+  o.max_depth = 0.6 * kA;
+  o.steps = 6;
+  auto rng = palpa::test::make_rng(5);
+  std::normal_distribution<double> n01;
+  int checked = 0;
+  // At each depth's equilibrium (the model is at that depth only in the callback).
+  sim.run(o, [&](const PokeModel& model, const Eigen::VectorXd& x, const PokeSample& sample) {
+    const bool deep = sample.depth > 0.55 * kA;
+    ++checked;
+    if (deep) {
+      ASSERT_GT(sample.contact_nodes, 0) << "the test needs the rim in contact";
+      Eigen::VectorXd lambda(model.num_dofs());
+      for (Eigen::Index i = 0; i < lambda.size(); ++i) lambda[i] = n01(rng);
+      Eigen::SparseMatrix<double> J;
+      model.gradient_param_jacobian(x, J);
+      const Eigen::VectorXd dense = J.transpose() * lambda;
+      const Eigen::VectorXd adjoint = model.gradient_param_adjoint(x, lambda);
+      ASSERT_EQ(adjoint.size(), model.num_params());
+      EXPECT_LE((adjoint - dense).lpNorm<Eigen::Infinity>(), 1e-12 * dense.lpNorm<Eigen::Infinity>());
+    }
+    Eigen::SparseMatrix<double> H, P;
+    model.hessian(x, H);  // the true Hessian (run() switches it on)
+    P = H;
+    ASSERT_TRUE(model.projected_hessian(x, P));
+    const Eigen::MatrixXd Pd = Eigen::MatrixXd(P).selfadjointView<Eigen::Lower>();
+    const Eigen::MatrixXd Hd = Eigen::MatrixXd(H).selfadjointView<Eigen::Lower>();
+    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Pd).eigenvalues();
+    EXPECT_GE(ev.minCoeff(), -1e-10 * ev.maxCoeff()) << "depth " << sample.depth;
+    const double diff = (Pd - Hd).cwiseAbs().maxCoeff() / Hd.cwiseAbs().maxCoeff();
+    // Only the geometric stiffness of the element Hessians (∝ stress, so ∝
+    // depth) is clipped: P → H as the strain vanishes.
+    EXPECT_LE(diff, 1e-3 * sample.depth / kA) << "depth " << sample.depth;
+  });
+  EXPECT_EQ(checked, 6);
 }
 
 TEST(PokeCurve, ZeroDepthHasZeroForceAndTheCurveStartsThere) {
@@ -212,6 +259,42 @@ TEST(PokePredictor, ARunAfterAnotherIsTheSameAsAFreshOne) {
     EXPECT_EQ(repeated.samples[k].newton_iterations, cold.samples[k].newton_iterations) << "step " << k;
     EXPECT_NEAR(repeated.samples[k].force, cold.samples[k].force, 1e-12 * cold.samples[k].force) << "step " << k;
   }
+}
+
+// Warm start: a run for a slightly different material, started at each depth
+// from the last run's equilibrium, reaches the same curve as a cold run with
+// fewer Newton iterations.
+TEST(PokePredictor, AWarmStartReachesTheColdCurveWithFewerIterations) {
+  const material::NeoHookean first(kE, 0.45);
+  const material::NeoHookean second(1.002 * kE, 0.45);
+  const PokeSetup s = setup_for(3 * kA, 0, PunchContact::Frictionless);
+  PokeOptions o;
+  o.max_depth = 0.4 * kA;
+  o.steps = 5;
+  PokeSimulator cold_sim(first, s);
+  cold_sim.model().set_material_params(second.params());
+  const PokeCurve cold = cold_sim.run(o);
+
+  o.warm_start = true;
+  PokeSimulator warm_sim(first, s);
+  warm_sim.run(o);
+  warm_sim.model().set_material_params(second.params());
+  const PokeCurve warm = warm_sim.run(o);
+  ASSERT_EQ(warm.samples.size(), cold.samples.size());
+  for (std::size_t k = 1; k < cold.samples.size(); ++k) {
+    EXPECT_NEAR(warm.samples[k].force, cold.samples[k].force, 1e-7 * cold.samples[k].force) << "step " << k;
+  }
+  EXPECT_LT(warm.newton_iterations, cold.newton_iterations);
+
+  // Another schedule: the stored equilibria do not apply and it runs cold.
+  o.steps = 4;
+  PokeSimulator fresh(first, s);
+  fresh.model().set_material_params(second.params());
+  o.warm_start = false;
+  const PokeCurve four_cold = fresh.run(o);
+  o.warm_start = true;
+  const PokeCurve four = warm_sim.run(o);
+  EXPECT_EQ(four.newton_iterations, four_cold.newton_iterations);
 }
 
 // ---------------------------------------------------------------- sensitivities

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <atomic>
@@ -307,13 +308,22 @@ double PokeModel::energy_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) 
 }
 
 void PokeModel::hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const {
+  assemble_hessian(x, true_hessian_, H);
+}
+
+bool PokeModel::projected_hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const {
+  assemble_hessian(x, false, H);
+  return true;
+}
+
+void PokeModel::assemble_hessian(const Eigen::VectorXd& x, bool true_hessian, Eigen::SparseMatrix<double>& H) const {
   if (H.rows() != pattern_.rows() || H.nonZeros() != pattern_.nonZeros() || !H.isCompressed()) {
     H = pattern_;
   }
   std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
   const Eigen::VectorXd u = full_displacement(x);
   const auto n_el = static_cast<std::size_t>(mesh_.num_elements());
-  const PsdProjection proj = true_hessian_ ? PsdProjection::None : PsdProjection::Clamp;
+  const PsdProjection proj = true_hessian ? PsdProjection::None : PsdProjection::Clamp;
   std::vector<Mat8> blocks(n_el);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_el, kGrain), [&](const auto& range) {
     ElementResult r;
@@ -340,7 +350,7 @@ void PokeModel::hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H
     // k (n nᵀ + φ ∇²φ); the curvature term is negative semi-definite inside a
     // convex punch, so the projected Hessian keeps only k n nᵀ.
     Eigen::Matrix2d hc = k * d.normal * d.normal.transpose();
-    if (true_hessian_) hc += k * d.phi * d.hessian;
+    if (true_hessian) hc += k * d.phi * d.hessian;
     values[contact_slots_[c][0]] += hc(0, 0);
     values[contact_slots_[c][1]] += hc(1, 0);
     values[contact_slots_[c][2]] += hc(1, 1);
@@ -373,15 +383,56 @@ void PokeModel::gradient_param_jacobian(const Eigen::VectorXd& x, Eigen::SparseM
   J = dense.sparseView();
 }
 
+Eigen::VectorXd PokeModel::gradient_param_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& lambda) const {
+  const Eigen::VectorXd u = full_displacement(x);
+  const Eigen::Index p = material_->num_params();
+  const auto n_el = static_cast<std::size_t>(mesh_.num_elements());
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n_el, kGrain), Eigen::VectorXd(Eigen::VectorXd::Zero(p)),
+      [&](const auto& range, Eigen::VectorXd acc) {
+        Eigen::MatrixXd work3(3, p);
+        Eigen::MatrixXd work5(5, p);
+        Eigen::MatrixXd block(8, p);
+        for (std::size_t e = range.begin(); e != range.end(); ++e) {
+          const auto ei = static_cast<Eigen::Index>(e);
+          Vec8 le = Vec8::Zero();
+          bool any = false;
+          for (int i = 0; i < 8; ++i) {
+            const int f = full_to_free_[static_cast<std::size_t>(2 * mesh_.quads(ei, i / 2) + i % 2)];
+            if (f >= 0) {
+              le[i] = lambda[f];
+              any = true;
+            }
+          }
+          if (!any) continue;
+          element_dgradient_dparam(*material_, geometry_[e], element_dofs(u, ei), work3, work5, block, element_);
+          acc.noalias() += block.transpose() * le;
+        }
+        return acc;
+      },
+      [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) -> Eigen::VectorXd { return a + b; });
+}
+
 Eigen::VectorXd PokeModel::full_elastic_gradient(const Eigen::VectorXd& u) const {
-  Eigen::VectorXd g = Eigen::VectorXd::Zero(u.size());
-  ElementResult r;
-  for (Eigen::Index e = 0; e < mesh_.num_elements(); ++e) {
-    if (!element_evaluate(*material_, geometry_[static_cast<std::size_t>(e)], element_dofs(u, e),
-                          EvalOrder::Gradient, PsdProjection::None, r, element_)) {
-      throw Error(ErrorKind::Internal, "force requested at an inverted configuration");
+  const auto n_el = static_cast<std::size_t>(mesh_.num_elements());
+  Eigen::Matrix<double, 8, Eigen::Dynamic> grads(8, static_cast<Eigen::Index>(n_el));
+  std::atomic<bool> admissible{true};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_el, kGrain), [&](const auto& range) {
+    ElementResult r;
+    for (std::size_t e = range.begin(); e != range.end(); ++e) {
+      const auto ei = static_cast<Eigen::Index>(e);
+      if (!element_evaluate(*material_, geometry_[e], element_dofs(u, ei), EvalOrder::Gradient,
+                            PsdProjection::None, r, element_)) {
+        admissible = false;
+        return;
+      }
+      grads.col(ei) = r.gradient;
     }
-    for (int i = 0; i < 8; ++i) g[2 * mesh_.quads(e, i / 2) + i % 2] += r.gradient[i];
+  });
+  if (!admissible) throw Error(ErrorKind::Internal, "force requested at an inverted configuration");
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(u.size());
+  for (Eigen::Index e = 0; e < mesh_.num_elements(); ++e) {
+    for (int i = 0; i < 8; ++i) g[2 * mesh_.quads(e, i / 2) + i % 2] += grads(i, e);
   }
   return g;
 }
@@ -559,9 +610,10 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
   }
   NewtonOptions newton = options.newton;
   // Newton uses the true Hessian: where it is not positive definite the
-  // factorization says so and Newton shifts it. PSD-projecting each element
-  // instead changes the Hessian near the crushed rim cells at the solution and
-  // makes convergence linear (measured: ~70 iterations per depth instead of 3–4).
+  // factorization says so and Newton steps with the element-projected stand-in
+  // (projected_hessian) for that iteration only. Projecting at every iteration
+  // changes the Hessian near the crushed rim cells at the solution and makes
+  // convergence linear (measured: ~70 iterations per depth instead of 3–4).
   m.set_true_hessian(true);
   const bool auto_tolerance = newton.gradient_abs_tol <= 0.0;
   // Tolerances: ‖g‖∞ (the largest out-of-balance nodal force) below 1e-9 of the
@@ -619,6 +671,19 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
     ++curve.factorizations;
   }
 
+  // Warm start (PokeOptions::warm_start): the last run's equilibria, used
+  // only on the same schedule; this run's replace them once it succeeds.
+  std::vector<Eigen::VectorXd> warm;
+  if (options.warm_start && warm_.max_depth == options.max_depth &&
+      warm_.solutions.size() == static_cast<std::size_t>(options.steps) + 1) {
+    warm = std::move(warm_.solutions);
+  }
+  warm_ = WarmStart{};
+  std::vector<Eigen::VectorXd> solutions;
+  if (options.warm_start) solutions.resize(static_cast<std::size_t>(options.steps) + 1);
+  Eigen::VectorXd g_guess;
+  Eigen::VectorXd g_warm;
+
   for (int k = 1; k <= options.steps; ++k) {
     const double target = k == options.steps ? options.max_depth : k * step;
     PokeSample sample;
@@ -658,6 +723,14 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
       }
       if (last_increment > 0.0) try_guess(x + (x - x_before) * (delta / last_increment));
       try_guess(x);
+      if (admissible && cuts == 0 && !warm.empty()) {
+        const Eigen::VectorXd& w = warm[static_cast<std::size_t>(k)];
+        if (w.size() == guess.size() && std::isfinite(m.energy_gradient(w, g_warm)) &&
+            std::isfinite(m.energy_gradient(guess, g_guess)) &&
+            g_warm.lpNorm<Eigen::Infinity>() < g_guess.lpNorm<Eigen::Infinity>()) {
+          guess = w;
+        }
+      }
       NewtonResult r;
       if (admissible) {
         r = solver_.solve(m, guess);
@@ -675,7 +748,8 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
         contacts_before = std::move(contacts_at_x);
         contacts_at_x = m.contact_set(x);
         have_tangent = false;
-        if (r.iterations > 0 && r.history.back().shift == 0.0 && r.last_factor_status == FactorStatus::Ok) {
+        if (r.iterations > 0 && r.history.back().shift == 0.0 && !r.history.back().projected &&
+            r.last_factor_status == FactorStatus::Ok) {
           update_tangent();
         }
         continue;
@@ -734,15 +808,15 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
       }
       m.punch_force_derivatives(x, dfdx, dfdtheta);
       const Eigen::VectorXd lambda = solver_.factorization().solve(dfdx);
-      Eigen::SparseMatrix<double> jac;
-      m.gradient_param_jacobian(x, jac);
-      sample.dforce_dparams = dfdtheta - jac.transpose() * lambda;
+      sample.dforce_dparams = dfdtheta - m.gradient_param_adjoint(x, lambda);
     }
     spdlog::debug("depth {:.6g} mm: force {:.6g} N, {} Newton iterations, residual {:.3g} N",
                   depth * 1e3, sample.force, sample.newton_iterations, sample.residual);
     curve.samples.push_back(sample);
+    if (!solutions.empty()) solutions[static_cast<std::size_t>(k)] = x;
     if (on_depth) on_depth(m, x, curve.samples.back());
   }
+  if (options.warm_start) warm_ = WarmStart{options.max_depth, std::move(solutions)};
   return curve;
 }
 

@@ -118,10 +118,16 @@ class PokeModel final : public System, public ParametricSystem {
   void gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
   double energy_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
   void hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const override;
+  // Element Hessians projected to PSD and the contact's k n nᵀ (Newton's
+  // stand-in where the true Hessian is not positive definite).
+  bool projected_hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const override;
 
   // ParametricSystem: ∂g/∂θ over the free DOFs (#free × p).
   Eigen::Index num_params() const override;
   void gradient_param_jacobian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& J) const override;
+  // (∂g/∂θ)ᵀ λ (p) for a λ over the free DOFs, without forming ∂g/∂θ: what
+  // an adjoint sensitivity needs.
+  Eigen::VectorXd gradient_param_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& lambda) const;
 
   // All nodal displacements (#N × 2, (u_r, u_z) [m]) for free DOFs x at the
   // current depth.
@@ -183,6 +189,8 @@ class PokeModel final : public System, public ParametricSystem {
 
  private:
   double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* g) const;
+  // The true Hessian, or (true_hessian false) the PSD-projected one.
+  void assemble_hessian(const Eigen::VectorXd& x, bool true_hessian, Eigen::SparseMatrix<double>& H) const;
   Eigen::VectorXd full_displacement(const Eigen::VectorXd& x) const;
   // Elastic gradient over all DOFs (2 per node) at the full displacement u.
   Eigen::VectorXd full_elastic_gradient(const Eigen::VectorXd& u) const;
@@ -233,6 +241,11 @@ struct PokeOptions {
   // mesh cannot follow the material much deeper (for curves that are shown,
   // not fitted; 0 = always halve).
   double give_up_below_jacobian = 0.0;
+  // Also start each depth from the equilibrium the previous run() of this
+  // simulator reached there (same depth schedule), where that is closer to
+  // equilibrium than the path predictor (smaller ‖g‖∞). For a fit, whose
+  // material changes little between runs, this saves Newton iterations.
+  bool warm_start = false;
   // Tolerances default to the problem's scale; chord_ratio 0 means 1000 here
   // (chord steps on), a negative value turns chord steps off.
   NewtonOptions newton;
@@ -257,6 +270,14 @@ struct PokeCurve {
   std::int64_t analyses = 0;
 };
 
+// The equilibria (free DOFs) a run() reached at each step depth, from depth 0,
+// and its deepest depth [m]; empty after a run that failed or was not warm
+// started (PokeOptions::warm_start).
+struct WarmStart {
+  double max_depth = 0.0;
+  std::vector<Eigen::VectorXd> solutions;
+};
+
 // Runs depth continuation on one model, reusing its Hessian pattern and the
 // symbolic factorization across depths and across run() calls (a fit calls
 // run() once per parameter update).
@@ -276,9 +297,15 @@ class PokeSimulator {
   // on Ctrl-C.
   PokeCurve run(const PokeOptions& options, const DepthCallback& on_depth = {});
 
+  // What the next warm-started run() starts from; a fit's checkpoint saves
+  // it, so that a resumed fit repeats the uninterrupted one bit for bit.
+  const WarmStart& warm_start() const noexcept { return warm_; }
+  void set_warm_start(WarmStart w) { warm_ = std::move(w); }
+
  private:
   std::unique_ptr<PokeModel> model_;
   NewtonSolver solver_;
+  WarmStart warm_;
 };
 
 }  // namespace palpa::axisym
