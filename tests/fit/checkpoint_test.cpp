@@ -4,6 +4,9 @@
 // relative); a checkpoint of another fit is refused.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <vector>
+
 #include "common/test_support.hpp"
 #include "fit/fit_fixtures.hpp"
 #include "palpa/core/interrupt.hpp"
@@ -111,6 +114,49 @@ TEST(Checkpoint, ResumedLmEndsAtTheSameObjective) {
   EXPECT_LE((a - b).cwiseQuotient(b).cwiseAbs().maxCoeff(), 1e-3) << a.transpose() << " vs " << b.transpose();
   RecordProperty("objective_whole", std::to_string(runs.whole.objective_final));
   RecordProperty("objective_resumed", std::to_string(runs.resumed.objective_final));
+}
+
+std::vector<std::filesystem::path> warm_files(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> out;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().filename().string().starts_with("checkpoint.warm-")) out.push_back(e.path());
+  }
+  return out;
+}
+
+// The simulators' warm starts live in one binary file beside the checkpoint
+// while the fit runs; a damaged one is refused by name; a finished fit leaves
+// none behind.
+TEST(Checkpoint, KeepsOneWarmStartFileAndRefusesADamagedOne) {
+  ScratchDir dir;
+  const Dataset d = small_dataset(dir);
+  const FitOptions o = options(Optimizer::Nlcg);
+  FitControl c;
+  c.checkpoint = dir / "checkpoint.json";
+  c.on_iteration = [&](std::size_t, const GuessResult& r) {
+    if (r.iterations == kInterruptAfter) request_interrupt();
+  };
+  EXPECT_TRUE(palpa::test::throws_error([&] { fit_dataset(d, o, c); }, ErrorKind::Interrupted, {}));
+  clear_interrupt();
+  const auto files = warm_files(dir.path());
+  ASSERT_EQ(files.size(), 1u);
+  const std::uintmax_t size = std::filesystem::file_size(files[0]);
+  EXPECT_GT(size, 1000u);
+
+  FitControl resume;
+  resume.checkpoint = c.checkpoint;
+  resume.resume = true;
+  std::filesystem::copy_file(files[0], dir / "saved.bin");
+  std::filesystem::resize_file(files[0], size - 8);
+  EXPECT_TRUE(palpa::test::throws_error([&] { fit_dataset(d, o, resume); }, ErrorKind::Input,
+                                        {files[0].filename().string(), "missing or damaged", "warm_start"}));
+  std::filesystem::remove(files[0]);
+  EXPECT_TRUE(palpa::test::throws_error([&] { fit_dataset(d, o, resume); }, ErrorKind::Input,
+                                        {files[0].filename().string(), "missing or damaged"}));
+  std::filesystem::copy_file(dir / "saved.bin", files[0]);
+  const FitResult done = fit_dataset(d, o, resume);
+  EXPECT_TRUE(done.guesses.at(0).done);
+  EXPECT_TRUE(warm_files(dir.path()).empty());
 }
 
 TEST(Checkpoint, ACheckpointOfAnotherFitIsRefused) {

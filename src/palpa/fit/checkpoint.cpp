@@ -4,9 +4,12 @@
 
 #include <fmt/format.h>
 
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/material/material_file.hpp"
 
@@ -26,6 +29,55 @@ Json vector_json(const Eigen::VectorXd& v) { return Json(std::vector<double>(v.d
 Eigen::VectorXd json_vector(const JsonView& v) {
   const std::vector<double> a = v.as_number_array();
   return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size()));
+}
+
+// The warm-start file: "palpa-warm-start 1\n", then little-endian u64
+// counts and f64 values: #curves; per curve max_depth, #solutions, and per
+// solution its size and entries.
+constexpr std::string_view kWarmMagic = "palpa-warm-start 1\n";
+
+void put_u64(std::string& out, std::uint64_t v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
+void put_f64(std::string& out, double v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
+
+std::string warm_bytes(const std::vector<axisym::WarmStart>& warm) {
+  std::string out(kWarmMagic);
+  put_u64(out, warm.size());
+  for (const axisym::WarmStart& w : warm) {
+    put_f64(out, w.max_depth);
+    put_u64(out, w.solutions.size());
+    for (const Eigen::VectorXd& x : w.solutions) {
+      put_u64(out, static_cast<std::uint64_t>(x.size()));
+      out.append(reinterpret_cast<const char*>(x.data()), static_cast<std::size_t>(x.size()) * sizeof(double));
+    }
+  }
+  return out;
+}
+
+// Reads what warm_bytes wrote; false if the bytes do not hold exactly that.
+bool parse_warm(std::string_view bytes, std::vector<axisym::WarmStart>& warm) {
+  if (bytes.substr(0, kWarmMagic.size()) != kWarmMagic) return false;
+  std::size_t at = kWarmMagic.size();
+  const auto take = [&](void* dst, std::size_t n) {
+    if (bytes.size() - at < n) return false;
+    std::memcpy(dst, bytes.data() + at, n);
+    at += n;
+    return true;
+  };
+  std::uint64_t curves = 0;
+  if (!take(&curves, 8) || curves > bytes.size()) return false;
+  warm.assign(static_cast<std::size_t>(curves), {});
+  for (axisym::WarmStart& w : warm) {
+    std::uint64_t count = 0;
+    if (!take(&w.max_depth, 8) || !take(&count, 8) || count > bytes.size()) return false;
+    w.solutions.resize(static_cast<std::size_t>(count));
+    for (Eigen::VectorXd& x : w.solutions) {
+      std::uint64_t n = 0;
+      if (!take(&n, 8) || n > (bytes.size() - at) / sizeof(double)) return false;
+      x.resize(static_cast<Eigen::Index>(n));
+      if (!take(x.data(), static_cast<std::size_t>(n) * sizeof(double))) return false;
+    }
+  }
+  return at == bytes.size();
 }
 
 }  // namespace
@@ -77,8 +129,23 @@ void Checkpoint::load() {
   doc_ = std::move(j);
 }
 
-void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s) {
+void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,
+                       const std::vector<axisym::WarmStart>* warm) {
   if (path_.empty()) return;
+  const std::string key = std::to_string(g);
+  std::string old_warm;
+  if (doc_["guesses"].contains(key) && doc_["guesses"][key].contains("warm_start")) {
+    old_warm = doc_["guesses"][key]["warm_start"]["file"].get<std::string>();
+  }
+  Json warm_json;
+  if (warm != nullptr && !warm->empty() && !r.done) {
+    if (warm_serial_.size() <= g) warm_serial_.resize(g + 1, 0);
+    const std::string name =
+        fmt::format("{}.warm-{}-{}.bin", path_.stem().string(), g, ++warm_serial_[g]);
+    const std::string bytes = warm_bytes(*warm);
+    write_file_atomic(path_.parent_path() / name, [&](std::ostream& out) { out << bytes; }, true);
+    warm_json = Json{{"file", name}, {"bytes", bytes.size()}, {"fingerprint", palpa::fingerprint(bytes)}};
+  }
   Json hist = Json::array();
   for (const auto& h : r.history) hist.push_back({h.iteration, h.objective, h.evaluations, h.seconds});
   Json st{{"x", vector_json(s.x)},
@@ -88,7 +155,7 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s)
           {"step", s.step},
           {"slope", s.slope},
           {"since_restart", s.since_restart}};
-  doc_["guesses"][std::to_string(g)] = Json{
+  doc_["guesses"][key] = Json{
       {"layer_depth_m", r.layer_depth},
       {"modulus_scale", r.modulus_scale},
       {"objective_initial", r.objective_initial},
@@ -104,10 +171,16 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s)
       {"stop_reason", r.stop_reason},
       {"done", r.done},
       {"state", st}};
+  if (!warm_json.is_null()) doc_["guesses"][key]["warm_start"] = warm_json;
   write_json_file(path_, doc_);
+  // Only now is the previous warm-start file no longer named.
+  if (!old_warm.empty() && (warm_json.is_null() || warm_json["file"] != old_warm)) {
+    std::error_code ec;
+    std::filesystem::remove(path_.parent_path() / old_warm, ec);
+  }
 }
 
-bool Checkpoint::restore(std::size_t g, GuessResult& r, GuessState& s) const {
+bool Checkpoint::restore(std::size_t g, GuessResult& r, GuessState& s, std::vector<axisym::WarmStart>* warm) const {
   if (path_.empty() || !doc_.contains("guesses")) return false;
   const std::string key = std::to_string(g);
   if (!doc_["guesses"].contains(key)) return false;
@@ -140,6 +213,18 @@ bool Checkpoint::restore(std::size_t g, GuessResult& r, GuessState& s) const {
   s.step = st.at("step").as_number();
   s.slope = st.at("slope").as_number();
   s.since_restart = static_cast<int>(st.at("since_restart").as_integer());
+  if (warm != nullptr && v.has("warm_start")) {
+    const JsonView w = v.at("warm_start");
+    const std::string name = w.at("file").as_string();
+    const std::filesystem::path file = path_.parent_path() / name;
+    const std::string bytes = file_text(file);
+    if (!std::filesystem::exists(file) || bytes.size() != static_cast<std::size_t>(w.at("bytes").as_integer()) ||
+        palpa::fingerprint(bytes) != w.at("fingerprint").as_string() || !parse_warm(bytes, *warm)) {
+      w.at("file").fail(fmt::format("the warm-start file '{}' beside the checkpoint is missing or damaged",
+                                    file.string()),
+                        "the output folder of the interrupted fit as it was left (or start afresh without --resume)");
+    }
+  }
   return true;
 }
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "palpa/axisym/poke.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/fit/fit.hpp"
 #include "palpa/fit/optimize.hpp"
@@ -21,15 +22,23 @@ class Checkpoint {
   // Reads the file. Throws palpa::Error (Input) if it is missing, malformed or
   // belongs to another fit.
   void load();
-  // Records guess g and writes the file.
-  void store(std::size_t g, const GuessResult& r, const GuessState& s);
-  // Fills r and s from the loaded file; false if guess g was not started.
-  bool restore(std::size_t g, GuessResult& r, GuessState& s) const;
+  // Records guess g and writes the file. `warm` (may be null): the curve
+  // simulators' warm starts (TrainingProblem::warm_starts), kept in a binary
+  // file beside the checkpoint (named in it, with its size and fingerprint;
+  // written first, under a new name each time, so the checkpoint never names a
+  // half-written one).
+  void store(std::size_t g, const GuessResult& r, const GuessState& s,
+             const std::vector<axisym::WarmStart>* warm = nullptr);
+  // Fills r and s (and warm, if the checkpoint has them) from the loaded
+  // file; false if guess g was not started. Throws palpa::Error (Input) if
+  // the warm-start file it names is missing or damaged.
+  bool restore(std::size_t g, GuessResult& r, GuessState& s, std::vector<axisym::WarmStart>* warm = nullptr) const;
 
   const std::string& fingerprint() const noexcept { return fingerprint_; }
 
  private:
   std::filesystem::path path_;
+  std::vector<int> warm_serial_;  // per guess: how many warm-start files were written
   std::string fingerprint_;
   Json doc_;
 };

@@ -254,9 +254,10 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
   if (control.resume) checkpoint.load();
 
   std::mutex mutex;  // guards checkpoint writes and the callback
-  auto publish = [&](std::size_t g, const GuessResult& r, const GuessState& state) {
+  auto publish = [&](std::size_t g, const GuessResult& r, const GuessState& state,
+                     const std::vector<axisym::WarmStart>* warm = nullptr) {
     std::lock_guard lock(mutex);
-    checkpoint.store(g, r, state);
+    checkpoint.store(g, r, state, warm);
     if (control.on_iteration) control.on_iteration(g, r);
   };
 
@@ -264,7 +265,8 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     const auto t0 = std::chrono::steady_clock::now();
     GuessResult& r = result.guesses[g];
     GuessState state;
-    const bool resumed = checkpoint.restore(g, r, state);
+    std::vector<axisym::WarmStart> warm;
+    const bool resumed = checkpoint.restore(g, r, state, &warm);
     const double elapsed0 = resumed ? r.seconds : 0.0;
     auto seconds = [&] {
       return elapsed0 + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -307,6 +309,8 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     if (!resumed || state.x.size() != problem.num_free()) {
       state = GuessState{};
       state.x = problem.start();
+    } else {
+      problem.set_warm_starts(std::move(warm));
     }
 
     OptimizerCallbacks cb;
@@ -319,7 +323,8 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
       r.history.push_back(
           IterationRecord{static_cast<int>(r.history.size()), data_eps, r.evaluations, r.seconds});
       r.iterations = static_cast<int>(r.history.size()) - 1;
-      publish(g, r, st);
+      const std::vector<axisym::WarmStart> warm_now = problem.warm_starts();
+      publish(g, r, st, &warm_now);
     };
     OptimizeOptions oo;
     oo.max_iterations = o.max_iterations;

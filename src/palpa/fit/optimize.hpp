@@ -50,6 +50,11 @@ class TrainingProblem {
   // little next to the Newton iterations, and every accepted point needs them.
   bool evaluate(const Eigen::VectorXd& x, Evaluation& out);
   int evaluations() const noexcept { return evaluations_; }
+  // The training curves' warm starts (CurveSimulator::warm_start), in curve
+  // order: what a checkpoint saves so that a resumed fit evaluates exactly as
+  // the uninterrupted one. set_warm_starts ignores a list of another length.
+  std::vector<axisym::WarmStart> warm_starts() const;
+  void set_warm_starts(std::vector<axisym::WarmStart> warm);
 
   // Spline materials: extra residuals weight·(S″(x_k) − S″₀(x_k)) at every
   // interior knot of f, g and h (S″₀: the start's curvatures), appended after

@@ -187,4 +187,16 @@ double TrainingProblem::regularization(const Eigen::VectorXd& x) const {
   return (curvature_weight_ * (curvature_ * (theta(x) - theta0_))).squaredNorm();
 }
 
+std::vector<axisym::WarmStart> TrainingProblem::warm_starts() const {
+  std::vector<axisym::WarmStart> out;
+  out.reserve(sims_.size());
+  for (const auto& sim : sims_) out.push_back(sim->warm_start());
+  return out;
+}
+
+void TrainingProblem::set_warm_starts(std::vector<axisym::WarmStart> warm) {
+  if (warm.size() != sims_.size()) return;
+  for (std::size_t i = 0; i < sims_.size(); ++i) sims_[i]->set_warm_start(std::move(warm[i]));
+}
+
 }  // namespace palpa::fit

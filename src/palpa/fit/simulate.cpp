@@ -79,13 +79,18 @@ class PokeCurveSimulator final : public CurveSimulator {
         sim_->model().num_params() != m.num_params()) {
       const bool use_reference =
           reference_ && reference_->model() == m.model() && reference_->num_params() == m.num_params();
+      axisym::WarmStart warm = sim_ ? sim_->warm_start() : std::move(pending_warm_);
+      pending_warm_ = {};
       sim_ = std::make_unique<axisym::PokeSimulator>(use_reference ? *reference_ : m, setup_);
+      sim_->set_warm_start(std::move(warm));  // same mesh: still good guesses
     }
     sim_->model().set_material_params(m.params());
     axisym::PokeOptions po;
     po.max_depth = grid_.back();
     po.steps = steps_;
     po.sensitivities = sensitivities;
+    // The fit's materials change little from one evaluation to the next.
+    po.warm_start = true;
     if (allow_partial_) {
       // Showing a curve: where the simulation cannot go on (very deep pokes
       // with a small punch), say so soon rather than after ten halvings of
@@ -156,6 +161,19 @@ class PokeCurveSimulator final : public CurveSimulator {
   Eigen::MatrixXd weights_;
   std::unique_ptr<material::Material> reference_;  // fixes penalty and stabilization (may be null)
   std::unique_ptr<axisym::PokeSimulator> sim_;
+  axisym::WarmStart pending_warm_;  // set before the first predict()
+
+ public:
+  axisym::WarmStart warm_start() const override { return sim_ ? sim_->warm_start() : pending_warm_; }
+  void set_warm_start(axisym::WarmStart w) override {
+    if (sim_) {
+      sim_->set_warm_start(std::move(w));
+    } else {
+      pending_warm_ = std::move(w);
+    }
+  }
+
+ private:
 
   // The prediction from the depths reached before a failure: interpolated on
   // the reached part of the schedule, NaN beyond it.

@@ -71,6 +71,10 @@ class CurveSimulator {
   // (CurvePrediction::failure) instead of throwing: for showing validation
   // curves, never inside a fit.
   void allow_partial(bool on) noexcept { allow_partial_ = on; }
+  // The equilibria the next predict() starts from (axisym::PokeSimulator::
+  // warm_start); empty for simulators without a warm start.
+  virtual axisym::WarmStart warm_start() const { return {}; }
+  virtual void set_warm_start(axisym::WarmStart) {}
 
  protected:
   bool record_stretches_ = false;
