@@ -55,6 +55,14 @@ void expect_derivatives_match(const System& s, const Eigen::VectorXd& x, double 
   EXPECT_TRUE(derivatives_match(dense_hessian(s, x), fd_H, tol)) << "Hessian";
 }
 
+// Newton to ‖g‖∞ ≤ 1e-12 absolute, no relative tolerance.
+NewtonOptions tight_options() {
+  NewtonOptions o;
+  o.gradient_abs_tol = 1e-12;
+  o.gradient_rel_tol = 0.0;
+  return o;
+}
+
 // Clears an interrupt request however the test ends.
 struct InterruptGuard {
   ~InterruptGuard() { clear_interrupt(); }
@@ -152,9 +160,7 @@ TEST_P(NewtonLineSearch, MinimizesTheRosenbrockFunction) {
 // the same minimizer to the same tolerance, with fewer factorizations.
 TEST(Newton, ChordStepsReachTheSameMinimizerWithFewerFactorizations) {
   test::RosenbrockSystem r12(12);
-  NewtonOptions o;
-  o.gradient_abs_tol = 1e-12;
-  o.gradient_rel_tol = 0.0;
+  NewtonOptions o = tight_options();
   NewtonSolver plain(o);
   Eigen::VectorXd x_plain = Eigen::VectorXd::Constant(12, 0.5);
   const NewtonResult a = plain.solve(r12, x_plain);
@@ -231,9 +237,7 @@ TEST(Newton, StepsWithTheProjectedStandInWhereHIsIndefinite) {
   test::DoubleWellChain system(n, 0.1);
   system.offer_projected_hessian(test::DoubleWellChain::StandIn::Clamp);
   EXPECT_LT(dense_hessian(system, mixed_wells(n)).selfadjointView<Eigen::Lower>().eigenvalues().minCoeff(), 0.0);
-  NewtonOptions o;
-  o.gradient_abs_tol = 1e-12;
-  o.gradient_rel_tol = 0.0;
+  NewtonOptions o = tight_options();
 
   Eigen::VectorXd x = mixed_wells(n);
   NewtonSolver solver(o);
@@ -266,9 +270,7 @@ TEST(Newton, StopsProjectingWhenTheStandInStopsCuttingTheGradient) {
   test::DoubleWellChain system(n, 0.1);
   system.offer_projected_hessian(test::DoubleWellChain::StandIn::Absolute);
   Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 0.1);
-  NewtonOptions o;
-  o.gradient_abs_tol = 1e-12;
-  o.gradient_rel_tol = 0.0;
+  NewtonOptions o = tight_options();
   NewtonSolver solver(o);
   const NewtonResult r = solver.solve(system, x);
   ASSERT_TRUE(r.converged()) << r.message;
@@ -287,9 +289,7 @@ TEST(Newton, StopsProjectingWhenTheStandInStopsCuttingTheGradient) {
 TEST(Newton, IgnoresASystemWithoutAStandIn) {
   test::DoubleWellChain system(20, 0.1);  // offers none
   Eigen::VectorXd x = mixed_wells(20);
-  NewtonOptions o;
-  o.gradient_abs_tol = 1e-12;
-  o.gradient_rel_tol = 0.0;
+  NewtonOptions o = tight_options();
   NewtonSolver solver(o);
   const NewtonResult r = solver.solve(system, x);
   ASSERT_TRUE(r.converged()) << r.message;
@@ -533,9 +533,7 @@ TEST(Newton, AnExceptionInAParallelGradientReachesTheCallerAndLeavesTheSolverUsa
   test::ParallelQuarticSystem system(w, t);
   const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(n, 3.0);
   Eigen::VectorXd x = x0;
-  NewtonOptions o;
-  o.gradient_abs_tol = 1e-12;
-  o.gradient_rel_tol = 0.0;
+  NewtonOptions o = tight_options();
   NewtonSolver solver(o);
   system.fail_at_gradient_call = 3;  // the start, one step, then the failure
   EXPECT_THROW((void)solver.solve(system, x), std::runtime_error);
