@@ -128,6 +128,31 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
   EXPECT_EQ(c.exit_code, 2);
   EXPECT_NE(c.err.find("min is not below max"), std::string::npos) << c.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  // Clip boxes without volume (once a segfault), and boxes that miss the
+  // body (once silently ignored), are refused by name.
+  const auto with_body_key = [&](const std::string& key) {
+    std::string scene = kRestScene;
+    scene.replace(scene.find(edge), edge.size(), key + ", " + edge);
+    return scene;
+  };
+  struct Case {
+    const char* key;
+    const char* says;
+  };
+  for (const Case& k : {
+           Case{R"("clip": {"min": ["-40 mm", "-40 mm", "0 mm"], "max": ["40 mm", "40 mm", "0 mm"]})", "min is not below max"},
+           Case{R"("clip": {"min": ["5 mm", "5 mm", "5 mm"], "max": ["5 mm", "5 mm", "5 mm"]})", "min is not below max"},
+           Case{R"("clip": {"min": ["500 mm", "500 mm", "500 mm"], "max": ["600 mm", "600 mm", "600 mm"]})",
+                "does not overlap the body"},
+           Case{R"("cut": [{"min": ["500 mm", "500 mm", "500 mm"], "max": ["600 mm", "600 mm", "600 mm"]}])",
+                "does not overlap the body"},
+       }) {
+    dir.write("box.json", with_body_key(k.key));
+    const auto r = run_palpa("rest box.json -o out", dir.path());
+    EXPECT_EQ(r.exit_code, 2) << k.key << "\n" << r.err;
+    EXPECT_NE(r.err.find(k.says), std::string::npos) << k.key << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  }
 }
 
 }  // namespace

@@ -77,7 +77,19 @@ TEST(Csg, ClippingASphereGivesTheCapClosedFlat) {
   EXPECT_NEAR(cap.V.col(2).minCoeff(), kBodyRadius - h, 1e-12);
   const Eigen::AlignedBox3d away(Eigen::Vector3d(0.2, 0.2, 0.2), Eigen::Vector3d(0.3, 0.3, 0.3));
   EXPECT_TRUE(throws_error([&] { clip_to_box(s, away, "sphere.obj"); }, ErrorKind::Input,
-                           {"sphere.obj", "leaves nothing"}));
+                           {"sphere.obj", "does not overlap the body"}));
+  // A box without volume (min == max in one coordinate, or a point) is
+  // refused before the corefinement sees it, inside the body or outside.
+  const Eigen::AlignedBox3d sheet(Eigen::Vector3d(-1, -1, 0.01), Eigen::Vector3d(1, 1, 0.01));
+  const Eigen::AlignedBox3d point(Eigen::Vector3d(0.2, 0.2, 0.2), Eigen::Vector3d(0.2, 0.2, 0.2));
+  for (const auto& box : {sheet, point}) {
+    EXPECT_TRUE(throws_error([&] { clip_to_box(s, box, "sphere.obj"); }, ErrorKind::Input,
+                             {"sphere.obj", "has no volume", "min < max"}));
+  }
+  // A box touching the body only at its top face keeps no volume of it.
+  const Eigen::AlignedBox3d above(Eigen::Vector3d(-1, -1, s.V.col(2).maxCoeff()), Eigen::Vector3d(1, 1, 1));
+  EXPECT_TRUE(throws_error([&] { clip_to_box(s, above, "sphere.obj"); }, ErrorKind::Input,
+                           {"does not overlap the body"}));
 }
 
 TEST(Csg, AFoldThroughTheSurfaceIsRemoved) {

@@ -180,13 +180,25 @@ TEST(Layer, ADepthLargerThanTheLocalThicknessOrCurvatureRadiusIsRefused) {
   EXPECT_TRUE(throws_error(
       [&] { make_layer(block, DepthSpec{0.036, std::nullopt}, std::nullopt, options()); },
       ErrorKind::Input, {"sphere.obj", "does not fit", "thick there"}));
-  // 18 mm (+ 10 mm) fits, but an inward offset beyond the 10 mm rounding radius folds
-  // the inner surface over itself at the edges.
+  // 18 mm from each side and a 5 mm core do not fit in 40 mm either: the
+  // far side's layer counts.
   EXPECT_TRUE(throws_error(
       [&] { make_layer(block, DepthSpec{0.018, std::nullopt}, std::nullopt, options()); },
-      ErrorKind::Input, {"sphere.obj", "intersect itself", "curvature"}));
+      ErrorKind::Input, {"sphere.obj", "does not fit", "far side takes 18"}));
+  // 13 mm from each side (+ 5 mm) fits, but an inward offset beyond the 10 mm
+  // rounding radius folds the inner surface at the edges.
+  EXPECT_TRUE(throws_error(
+      [&] { make_layer(block, DepthSpec{0.013, std::nullopt}, std::nullopt, options()); },
+      ErrorKind::Input, {"sphere.obj", "curvature"}));
   // 8 mm is fine.
   EXPECT_NO_THROW(make_layer(block, DepthSpec{0.008, std::nullopt}, std::nullopt, options()));
+  // On the 50 mm sphere (5 mm edges) a depth past 47.5 mm leaves no core of
+  // one edge (it once made a core of negative volume).
+  for (const double d : {0.048, 0.050, 0.060}) {
+    SCOPED_TRACE(d);
+    EXPECT_TRUE(throws_error([&] { make_layer(sphere(), DepthSpec{d, std::nullopt}, std::nullopt, options()); },
+                             ErrorKind::Input, {"sphere.obj", "does not fit", "far side"}));
+  }
 }
 
 TEST(Layer, OpenOrSelfIntersectingScansAndSamplesOffTheSurfaceAreRefused) {

@@ -44,10 +44,23 @@ SurfaceMesh boolean(const SurfaceMesh& a, const SurfaceMesh& b, BooleanOp op,
 
 SurfaceMesh clip_to_box(const SurfaceMesh& mesh, const Eigen::AlignedBox3d& keep,
                         const std::string& source) {
-  if (keep.isEmpty()) {
-    throw_input_error("the clipping box is empty", in_file(source), "min < max in every coordinate");
+  // Eigen's isEmpty() accepts min == max; a box without volume leaves a
+  // sheet or nothing, which the corefinement cannot close.
+  if (!(keep.min().array() < keep.max().array()).all()) {
+    throw_input_error(fmt::format("the clipping box {} – {} has no volume",
+                                  geometry::format_point(keep.min()), geometry::format_point(keep.max())),
+                      in_file(source), "min < max in every coordinate");
   }
   check_closed_surface(mesh, source);
+  const Eigen::AlignedBox3d bounds(mesh.V.colwise().minCoeff().transpose(),
+                                   mesh.V.colwise().maxCoeff().transpose());
+  const Eigen::AlignedBox3d common = keep.intersection(bounds);
+  if (!(common.min().array() < common.max().array()).all()) {
+    throw_input_error(fmt::format("the clipping box {} – {} does not overlap the body, which spans {} – {}",
+                                  geometry::format_point(keep.min()), geometry::format_point(keep.max()),
+                                  geometry::format_point(bounds.min()), geometry::format_point(bounds.max())),
+                      in_file(source), "a box that keeps part of the body (same unit as the scene)");
+  }
   auto out = detail::cgal_clip_to_box(mesh, keep.min(), keep.max());
   if (!out) {
     throw_input_error(fmt::format("clipping to the box {} – {} leaves nothing or a non-manifold piece",

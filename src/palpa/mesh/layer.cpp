@@ -140,6 +140,21 @@ Eigen::VectorXd stiffness_field(const SurfaceMesh& outer, const Samples& samples
 // The core must stay at least this many edge lengths thick to be meshed.
 constexpr double kMinCoreEdges = 2.0;
 
+// The depth at p on face f of the outer surface, interpolated linearly from
+// its corners' depths.
+double depth_on_face(const SurfaceMesh& outer, const Eigen::VectorXd& depth, Eigen::Index f,
+                     const Eigen::Vector3d& p) {
+  const Eigen::Vector3d a = outer.V.row(outer.F(f, 0)).transpose();
+  const Eigen::Vector3d b = outer.V.row(outer.F(f, 1)).transpose();
+  const Eigen::Vector3d c = outer.V.row(outer.F(f, 2)).transpose();
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double area2 = n.squaredNorm();
+  if (!(area2 > 0.0)) return depth(outer.F(f, 0));
+  const double wa = (c - b).cross(p - b).dot(n) / area2;
+  const double wb = (a - c).cross(p - c).dot(n) / area2;
+  return wa * depth(outer.F(f, 0)) + wb * depth(outer.F(f, 1)) + (1.0 - wa - wb) * depth(outer.F(f, 2));
+}
+
 // Checks the depth against the local thickness; with `clamp`, thins the
 // layer where it does not fit instead (to half of the thickness minus a core
 // of one edge, as the far side is pushed in too; never below half an edge;
@@ -160,7 +175,15 @@ Eigen::Index check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& n
     const Eigen::Vector3d n = normals.row(i).transpose();
     const auto hit = queries.ray_hit(p - delta * n, -n, -1);
     const double thickness = hit ? delta + *hit : 0.0;
-    if (depth(i) + core <= thickness) continue;
+    // The skin where the inward normal leaves the body carries a layer of
+    // its own, pushed toward this one: the two and the core share the room.
+    double far = 0.0;
+    if (hit) {
+      const Eigen::Vector3d exit = p - thickness * n;
+      far = depth_on_face(outer, depth, queries.closest(exit).first, exit);
+    }
+    // The core keeps two edges beside this layer, and one beside both.
+    if (depth(i) + core <= thickness && depth(i) + far + thin_core <= thickness) continue;
     // Thinned, the layer may take half of what the core leaves: the skin
     // on the far side is pushed inward too.
     // Where even that is below the thinnest layer, the thinnest layer is
@@ -178,11 +201,12 @@ Eigen::Index check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& n
                             "the inward normal, less than two of the thinnest layers ({})",
                             format_point(p), length(thickness), length(thinnest))
               : fmt::format("the layer depth {} at {} does not fit: the body is {} thick there along "
-                            "the inward normal, and the core needs at least two edge lengths ({})",
-                            length(depth(i)), format_point(p), length(thickness), length(core)),
+                            "the inward normal, the layer on the far side takes {}, and the core needs "
+                            "at least two edge lengths ({}) beside this layer and one beside both",
+                            length(depth(i)), format_point(p), length(thickness), length(far), length(core)),
         in_file(source),
         clamp ? "a body at least one edge length thick everywhere (a smaller edge length)"
-              : "a depth smaller than the local thickness minus two edge lengths, or clamping");
+              : "smaller depths here or across the body, or clamping");
   }
   if (clamped > 0) {
     // Ease the thinned spots: a vertex keeps at most the mean of itself and
@@ -220,6 +244,16 @@ void check_inner(const SurfaceMesh& inner, const SurfaceMesh& outer, const Layer
     throw_input_error("the inner surface crosses the outer surface", in_file(options.source),
                       "depths smaller than the local thickness");
   }
+  // A surface turned inside out passes the tests above but encloses a
+  // negative volume.
+  const double core_volume = enclosed_volume(inner);
+  const double body_volume = enclosed_volume(outer);
+  if (!(core_volume > 0.0) || !(core_volume < body_volume)) {
+    throw_input_error(fmt::format("the core would enclose a volume of {} cm³ in a body of {} cm³: the depth "
+                                  "turns it inside out",
+                                  core_volume * 1e6, body_volume * 1e6),
+                      in_file(options.source), "depths below the body's radius of curvature");
+  }
 }
 
 SurfaceMesh inner_surface(const SurfaceMesh& outer, const Eigen::MatrixX3d& normals,
@@ -238,17 +272,7 @@ SurfaceMesh inner_surface(const SurfaceMesh& outer, const Eigen::MatrixX3d& norm
 // core is absent where the body is thinner than twice its depth.
 SurfaceMesh distance_core(const SurfaceMesh& outer, const Eigen::VectorXd& depth,
                           const LayerOptions& options, double edge) {
-  const auto depth_at = [&](Eigen::Index f, const Eigen::Vector3d& p) {
-    const Eigen::Vector3d a = outer.V.row(outer.F(f, 0)).transpose();
-    const Eigen::Vector3d b = outer.V.row(outer.F(f, 1)).transpose();
-    const Eigen::Vector3d c = outer.V.row(outer.F(f, 2)).transpose();
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const double area2 = n.squaredNorm();
-    if (!(area2 > 0.0)) return depth(outer.F(f, 0));
-    const double wa = (c - b).cross(p - b).dot(n) / area2;
-    const double wb = (a - c).cross(p - c).dot(n) / area2;
-    return wa * depth(outer.F(f, 0)) + wb * depth(outer.F(f, 1)) + (1.0 - wa - wb) * depth(outer.F(f, 2));
-  };
+  const auto depth_at = [&](Eigen::Index f, const Eigen::Vector3d& p) { return depth_on_face(outer, depth, f, p); };
   SurfaceMesh inner = repair_surface(detail::cgal_distance_offset(outer, depth_at, edge));
   if (inner.F.rows() < 4) {
     throw_input_error(fmt::format("no core is left: the body is nowhere thicker than twice the depth ({} at most)",

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "palpa/core/json.hpp"
+#include "palpa/geometry/format.hpp"
 #include "palpa/io/vtu.hpp"
 #include "palpa/material/material_file.hpp"
 #include "palpa/mesh/bodies.hpp"
@@ -99,7 +100,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
       clip->expect_only({"min", "max"});
       const Eigen::AlignedBox3d box(read_quantity3(clip->at("min"), Dimension::Length),
                                     read_quantity3(clip->at("max"), Dimension::Length));
-      if (box.isEmpty()) clip->fail("min is not below max in every coordinate");
+      if (!(box.min().array() < box.max().array()).all()) clip->fail("min is not below max in every coordinate");
       scan = mesh::clip_to_box(mesh::repair_surface(scan), box, s.body_source);
     }
     // Boxes cut away (CSG difference): folds and webs outside the region
@@ -111,6 +112,13 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
         const Eigen::Vector3d lo = read_quantity3(c.at("min"), Dimension::Length);
         const Eigen::Vector3d hi = read_quantity3(c.at("max"), Dimension::Length);
         if (!(lo.array() < hi.array()).all()) c.fail("min is not below max in every coordinate");
+        const Eigen::Vector3d body_lo = scan.V.colwise().minCoeff().transpose();
+        const Eigen::Vector3d body_hi = scan.V.colwise().maxCoeff().transpose();
+        if (!(lo.cwiseMax(body_lo).array() < hi.cwiseMin(body_hi).array()).all()) {
+          c.fail(fmt::format("the box does not overlap the body, which spans {} – {}",
+                             geometry::format_point(body_lo), geometry::format_point(body_hi)),
+                 "a box that cuts part of the body away (same unit as the scene)");
+        }
         SurfaceMesh cutter = sim3d::make_box_surface(hi - lo, 1);
         cutter.V.rowwise() += Eigen::RowVector3d(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
         scan = mesh::boolean(mesh::repair_surface(scan), cutter, mesh::BooleanOp::Difference,
