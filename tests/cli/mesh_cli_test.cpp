@@ -5,7 +5,11 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <numbers>
 #include <string>
@@ -61,6 +65,31 @@ TEST_F(MeshCli, LayerOfASphereWritesEveryOutputAndTheShellVolume) {
   EXPECT_NEAR(j["thickness_m"]["mean"].get<double>(), 0.01, 1e-3);
   EXPECT_GT(j["attached_vertices"].get<int>(), 100);
   EXPECT_NE(test::read_text(out / "b_attached.csv").find("vertex\n"), std::string::npos);
+}
+
+TEST_F(MeshCli, ASigtermInsideTheRemeshingEndsTheRunWithinASecond) {
+  // The sphere's coordinates in millimetres, read as metres: a 100 m body
+  // that remeshing to 10 mm edges would take hours over.
+  const auto s = sphere();
+  const auto mm = in / "sphere_mm.obj";
+  ASSERT_EQ(test::run_palpa("convert " + shell_quote(s) + " " + shell_quote(mm) + " --unit '1000 m'").exit_code, 0);
+  const auto err = in / "stderr";
+  const std::string cmd = fmt::format(
+      "cd {} && timeout --preserve-status -s TERM 2 '{}' mesh layer --surface {} --depth 10mm --edge 10mm -o b.vtu "
+      "2>{} </dev/null",
+      shell_quote(out.path()), PALPA_BINARY, shell_quote(mm), shell_quote(err));
+  const auto t0 = std::chrono::steady_clock::now();
+  const int status = std::system(cmd.c_str());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 143);
+  const std::string text = test::read_text(err);
+  EXPECT_NE(text.find("m across: if its coordinates are in millimetres"), std::string::npos) << text;
+  EXPECT_NE(text.find("palpa: interrupted"), std::string::npos) << text;
+  // 2 s until the signal, then at most the grace period and the exit; the
+  // bound leaves room for a loaded machine.
+  EXPECT_LT(seconds, 2.0 + 3.0) << text;
+  EXPECT_EQ(out.entry_count(), 0u) << "an interrupted run left files behind";
 }
 
 TEST_F(MeshCli, DepthAndStiffnessSamplesFromCsv) {

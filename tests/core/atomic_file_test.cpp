@@ -78,5 +78,35 @@ TEST(EnsureDirectory, CreatesAndRejectsFiles) {
                                  {"not a folder"}));
 }
 
+TEST(OutputFolder, AFailedRunLeavesNoEmptyFolderAndKeepsWhatItHolds) {
+  test::ScratchDir dir;
+  {
+    OutputFolder f(dir / "a" / "b");  // dropped without keep(): a failure
+    EXPECT_TRUE(std::filesystem::is_directory(dir / "a" / "b"));
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "a"));
+  {
+    OutputFolder f(dir / "c");
+    write_file_atomic(dir / "c" / "checkpoint.json", [](std::ostream& o) { o << "{}"; });
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "c" / "checkpoint.json"));
+  {
+    OutputFolder f(dir / "d" / "frames", OutputFolder::OnFailure::Wipe);
+    write_file_atomic(dir / "d" / "frames" / "f.vtu", [](std::ostream& o) { o << "x"; });
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "d"));
+  {
+    OutputFolder f(dir / "e");
+    f.keep();
+  }
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "e"));
+  // A folder that was there before is never removed, even with Wipe.
+  { OutputFolder f(dir / "e", OutputFolder::OnFailure::Wipe); }
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "e"));
+  const auto file = dir.write("g", "");
+  EXPECT_TRUE(test::throws_error([&] { OutputFolder f(file); }, ErrorKind::Input, {"not a folder"}));
+  EXPECT_TRUE(std::filesystem::exists(file));
+}
+
 }  // namespace
 }  // namespace palpa

@@ -1,5 +1,7 @@
 #include "palpa/core/atomic_file.hpp"
 
+#include "palpa/core/interrupt.hpp"
+
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -37,6 +39,7 @@ AtomicFile::AtomicFile(std::filesystem::path target, bool binary) : target_(std:
     throw_input_error("output path is a folder", ctx, "a file name");
   }
   temp_ = temporary_name(target_);
+  register_temporary(temp_.string());
   auto mode = std::ios::out | std::ios::trunc;
   if (binary) mode |= std::ios::binary;
   stream_.open(temp_, mode);
@@ -62,6 +65,7 @@ void AtomicFile::commit() {
   }
   std::error_code ec;
   std::filesystem::rename(temp_, target_, ec);
+  unregister_temporary(temp_.string());
   if (ec) {
     discard();
     throw_input_error(fmt::format("cannot replace the file: {}", ec.message()), ctx);
@@ -74,6 +78,7 @@ void AtomicFile::discard() noexcept {
   if (stream_.is_open()) stream_.close();
   std::error_code ec;
   std::filesystem::remove(temp_, ec);
+  unregister_temporary(temp_.string());
   done_ = true;
 }
 
@@ -116,6 +121,27 @@ void ensure_directory(const std::filesystem::path& dir) {
   }
   std::filesystem::create_directories(dir, ec);
   if (ec) throw_input_error(fmt::format("cannot create the folder: {}", ec.message()), ctx);
+}
+
+OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy) : policy_(policy) {
+  std::error_code ec;
+  for (std::filesystem::path p = std::filesystem::absolute(dir, ec).lexically_normal();
+       !p.empty() && !std::filesystem::exists(p, ec); p = p.parent_path()) {
+    created_.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  ensure_directory(dir);
+}
+
+OutputFolder::~OutputFolder() {
+  if (keep_) return;
+  std::error_code ec;
+  if (policy_ == OnFailure::Wipe && !created_.empty()) std::filesystem::remove_all(created_.front(), ec);
+  for (const auto& p : created_) {
+    if (!std::filesystem::exists(p, ec)) continue;
+    if (!std::filesystem::is_directory(p, ec) || !std::filesystem::is_empty(p, ec)) break;
+    std::filesystem::remove(p, ec);
+  }
 }
 
 }  // namespace palpa

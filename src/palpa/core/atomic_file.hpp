@@ -58,4 +58,26 @@ class OutputBatch {
 // it exists as a file or cannot be created.
 void ensure_directory(const std::filesystem::path& dir);
 
+// An output folder for the length of a run: created (with missing parents) as
+// ensure_directory does; if the run ends without keep() — an exception, bad
+// input found late — the folders it created are removed again as long as they
+// are still empty, so a failed command leaves no empty folder behind.
+// Folders that hold a checkpoint or any finished file stay, unless the run
+// asks for `Wipe`: then a folder it created goes with whatever it wrote there
+// (outputs that only count together, such as a VTU series).
+class OutputFolder {
+ public:
+  enum class OnFailure { RemoveIfEmpty, Wipe };
+  explicit OutputFolder(const std::filesystem::path& dir, OnFailure policy = OnFailure::RemoveIfEmpty);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  void keep() noexcept { keep_ = true; }
+
+ private:
+  std::vector<std::filesystem::path> created_;  // deepest first
+  OnFailure policy_;
+  bool keep_ = false;
+};
+
 }  // namespace palpa

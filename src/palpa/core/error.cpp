@@ -1,5 +1,7 @@
 #include "palpa/core/error.hpp"
 
+#include "palpa/core/interrupt.hpp"
+
 #include <fmt/format.h>
 
 namespace palpa {
@@ -37,7 +39,7 @@ int exit_code(ErrorKind kind) noexcept {
     case ErrorKind::Solver:
       return kExitSolver;
     case ErrorKind::Interrupted:
-      return kExitInterrupted;
+      return interrupt_exit_code();
     case ErrorKind::Internal:
       return kExitInternal;
   }

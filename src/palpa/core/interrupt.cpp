@@ -1,6 +1,12 @@
 #include "palpa/core/interrupt.hpp"
 
+#include <chrono>
 #include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <set>
+#include <thread>
 
 #include "palpa/core/error.hpp"
 
@@ -10,20 +16,74 @@ namespace {
 // The one piece of process-wide mutable state palpa has: a signal can only
 // communicate through a lock-free flag.
 volatile std::sig_atomic_t g_interrupted = 0;
+volatile std::sig_atomic_t g_signal = SIGINT;
 
 extern "C" void palpa_on_signal(int sig) {
-  if (g_interrupted != 0) {
+  // A second Ctrl-C kills at once. A repeated SIGTERM does not: process
+  // managers send it to the process and to its group at the same moment, and
+  // the watchdog ends the run within the grace period anyway.
+  if (g_interrupted != 0 && sig == SIGINT) {
     std::signal(sig, SIG_DFL);
     std::raise(sig);
     return;
   }
+  if (g_interrupted != 0) return;
+  g_signal = sig;
   g_interrupted = 1;
+}
+
+struct Temporaries {
+  std::mutex mutex;
+  std::set<std::string> paths;
+};
+
+Temporaries& temporaries() {
+  static Temporaries* t = new Temporaries;  // never destroyed: the watchdog may outlive main
+  return *t;
+}
+
+// Waits for an interrupt, gives the cooperative path its grace period, then
+// ends the process itself.
+void watchdog() {
+  using Clock = std::chrono::steady_clock;
+  while (g_interrupted == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const auto deadline = Clock::now() + std::chrono::duration<double>(kInterruptGraceSeconds);
+  while (Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (g_interrupted == 0) return;  // cleared by a test
+  {
+    Temporaries& t = temporaries();
+    std::lock_guard lock(t.mutex);
+    for (const std::string& p : t.paths) std::remove(p.c_str());
+  }
+  std::fprintf(stderr,
+               "palpa: interrupted; stopped at once, inside a step that does not check for interrupts: no partial "
+               "output was written (finished files and checkpoints are kept)\n");
+  std::fflush(stderr);
+  std::_Exit(interrupt_exit_code());
 }
 }  // namespace
 
 void install_interrupt_handlers() {
-  std::signal(SIGINT, palpa_on_signal);
-  std::signal(SIGTERM, palpa_on_signal);
+  static std::once_flag once;
+  std::call_once(once, [] {
+    std::signal(SIGINT, palpa_on_signal);
+    std::signal(SIGTERM, palpa_on_signal);
+    std::thread(watchdog).detach();
+  });
+}
+
+int interrupt_exit_code() noexcept { return 128 + static_cast<int>(g_signal); }
+
+void register_temporary(const std::string& path) {
+  Temporaries& t = temporaries();
+  std::lock_guard lock(t.mutex);
+  t.paths.insert(path);
+}
+
+void unregister_temporary(const std::string& path) {
+  Temporaries& t = temporaries();
+  std::lock_guard lock(t.mutex);
+  t.paths.erase(path);
 }
 
 bool interrupt_requested() noexcept { return g_interrupted != 0; }
@@ -34,7 +94,10 @@ void check_interrupt() {
   }
 }
 
-void request_interrupt() noexcept { g_interrupted = 1; }
+void request_interrupt() noexcept {
+  g_signal = SIGINT;
+  g_interrupted = 1;
+}
 void clear_interrupt() noexcept { g_interrupted = 0; }
 
 }  // namespace palpa

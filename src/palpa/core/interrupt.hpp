@@ -4,11 +4,28 @@
 // palpa::Error (kind Interrupted) so that destructors run: temporary output files
 // are removed and checkpoints already written stay valid for --resume.
 
+#include <string>
+
 namespace palpa {
 
 // Installs the SIGINT/SIGTERM handlers (idempotent). A second Ctrl-C while the
-// first is being honoured restores the default action, so it kills at once.
+// first is being honoured restores the default action, so it kills at once (a
+// repeated SIGTERM is ignored).
+// A watchdog thread makes sure a signal is honoured within
+// kInterruptGraceSeconds even inside a library call that never reaches a
+// check_interrupt() (a CGAL remeshing, one large factorization): past that it
+// removes the temporary files of outputs being written and ends the process
+// with interrupt_exit_code(). Checkpoints and files already finished stay.
 void install_interrupt_handlers();
+inline constexpr double kInterruptGraceSeconds = 1.0;
+
+// The exit code of an interrupted run: 128 + the signal (130 for SIGINT, 143
+// for SIGTERM); 130 when the interrupt was requested by a test.
+int interrupt_exit_code() noexcept;
+
+// The temporaries the watchdog removes (AtomicFile registers its own).
+void register_temporary(const std::string& path);
+void unregister_temporary(const std::string& path);
 
 // True once an interrupt was requested.
 bool interrupt_requested() noexcept;

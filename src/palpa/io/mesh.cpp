@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <spdlog/spdlog.h>
+
 #include <cmath>
 
 #include "palpa/core/text.hpp"
@@ -96,6 +98,27 @@ void check_tet_mesh(const TetMesh& mesh, const std::string& file) {
   check_cells(mesh.boundary, mesh.V.rows(), file, "boundary triangle");
 }
 
+namespace {
+
+// A body or support is between a millimetre and ten metres across; outside
+// that, the coordinates were most likely read in the wrong unit.
+void warn_if_unlikely_size(const Eigen::MatrixX3d& V, const std::filesystem::path& path) {
+  if (V.rows() == 0) return;
+  const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).maxCoeff();
+  if (!std::isfinite(size)) return;
+  if (size > 10.0) {
+    spdlog::warn("{}: the mesh is {:.4g} m across: if its coordinates are in millimetres, give the unit "
+                 "(--unit mm, or \"unit\": \"mm\" in a scene)",
+                 path.string(), size);
+  } else if (size < 1e-3) {
+    spdlog::warn("{}: the mesh is {:.4g} mm across: if its coordinates are already in metres, drop the unit "
+                 "(or give --unit m)",
+                 path.string(), size * 1e3);
+  }
+}
+
+}  // namespace
+
 SurfaceMesh read_surface_mesh(const std::filesystem::path& path, const MeshReadOptions& options) {
   const std::string ext = extension_of(path);
   SurfaceMesh mesh;
@@ -128,6 +151,7 @@ SurfaceMesh read_surface_mesh(const std::filesystem::path& path, const MeshReadO
     unknown_extension(path, kSurfaceFormats);
   }
   check_surface_mesh(mesh, path.string());
+  warn_if_unlikely_size(mesh.V, path);
   return mesh;
 }
 
@@ -188,6 +212,7 @@ TetMesh read_tet_mesh(const std::filesystem::path& path, const MeshReadOptions& 
     unknown_extension(path, kTetFormats);
   }
   check_tet_mesh(mesh, path.string());
+  warn_if_unlikely_size(mesh.V, path);
   return mesh;
 }
 
