@@ -15,7 +15,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libtet1.5-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libceres-dev
+  libceres-dev zlib1g-dev
   libopenblas0-pthread
   python3 python3-meshio
   calculix-ccx

@@ -221,6 +221,8 @@ meshio.write(d + "/s_bin.stl", m, binary=True)
 meshio.write(d + "/s_asc.stl", m, binary=False)
 meshio.write(d + "/s_b64.vtu", m, binary=True, compression=None)
 meshio.write(d + "/s_asc.vtu", m, binary=False)
+meshio.write(d + "/s_zlib.vtu", m, binary=True, compression="zlib")
+meshio.write(d + "/s_lzma.vtu", m, binary=True, compression="lzma")
 )PY";
 
 TEST_F(Meshio, PalpaReadsMeshioSurfaceFormats) {
@@ -231,7 +233,7 @@ TEST_F(Meshio, PalpaReadsMeshioSurfaceFormats) {
   Eigen::MatrixX3i F(4, 3);
   F << 0, 1, 2, 0, 1, 3, 1, 2, 3, 0, 3, 2;
   for (const char* name : {"s.obj", "s.off", "s_bin.ply", "s_asc.ply", "s_bin.stl", "s_asc.stl",
-                           "s_b64.vtu", "s_asc.vtu"}) {
+                           "s_b64.vtu", "s_asc.vtu", "s_zlib.vtu"}) {
     SCOPED_TRACE(name);
     const SurfaceMesh m = read_surface_mesh(dir / name);
     ASSERT_EQ(m.V.rows(), 4);
@@ -246,6 +248,11 @@ TEST_F(Meshio, PalpaReadsMeshioSurfaceFormats) {
   const UnstructuredGrid grid = read_vtu(dir / "s_b64.vtu");
   ASSERT_NE(grid.find_point_data("pressure"), nullptr);
   EXPECT_EQ(grid.find_point_data("pressure")->values(3, 0), 4.5);
+  const UnstructuredGrid zipped = read_vtu(dir / "s_zlib.vtu");
+  ASSERT_NE(zipped.find_point_data("pressure"), nullptr);
+  EXPECT_EQ(zipped.find_point_data("pressure")->values(3, 0), 4.5);
+  EXPECT_TRUE(test::throws_error([&] { read_surface_mesh(dir / "s_lzma.vtu"); }, ErrorKind::Input,
+                                 {"s_lzma.vtu", "vtkLZMADataCompressor", "zlib"}));
 }
 
 constexpr const char* kTetScript = R"PY(

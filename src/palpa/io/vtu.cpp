@@ -7,6 +7,8 @@
 #include <optional>
 #include <set>
 
+#include <zlib.h>
+
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/text.hpp"
 #include "palpa/io/detail/binary.hpp"
@@ -263,10 +265,12 @@ class VtuReader {
       fail_at(line, fmt::format("a {} file, not an UnstructuredGrid", *type),
               "a .vtu UnstructuredGrid");
     }
-    if (tag.attribute("compressor") != nullptr) {
-      fail_at(line,
-              fmt::format("compressed data ({}) is not supported", *tag.attribute("compressor")),
-              "uncompressed data (ParaView: Save Data with compression 'None')");
+    if (const std::string* c = tag.attribute("compressor")) {
+      if (*c != "vtkZLibDataCompressor") {
+        fail_at(line, fmt::format("compressed data ({}) is not supported", *c),
+                "zlib compression (vtkZLibDataCompressor, ParaView's and meshio's default) or none");
+      }
+      zlib_ = true;
     }
     if (const std::string* order = tag.attribute("byte_order")) {
       order_ = *order == "BigEndian" ? ByteOrder::Big : ByteOrder::Little;
@@ -348,13 +352,19 @@ class VtuReader {
       }
       block = std::string_view(bytes_).substr(start);
     }
+    const std::size_t size = type_size(a.type);
+    if (zlib_) {
+      const std::string raw = inflate_blocks(a, block, static_cast<std::uint64_t>(count) * size);
+      out.reserve(count);
+      for (std::size_t i = 0; i < count; ++i) out.push_back(load_value(a.type, raw.data() + i * size, order_));
+      return out;
+    }
     if (block.size() < header_bytes_) {
       fail(a, "truncated: the array's byte count is missing");
     }
     const std::uint64_t n_bytes = header_bytes_ == 8
                                       ? io_detail::load<std::uint64_t>(block.data(), order_)
                                       : io_detail::load<std::uint32_t>(block.data(), order_);
-    const std::size_t size = type_size(a.type);
     if (n_bytes > block.size() - header_bytes_) {
       fail(a, fmt::format("truncated: the array promises {} bytes, the file holds {}", n_bytes,
                           block.size() - header_bytes_));
@@ -365,6 +375,57 @@ class VtuReader {
     out.reserve(count);
     const char* p = block.data() + header_bytes_;
     for (std::size_t i = 0; i < count; ++i) out.push_back(load_value(a.type, p + i * size, order_));
+    return out;
+  }
+
+  // The bytes of a zlib-compressed array: a header of header_type integers
+  // (number of blocks, uncompressed block size, size of the last block or 0
+  // when it is full, then each block's compressed size), then the blocks.
+  // `expected` is known from the element counts, so nothing is allocated or
+  // inflated beyond it.
+  std::string inflate_blocks(const RawArray& a, std::string_view block, std::uint64_t expected) const {
+    const auto word = [&](std::size_t i) -> std::uint64_t {
+      const std::size_t at = i * header_bytes_;
+      if (at + header_bytes_ > block.size()) fail(a, "truncated: the compression header is incomplete");
+      return header_bytes_ == 8 ? io_detail::load<std::uint64_t>(block.data() + at, order_)
+                                : io_detail::load<std::uint32_t>(block.data() + at, order_);
+    };
+    const std::uint64_t blocks = word(0);
+    const std::uint64_t block_size = word(1);
+    const std::uint64_t last = word(2);
+    if (blocks == 0) {
+      if (expected != 0) fail(a, fmt::format("no compressed blocks, expected {} bytes", expected));
+      return {};
+    }
+    if (block_size == 0 || last > block_size || blocks > expected / block_size + 1) {
+      fail(a, fmt::format("a compression header of {} blocks of {} bytes (last {}) cannot hold {} bytes", blocks,
+                          block_size, last, expected));
+    }
+    const std::uint64_t total = (blocks - 1) * block_size + (last == 0 ? block_size : last);
+    if (total != expected) {
+      fail(a, fmt::format("{} bytes of {} once inflated, expected {}", total, a.type, expected));
+    }
+    std::size_t at = static_cast<std::size_t>((3 + blocks) * header_bytes_);
+    if (at > block.size()) fail(a, "truncated: the compression header is incomplete");
+    std::string out(static_cast<std::size_t>(total), '\0');
+    std::size_t written = 0;
+    for (std::uint64_t b = 0; b < blocks; ++b) {
+      const std::uint64_t packed = word(static_cast<std::size_t>(3 + b));
+      const std::uint64_t want = b + 1 == blocks && last != 0 ? last : block_size;
+      if (packed > block.size() - at) {
+        fail(a, fmt::format("truncated: block {} promises {} compressed bytes, the file holds {}", b + 1, packed,
+                            block.size() - at));
+      }
+      uLongf got = static_cast<uLongf>(want);
+      const int rc = uncompress(reinterpret_cast<Bytef*>(out.data() + written), &got,
+                                reinterpret_cast<const Bytef*>(block.data() + at), static_cast<uLong>(packed));
+      if (rc != Z_OK || got != want) {
+        fail(a, fmt::format("block {} of {} does not inflate to {} bytes ({})", b + 1, blocks, want,
+                            rc == Z_OK ? fmt::format("{} bytes", got) : std::string(zError(rc))));
+      }
+      written += static_cast<std::size_t>(want);
+      at += static_cast<std::size_t>(packed);
+    }
     return out;
   }
 
@@ -472,6 +533,7 @@ class VtuReader {
   std::size_t appended_ = std::string::npos;
   ByteOrder order_ = ByteOrder::Little;
   std::size_t header_bytes_ = 4;
+  bool zlib_ = false;
   int pieces_ = 0;
   Eigen::Index number_of_points_ = 0;
   Eigen::Index number_of_cells_ = 0;

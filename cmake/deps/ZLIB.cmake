@@ -1,0 +1,2 @@
+# zlib: compressed VTU arrays (vtkZLibDataCompressor), Debian's zlib1g-dev.
+find_package(ZLIB REQUIRED)
