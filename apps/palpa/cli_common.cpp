@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <map>
+#include <utility>
+
 #include "palpa/core/error.hpp"
 
 namespace palpa::cli {
@@ -35,5 +38,66 @@ void require_empty_output(const std::filesystem::path& out, std::string_view wha
                                   what));
   }
 }
+
+namespace {
+
+struct PathRoles {
+  std::vector<std::string> inputs, outputs;
+};
+
+std::map<const CLI::App*, PathRoles>& path_registry() {
+  static std::map<const CLI::App*, PathRoles> registry;
+  return registry;
+}
+
+// The file a value names, spelled one way: absolute, with links, "." and
+// ".." resolved as far as the path exists.
+std::filesystem::path same_file_key(std::string value) {
+  if (const auto eq = value.find('='); eq != std::string::npos) value = value.substr(eq + 1);
+  std::error_code ec;
+  std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(value, ec), ec);
+  if (ec) p = std::filesystem::absolute(value).lexically_normal();
+  return p;
+}
+
+void check_command(const CLI::App& cmd) {
+  if (const auto it = path_registry().find(&cmd); it != path_registry().end()) {
+    struct Seen {
+      std::string option, value;
+      bool output;
+    };
+    std::map<std::filesystem::path, Seen> seen;
+    const auto visit = [&](const std::vector<std::string>& names, bool output) {
+      for (const std::string& name : names) {
+        const CLI::Option* opt = cmd.get_option_no_throw(name);
+        if (opt == nullptr) continue;
+        for (const std::string& value : opt->results()) {
+          if (value.empty()) continue;
+          const auto key = same_file_key(value);
+          const auto [at, fresh] = seen.emplace(key, Seen{opt->get_name(), value, output});
+          if (fresh || !(output || at->second.output)) continue;
+          const Seen& first = at->second;
+          throw_input_error(
+              fmt::format("{} '{}' is the same file as {} '{}': palpa {} would {} it", opt->get_name(), value,
+                          first.option, first.value, cmd.get_name(),
+                          first.output && output ? "write it twice and keep only one of" : "overwrite its input with"),
+              ErrorContext{value, 0, 0, fmt::format("option {}", opt->get_name())},
+              "a path for each output that is no input and no other output");
+        }
+      }
+    };
+    visit(it->second.inputs, false);
+    visit(it->second.outputs, true);
+  }
+  for (const CLI::App* sub : cmd.get_subcommands()) check_command(*sub);
+}
+
+}  // namespace
+
+void declare_paths(const CLI::App& cmd, std::vector<std::string> inputs, std::vector<std::string> outputs) {
+  path_registry()[&cmd] = PathRoles{std::move(inputs), std::move(outputs)};
+}
+
+void check_distinct_paths(const CLI::App& app) { check_command(app); }
 
 }  // namespace palpa::cli

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "palpa/core/units.hpp"
 
@@ -22,5 +23,15 @@ CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double&
 // exists and is not empty: `what` ("fit", "simulation") names the run that
 // --resume would continue there.
 void require_empty_output(const std::filesystem::path& out, std::string_view what);
+
+// Declares which of a command's options (by any of their names, positional
+// ones by their name) are files it reads and which are files or folders it
+// writes. A value "NAME=FILE" counts as FILE.
+void declare_paths(const CLI::App& cmd, std::vector<std::string> inputs, std::vector<std::string> outputs);
+
+// After parsing: refuses (palpa::Error, Input) any output of a parsed command
+// that is one of its inputs or another of its outputs (the same file under
+// any spelling, through links too), before anything is read or written.
+void check_distinct_paths(const CLI::App& app);
 
 }  // namespace palpa::cli

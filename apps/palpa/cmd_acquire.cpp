@@ -115,8 +115,9 @@ void run_acquire_poke(AcquirePokeArgs& a) {
   if (!a.unloading.empty()) {
     batch.add(a.unloading) << format_csv(curve_table(r.unloading, source + "; unloading (maximum force -> end)"));
   }
+  std::optional<OutputFolder> plots;
   if (!a.plots.empty()) {
-    ensure_directory(a.plots);
+    plots.emplace(a.plots);
     batch.add(std::filesystem::path(a.plots) / "signals.svg") << report::render_svg(acquire::poke_signals_figure(r));
     batch.add(std::filesystem::path(a.plots) / "curve.svg") << report::render_svg(acquire::poke_curve_figure(r));
   }
@@ -140,6 +141,7 @@ void run_acquire_poke(AcquirePokeArgs& a) {
     batch.add(a.summary) << s.dump(2) << "\n";
   }
   batch.commit();
+  if (plots) plots->keep();
   spdlog::info("acquire poke: force {} Hz, laser {} Hz, laser clock {:+.4f} s (rank correlation {:.4f}); poke {:.3f} .. "
                "{:.3f} s; {} at {}; wrote {}",
                fmt::format("{:.4g}", r.force_log.rate), fmt::format("{:.4g}", r.laser_log.rate), r.clock_shift,
@@ -178,6 +180,7 @@ void add_acquire_poke(CLI::App& acquire) {
   cmd->add_option("--laser-window", a->laser_window, "Poke start and end on the laser log's clock");
   cmd->add_option("--points", a->points, "Points of the uniform indentation grid (default 50)");
   cmd->add_flag("--no-tare", a->no_tare, "Keep the force at rest instead of subtracting it");
+  declare_paths(*cmd, {"--force", "--laser", "--calibration"}, {"-o", "--unloading", "--plots", "--summary"});
   cmd->callback([a] { run_acquire_poke(*a); });
 }
 
@@ -253,8 +256,9 @@ void run_acquire_ultrasound(const UltrasoundArgs& a) {
   if (position) {
     batch.add(a.depth_table) << format_csv(acquire::add_depth_row(table, *position, names, r.rest_depth, main_interface));
   }
+  std::optional<OutputFolder> plots;
   if (!a.plots.empty()) {
-    ensure_directory(a.plots);
+    plots.emplace(a.plots);
     batch.add(std::filesystem::path(a.plots) / "depths.svg") << report::render_svg(acquire::ultrasound_figure(r));
   }
   if (!a.summary.empty()) {
@@ -269,6 +273,7 @@ void run_acquire_ultrasound(const UltrasoundArgs& a) {
     batch.add(a.summary) << s.dump(2) << "\n";
   }
   batch.commit();
+  if (plots) plots->keep();
   std::string rest_text;
   for (std::size_t k = 0; k < names.size(); ++k) {
     rest_text += fmt::format("{}{} {}", k ? ", " : "", names[k], format_quantity(r.rest_depth[k], Dimension::Length));
@@ -308,6 +313,7 @@ void add_acquire_ultrasound(CLI::App& acquire) {
                       "The refinement looks this far either side of --offset (default 0.5 s)");
   add_log_options(*cmd, a->o.order, a->o.cutoff, a->o.plateau, a->o.check, a->o.saturation);
   cmd->add_option("--force-window", a->force_window, "Poke start and end on the force clock (e.g. 1.9s,3.3s)");
+  declare_paths(*cmd, {"--force", "--interface"}, {"-o", "--depth-table", "--plots", "--summary"});
   cmd->callback([a] { run_acquire_ultrasound(*a); });
 }
 
@@ -339,7 +345,7 @@ CsvTable location_table(const acquire::PressureMap& m) {
 
 void run_acquire_pressure(const PressureArgs& a) {
   acquire::PressureOptions o = a.o;
-  const ErrorContext unit_where{"", 0, 0, "option --mesh-unit"};
+  const ErrorContext unit_where{"", 0, 0, "option --unit"};
   const Unit* unit = find_unit(a.mesh_unit);
   if (unit == nullptr || unit->dimension != Dimension::Length) {
     throw_input_error(fmt::format("'{}' is not a length unit", a.mesh_unit), unit_where, "a length unit such as m or mm");
@@ -362,7 +368,7 @@ void run_acquire_pressure(const PressureArgs& a) {
   const acquire::PressureMap m = acquire::pressure_map(mesh, a.locations, a.samples, o);
 
   const std::filesystem::path out = a.output;
-  ensure_directory(out);
+  OutputFolder folder(out, OutputFolder::OnFailure::Wipe);
   PlyWriteOptions ply;
   ply.vertex_scalars = {{"pressure_Pa", m.pressure}, {"pressure_std_Pa", m.pressure_std}};
   UnstructuredGrid grid = grid_of(mesh);
@@ -401,6 +407,7 @@ void run_acquire_pressure(const PressureArgs& a) {
   write_ply(out / "pressure.ply", mesh, ply);
   write_vtu(out / "pressure.vtu", grid);
   batch.commit();
+  folder.keep();
   spdlog::info("acquire pressure: {} locations{}, {} interpolation onto {} vertices; C = {}, pressure {} .. {}, net "
                "force {}; wrote {}",
                m.locations.size(), m.compensated ? " (posture compensated)" : "", a.method, mesh.V.rows(),
@@ -414,11 +421,11 @@ void add_acquire_pressure(CLI::App& acquire) {
   auto* cmd = acquire.add_subcommand(
       "pressure",
       "Pressure-sensor samples per location + reference sensor -> pressure map on the support mesh (PLY, VTU).\n"
-      "  palpa acquire pressure --mesh sole.obj --mesh-unit mm --locations locations.csv --samples samples.csv \\\n"
+      "  palpa acquire pressure --mesh sole.obj --unit mm --locations locations.csv --samples samples.csv \\\n"
       "      --load 343N -o pressure");
   auto a = std::make_shared<PressureArgs>();
   cmd->add_option("--mesh", a->mesh, "Support surface (OBJ, PLY, STL, OFF, VTU)")->required();
-  cmd->add_option("--mesh-unit", a->mesh_unit, "Length unit of the mesh file's coordinates (default m)");
+  cmd->add_option("--unit", a->mesh_unit, "Length unit of the mesh file's coordinates (default m)");
   cmd->add_option("--locations", a->locations, "Sensor locations (CSV location,x_<unit>,y_<unit>,z_<unit>)")
       ->required();
   cmd->add_option("--samples", a->samples, "Samples (CSV location,reading[,reference]; one row per sample)")
@@ -440,6 +447,7 @@ void add_acquire_pressure(CLI::App& acquire) {
   cmd->add_option("--reading-column", a->o.reading_column, "Name (or base name) of the reading column (default reading)");
   cmd->add_option("--reference-column", a->o.reference_column,
                   "Name (or base name) of the reference sensor's column (default reference; absent: no compensation)");
+  declare_paths(*cmd, {"--mesh", "--locations", "--samples"}, {"-o"});
   cmd->callback([a] { run_acquire_pressure(*a); });
 }
 

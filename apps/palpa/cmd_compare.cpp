@@ -66,6 +66,7 @@ void add_compare_command(CLI::App& app) {
   cmd->add_option("--field", a->field, "Per-vertex pressure field [Pa] (default pressure_Pa)");
   cmd->add_option("--reference-field", a->reference_field, "The reference's field (default: --field)");
   cmd->add_option("--json", a->json, "Also write the figures to this JSON file");
+  declare_paths(*cmd, {"map", "reference"}, {"--json"});
   cmd->callback([a] { run_compare_command(*a); });
 }
 

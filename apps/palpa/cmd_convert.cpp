@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/text.hpp"
@@ -132,6 +133,7 @@ void add_convert_command(CLI::App& app) {
       "  palpa convert base.obj body.ply --unit '0.1 m' --obj-group body\n"
       "  palpa convert raw.csv curve.csv                indentation_mm,force_gf -> "
       "indentation_m,force_N");
+  declare_paths(*cmd, {"IN"}, {"OUT"});
   cmd->callback([opt] { run_convert(*opt); });
 }
 

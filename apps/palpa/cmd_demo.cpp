@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "fit_output.hpp"
 #include "palpa/axisym/poke.hpp"
@@ -174,6 +175,7 @@ void add_demo_command(CLI::App& app) {
   auto examples = std::make_shared<std::string>(PALPA_EXAMPLES_DIR);
   cmd->add_option("--out", *out, "Output folder (created if missing; default demo-out)");
   cmd->add_option("--examples", *examples, "Folder of the bundled examples");
+  declare_paths(*cmd, {"--examples"}, {"--out"});
   cmd->callback([out, examples] { run_demo(*examples, *out); });
 }
 

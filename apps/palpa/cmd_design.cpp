@@ -8,7 +8,9 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/json.hpp"
 #include "palpa/design/optimizer.hpp"
 #include "palpa/design/output.hpp"
 #include "palpa/design/scene.hpp"
@@ -30,25 +32,42 @@ struct DesignArgs {
 void run_design_command(const DesignArgs& a) {
   const std::filesystem::path out = a.output;
   const std::filesystem::path checkpoint = out / "checkpoint.json";
-  if (a.resume) {
-    if (!std::filesystem::exists(checkpoint)) {
-      throw_input_error(fmt::format("nothing to resume: '{}' does not exist", checkpoint.string()),
-                        ErrorContext{checkpoint.string(), 0, 0, "option --resume"},
-                        "the output folder of an interrupted palpa design run");
-    }
-  } else if (!a.overwrite) {
-    require_empty_output(out, "design run");
+  const std::filesystem::path finished = out / "summary.json";
+  bool resume = a.resume;
+  // --resume where there is nothing to resume starts afresh, so that a
+  // workflow can always pass it.
+  if (resume && !std::filesystem::exists(checkpoint)) {
+    spdlog::info("design: no checkpoint in {}: starting afresh", out.string());
+    resume = false;
   }
+  if (!resume && !a.overwrite) require_empty_output(out, "design run");
   design::DesignScene scene = design::read_design_scene(a.scene);
   if (a.iterations >= 0) scene.options.max_iterations = a.iterations;
   if (a.threads >= 0) scene.options.threads = a.threads;
   if (a.method == "cg") scene.options.method = design::DesignMethod::ConjugateGradient;
   if (a.method == "lbfgs") scene.options.method = design::DesignMethod::Lbfgs;
+  // A finished run is resumed only to go on past the iteration limit it
+  // stopped at; otherwise it is left exactly as it is.
+  if (resume && std::filesystem::exists(finished)) {
+    const Json done = read_json_file(finished);
+    const JsonView d(done, finished.string());
+    const int iterations = static_cast<int>(d.at("iterations").as_integer());
+    const std::string reason = d.at("stop_reason").as_string();
+    const bool at_limit = reason.find("iteration") != std::string::npos;
+    if (!at_limit || iterations >= scene.options.max_iterations) {
+      spdlog::info("design: the run in {} is finished ({} iterations, stopped by {}); nothing to resume{}", out.string(),
+                   iterations, reason,
+                   at_limit ? fmt::format(" (raise --iterations above {} to go on)", iterations) : std::string());
+      return;
+    }
+  }
   scene.options.checkpoint = checkpoint;
-  scene.options.resume = a.resume;
-  if (!a.resume) {
+  scene.options.resume = resume;
+  if (!resume) {
+    // A fresh run leaves no result of an earlier one that could pass for its own.
     std::error_code ec;
     std::filesystem::remove(checkpoint, ec);
+    std::filesystem::remove(finished, ec);
   }
   spdlog::info("design: {}: body from {} ({} vertices, {} tetrahedra), support {} ({} vertices), {}", a.scene,
                scene.rest.body_source, scene.rest.body.mesh.V.rows(), scene.rest.body.mesh.T.rows(),
@@ -57,7 +76,7 @@ void run_design_command(const DesignArgs& a) {
                                    scene.options);
   spdlog::info("design: initial shape: ζ = {:.6g}, γ = {:.4g}, φ = {:.6g}; {} design variables",
                optimizer.initial().zeta, optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
-  std::filesystem::create_directories(out);  // only now: bad input leaves nothing behind
+  OutputFolder folder(out);  // only now: bad input leaves nothing behind
   design::DesignResult r;
   try {
     r = optimizer.run();
@@ -69,6 +88,7 @@ void run_design_command(const DesignArgs& a) {
     throw;
   }
   const Json s = design::write_design_outputs(out, scene, optimizer, r);
+  folder.keep();
   spdlog::info("design: ζ {:.6g} → {:.6g} ({:.1f}% lower), peak pressure {:.3g} → {:.3g} kPa (body), max penetration "
                "{:.3g} mm, {} iterations, {} equilibria, {:.1f} s ({}); wrote {}",
                r.initial.zeta, r.final.zeta, s["zeta_reduction_percent"].get<double>(),
@@ -83,7 +103,7 @@ void add_design_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "design",
       "Optimize the shape of a support so that the contact pressures of a body resting on it are low and even "
-      "(ergonomic score, adjoint gradients, nonlinear CG).\n"
+      "(ergonomic score, adjoint gradients; L-BFGS by default, or nonlinear CG).\n"
       "  palpa design examples/design/thigh/scene.json -o thigh-design\n"
       "  palpa design examples/design/thigh/scene.json -o thigh-design --resume");
   auto a = std::make_shared<DesignArgs>();
@@ -99,8 +119,9 @@ void add_design_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", a->threads, "Equilibria solved at once (0: min(step lengths, cores))")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--method", a->method, "Optimizer (overrides the scene's design.method): cg or lbfgs")
+  cmd->add_option("--method", a->method, "Optimizer (overrides the scene's design.method): lbfgs (the default) or cg")
       ->check(CLI::IsMember({"cg", "lbfgs"}));
+  declare_paths(*cmd, {"scene"}, {"-o"});
   cmd->callback([a] { run_design_command(*a); });
 }
 

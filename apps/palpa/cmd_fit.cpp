@@ -64,7 +64,7 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
                    const fit::FitOptions& o, bool resume, const std::string& command) {
   const fit::Dataset d = fit::read_dataset(dataset_file);
   const auto t0 = std::chrono::steady_clock::now();
-  ensure_directory(out);
+  OutputFolder folder(out);
   fit::FitControl control;
   control.checkpoint = out / "checkpoint.json";
   control.resume = resume;
@@ -103,6 +103,7 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
                s.rms_train, unit, s.rms_validate, unit,
                format_quantity(material::small_strain_constants(*best.material).young(), Dimension::Pressure),
                out.string());
+  folder.keep();
   return s;
 }
 
@@ -121,14 +122,16 @@ void run_fit_command(const FitArgs& a) {
   o.modulus_only = a.modulus_only;
   if (!a.initial.empty()) o.initial = material::read_material_file(a.initial).material;
   const std::filesystem::path out = a.output;
-  if (!a.resume && !a.overwrite) require_empty_output(out, "fit");
-  if (a.resume && !std::filesystem::exists(out / "checkpoint.json")) {
-    throw_input_error(fmt::format("there is no checkpoint in '{}'", out.string()),
-                      ErrorContext{(out / "checkpoint.json").string(), 0, 0, "option --resume"},
-                      "the output folder of an interrupted fit");
+  bool resume = a.resume;
+  // --resume where there is nothing to resume starts afresh, so that a
+  // workflow can always pass it.
+  if (resume && !std::filesystem::exists(out / "checkpoint.json")) {
+    spdlog::info("fit: no checkpoint in {}: starting afresh", out.string());
+    resume = false;
   }
+  if (!resume && !a.overwrite) require_empty_output(out, "fit");
   try {
-    run_fit(a.dataset, out, o, a.resume, a.command_line);
+    run_fit(a.dataset, out, o, resume, a.command_line);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::Interrupted && std::filesystem::exists(out / "checkpoint.json")) {
       spdlog::warn("fit: interrupted; the last iteration is in {}: continue with the same command and --resume",
@@ -179,6 +182,7 @@ void add_fit_command(CLI::App& app) {
   add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length, "Punch rim radius (default 0: sharp)");
   cmd->add_flag("--resume", a->resume, "Continue the interrupted fit whose checkpoint is in the output folder");
   cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder");
+  declare_paths(*cmd, {"dataset", "--initial"}, {"-o"});
   cmd->callback([a] {
     a->command_line = fmt::format("palpa fit {} --model {} --optimizer {} --mesh-level {} --steps {} --element {}",
                                   a->dataset, a->model, a->optimizer, a->level, a->steps, a->element);

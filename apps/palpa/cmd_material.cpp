@@ -250,6 +250,8 @@ void curve(const CurveOptions& o, const CLI::Option* stretch_opt, const CLI::Opt
   }
   t.add_quantity("energy_density", "Pa", Dimension::Pressure, energy);
   write_csv(o.output, t);
+  spdlog::info("wrote {}: {} test of {} ({}), {} points, {} {} to {}", o.output, o.test, o.input,
+               f.material->model(), pts.size(), lc == LoadCase::SimpleShear ? "shear" : "stretch", lo, hi);
 }
 
 }  // namespace
@@ -290,6 +292,7 @@ void add_material_command(CLI::App& app) {
   cmd->add_option("--f-range", opts->f_range, "spline: knot range of f over stretches (default 0.5:2)");
   cmd->add_option("--g-range", opts->g_range, "spline: knot range of g over stretch products (default 0.4:2.5)");
   cmd->add_option("--h-range", opts->h_range, "spline: knot range of h over J (default 0.6:1.6)");
+  declare_paths(*cmd, {"--from"}, {"-o"});
   cmd->callback([cmd, opts] {
     if (!cmd->get_subcommands().empty()) return;  // show / curve / models ran
     if (opts->output.empty()) {
@@ -332,6 +335,7 @@ void add_material_command(CLI::App& app) {
                                           "Shear strain range LOW:HIGH for --test shear (default -0.5:0.5)");
   curve_cmd->add_option("--points", copts->points, "Number of points (default 101)")->check(CLI::Range(2, 100000));
   curve_cmd->add_option("-o,--output", copts->output, "CSV file to write")->required();
+  declare_paths(*curve_cmd, {"file"}, {"-o"});
   curve_cmd->callback([copts, stretch_opt, shear_opt] { curve(*copts, stretch_opt, shear_opt); });
 }
 

@@ -376,6 +376,7 @@ void add_mesh_command(CLI::App& app) {
       "  palpa mesh layer --surface thigh.obj --depth 15mm --edge 8mm -o thigh.vtu\n"
       "  palpa mesh layer --surface arm.obj --unit mm --depth-samples table31.csv \\\n"
       "      --depth-column bone_distance --stiffness-samples moduli.csv -o arm.vtu");
+  declare_paths(*layer, {"--surface", "--depth-samples", "--stiffness-samples"}, {"-o"});
   layer->callback([la] { run_layer(*la); });
 
   auto ba = std::make_shared<BodyArgs>();
@@ -404,6 +405,7 @@ void add_mesh_command(CLI::App& app) {
                       "Remesh the surface to this edge length first (default: keep it)");
   add_quality_options(*solid, sa->quality);
   solid->add_option("-o,--output", sa->output, "Output tet mesh (.vtu, .node, .msh)")->required();
+  declare_paths(*solid, {"--surface"}, {"-o"});
   solid->callback([sa] { run_solid(*sa); });
 }
 

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -126,7 +127,8 @@ void run_poke(const PokeArgs& a) {
   options.sensitivities = !a.sensitivities.empty();
 
   // Check every output location before the (long) simulation.
-  if (!a.vtu_dir.empty()) ensure_directory(a.vtu_dir);
+  std::optional<OutputFolder> vtu_folder;
+  if (!a.vtu_dir.empty()) vtu_folder.emplace(a.vtu_dir, OutputFolder::OnFailure::Wipe);
   OutputBatch outputs;
   std::ostream& curve_out = outputs.add(a.output);
   std::ostream* sens_out = options.sensitivities ? &outputs.add(a.sensitivities) : nullptr;
@@ -214,6 +216,7 @@ void run_poke(const PokeArgs& a) {
     for (const auto& [d, grid] : frames) series.add(d, grid);
   }
   outputs.commit();
+  if (vtu_folder) vtu_folder->keep();
   const auto& last = curve.samples.back();
   if (compression) {
     spdlog::info("poke: compression {} ({:.4g}%) -> force {:.6g} N; {} Newton iterations, {} factorizations, {:.2f} s",
@@ -270,6 +273,7 @@ void add_poke_command(CLI::App& app) {
   cmd->add_option("--sensitivities", a->sensitivities,
                   "Also write dF/dtheta for every material parameter to this CSV");
   cmd->add_option("-o,--output", a->output, "CSV to write: indentation_m,force_N,...")->required();
+  declare_paths(*cmd, {"--material"}, {"-o", "--sensitivities", "--vtu"});
   cmd->callback([a] { run_poke(*a); });
 }
 

@@ -57,6 +57,7 @@ void add_rest_command(CLI::App& app) {
                   "Output folder (body.vtu, skin.ply, support.vtu/.ply, pressure_histogram.svg, summary.json)")
       ->required();
   cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder");
+  declare_paths(*cmd, {"scene"}, {"-o"});
   cmd->callback([a] { run_rest_command(*a); });
 }
 

@@ -9,6 +9,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/json.hpp"
 #include "palpa/sim3d/run.hpp"
 
 namespace palpa::cli {
@@ -24,14 +25,30 @@ struct Sim3dArgs {
 
 void run_sim3d_command(const Sim3dArgs& a) {
   const std::filesystem::path out = a.output;
-  if (!a.resume && !a.overwrite) require_empty_output(out, "simulation");
+  bool resume = a.resume;
+  // --resume where there is nothing to resume starts afresh, so that a
+  // workflow can always pass it.
+  if (resume && !std::filesystem::exists(out / "state.json")) {
+    // A finished run is left exactly as it is.
+    if (std::filesystem::exists(out / "summary.json")) {
+      const Json done = read_json_file(out / "summary.json");
+      if (done.value("complete", false)) {
+        spdlog::info("sim3d: the run in {} is finished ({} steps); nothing to resume", out.string(),
+                     done.value("steps_done", 0));
+        return;
+      }
+    }
+    spdlog::info("sim3d: no interrupted run in {}: starting afresh", out.string());
+    resume = false;
+  }
+  if (!resume && !a.overwrite) require_empty_output(out, "simulation");
   const sim3d::Scene scene = sim3d::read_scene(a.scene);
   spdlog::info("sim3d: {}: {} vertices, {} tetrahedra, {} material(s), {} obstacle(s), {} step(s){}", a.scene,
                scene.mesh.V.rows(), scene.mesh.T.rows(), scene.materials.size(), scene.obstacles.size(), scene.steps,
                scene.local.enabled ? fmt::format(", local within {:.3g} mm", scene.local.margin * 1e3) : "");
   sim3d::RunOptions o;
   o.out = out;
-  o.resume = a.resume;
+  o.resume = resume;
   try {
     const Json s = sim3d::run(scene, o);
     const Json& last = s.at("records").back();
@@ -69,6 +86,7 @@ void add_sim3d_command(CLI::App& app) {
       ->required();
   cmd->add_flag("--resume", a->resume, "Continue an interrupted run in the output folder");
   cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder");
+  declare_paths(*cmd, {"scene"}, {"-o"});
   cmd->callback([a] { run_sim3d_command(*a); });
 }
 

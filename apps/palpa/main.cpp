@@ -1,5 +1,5 @@
 // palpa command line. Exit codes: 0 success, 2 bad input or usage, 3 solver
-// failure, 1 internal error, 130 interrupted.
+// failure, 1 internal error, 130 interrupted (SIGINT), 143 stopped (SIGTERM).
 
 #include <fmt/format.h>
 
@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
       if (verbose >= 2) v = palpa::Verbosity::Trace;
       palpa::configure_logging(v);
       spdlog::debug("palpa {}; {}", palpa::kVersion, palpa::describe_blas());
+      palpa::cli::check_distinct_paths(app);
     });
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -210,7 +210,7 @@ TEST(AcquireCli, PressureRefusesBadInputAndWritesNothing) {
       {"samples.csv", "\n1,0.", "\n1,nan", "", "samples.csv:3"},
       {"locations.csv", "", "", "--trim 300", "location 1 has 600 samples"},
       {"locations.csv", "", "", "--method spline", "unknown interpolation 'spline'"},
-      {"locations.csv", "", "", "--mesh-unit kPa", "'kPa' is not a length unit"},
+      {"locations.csv", "", "", "--unit kPa", "'kPa' is not a length unit"},
   };
   for (const Bad& b : cases) {
     ScratchDir dir;

@@ -114,6 +114,34 @@ TEST_F(ConvertCli, HelpShowsAnExampleForEachUse) {
   EXPECT_NE(r.out.find(".msh"), std::string::npos);
 }
 
+TEST_F(ConvertCli, RefusesToOverwriteItsInput) {
+  const auto src = in.write("part.obj", kObjMm);
+  const std::string again = (in / "." / "part.obj").string();
+  for (const std::string& target : {src.string(), again}) {
+    const test::CommandResult r =
+        test::run_palpa("convert " + shell_quote(src) + " " + shell_quote(target) + " --unit mm");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("is the same file as IN"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("would overwrite its input"), std::string::npos) << r.err;
+    EXPECT_EQ(read_text(src), kObjMm);
+  }
+}
+
+TEST_F(ConvertCli, WarnsOfAMeshInTheWrongUnit) {
+  const auto src = in.write("part.obj", kObjMm);
+  const test::CommandResult r = test::run_palpa("convert " + shell_quote(src) + " " + shell_quote(out / "part.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("the mesh is 20 m across: if its coordinates are in millimetres"), std::string::npos) << r.err;
+  const test::CommandResult ok =
+      test::run_palpa("convert " + shell_quote(src) + " " + shell_quote(out / "ok.ply") + " --unit mm");
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("across"), std::string::npos) << ok.err;
+  const test::CommandResult tiny =
+      test::run_palpa("convert " + shell_quote(src) + " " + shell_quote(out / "tiny.ply") + " --unit '0.01 mm'");
+  ASSERT_EQ(tiny.exit_code, 0) << tiny.err;
+  EXPECT_NE(tiny.err.find("0.2 mm across: if its coordinates are already in metres"), std::string::npos) << tiny.err;
+}
+
 TEST_F(ConvertCli, EmptyFileFails) {
   const auto csv = in.write("empty.csv", "");
   expect_failure(shell_quote(csv) + " " + shell_quote(out / "o.csv"), {"empty.csv", "file is empty"});

@@ -96,13 +96,25 @@ TEST(DesignCli, ResumesAnInterruptedRun) {
   EXPECT_TRUE(a["resumed"].get<bool>());
   EXPECT_EQ(a["iterations"], 4);
   EXPECT_EQ(a["final"]["zeta"].get<double>(), b["final"]["zeta"].get<double>());
+  // Resuming the finished run again changes nothing and says so.
+  const std::string before = test::read_text(dir / "out" / "summary.json");
+  const auto again = run_palpa("design scene.json -o out --resume --iterations 4", dir.path());
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("is finished (4 iterations"), std::string::npos) << again.err;
+  EXPECT_EQ(test::read_text(dir / "out" / "summary.json"), before);
+  // --resume on a new folder starts afresh.
+  const auto fresh = run_palpa("design scene.json -o new --resume --iterations 1", dir.path());
+  ASSERT_EQ(fresh.exit_code, 0) << fresh.err;
+  EXPECT_NE(fresh.err.find("starting afresh"), std::string::npos) << fresh.err;
+  EXPECT_FALSE(summary(dir / "new" / "summary.json")["resumed"].get<bool>());
 }
 
 TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {
   ScratchDir dir;
   const auto none = run_palpa("design missing.json -o out --resume", dir.path());
   EXPECT_EQ(none.exit_code, 2);
-  EXPECT_NE(none.err.find("nothing to resume"), std::string::npos) << none.err;
+  EXPECT_NE(none.err.find("missing.json"), std::string::npos) << none.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
   std::string empty = kDesignScene;
   empty.replace(empty.find("\"-5 mm\"]"), 8, "\"-15 mm\"]").replace(empty.find("\"5 mm\"]"), 7, "\"-8 mm\"]");
   dir.write("empty.json", empty);

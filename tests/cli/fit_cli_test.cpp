@@ -101,13 +101,17 @@ TEST(FitCli, ANonEmptyOutputFolderOrAMissingCheckpointIsRefused) {
   EXPECT_EQ(files_in(dir / "out"), 1u);
   EXPECT_EQ(test::read_text(dir / "out" / "notes.txt"), "mine");
 
-  const auto resume = run_palpa("fit dataset.json -o fresh --resume --mesh-level 0", dir.path());
-  EXPECT_EQ(resume.exit_code, 2) << resume.err;
-  EXPECT_NE(resume.err.find("there is no checkpoint in 'fresh'"), std::string::npos) << resume.err;
-  EXPECT_FALSE(std::filesystem::exists(dir / "fresh"));
+  // --resume without a checkpoint starts afresh (a workflow can always pass
+  // it), in an empty folder only.
   const auto resume2 = run_palpa("fit dataset.json -o out --resume --mesh-level 0", dir.path());
   EXPECT_EQ(resume2.exit_code, 2) << resume2.err;
-  EXPECT_NE(resume2.err.find("checkpoint"), std::string::npos) << resume2.err;
+  EXPECT_NE(resume2.err.find("starting afresh"), std::string::npos) << resume2.err;
+  EXPECT_NE(resume2.err.find("output folder 'out' is not empty"), std::string::npos) << resume2.err;
+  // A bad option found only when the fit starts leaves no folder behind.
+  const auto model = run_palpa("fit dataset.json -o fresh --resume --mesh-level 0 --model nosuch", dir.path());
+  EXPECT_EQ(model.exit_code, 2) << model.err;
+  EXPECT_NE(model.err.find("nosuch"), std::string::npos) << model.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "fresh"));
   EXPECT_EQ(files_in(dir / "out"), 1u);
 }
 

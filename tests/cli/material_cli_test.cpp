@@ -31,6 +31,8 @@ TEST(MaterialCli, WritesShowsAndPlotsAMaterial) {
   r = run_palpa("material curve m.json --test uniaxial --stretch 0.8:1.2 --points 3 -o c.csv",
                 dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("wrote c.csv: uniaxial test of m.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("3 points"), std::string::npos) << r.err;
   const std::string csv = test::read_text(dir / "c.csv");
   EXPECT_NE(
       csv.find("stretch,lateral_stretch,nominal_stress_Pa,cauchy_stress_Pa,energy_density_Pa"),

@@ -68,7 +68,8 @@ TEST(PokeCli, BadInputIsRefusedAndNothingIsWritten) {
       {"--thickness 10mm --radius 3mm --depth 1mm --element q9", "unknown element 'q9'"},
       {"--thickness 10mm --radius 3mm --depth 1mm --fillet 3mm", "fillet radius"},
       {"--thickness 10mm --radius 3mm --depth 1mm --outer-radius 2mm", "outer radius"},
-      {"--thickness 10mm --radius 3mm --depth 1mm --vtu m.json", "not a folder"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --vtu /etc/passwd", "not a folder"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --vtu m.json", "--vtu 'm.json' is the same file as --material"},
       {"--thickness 10mm --radius 3mm --depth 1mm --test shear", "unknown test 'shear'"},
       {"--thickness 10mm --radius 3mm --depth 1mm --contact bonded", "--contact bonded is for the platens"},
       {"--test compression --thickness 10mm --radius 3mm --depth 1mm --contact stick",
@@ -80,6 +81,11 @@ TEST(PokeCli, BadInputIsRefusedAndNothingIsWritten) {
       {"--test compression --thickness 10mm --radius 3mm --depth 1mm --outer-radius 20mm",
        "--outer-radius does not apply to --test compression"},
       {"--test compression --thickness 10mm --radius 3mm --depth 9.5mm", "below 90% of the sample height"},
+      // An output that is another output, or the input, under any spelling.
+      {"--thickness 10mm --radius 3mm --depth 1mm --sensitivities ./out.csv",
+       "--sensitivities './out.csv' is the same file as --output 'out.csv'"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --sensitivities sub/../m.json",
+       "would overwrite its input"},
   };
   for (const Bad& b : calls) {
     ScratchDir dir;

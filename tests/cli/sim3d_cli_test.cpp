@@ -39,6 +39,16 @@ TEST(Sim3dCli, WritesCurveFramesAndSummary) {
     EXPECT_NE(vtu.find(a), std::string::npos) << a;
   }
   EXPECT_NE(r.err.find("sim3d: 2 steps"), std::string::npos) << r.err;
+  // --resume on the finished run changes nothing; on a new folder it starts afresh.
+  const std::string finished = test::read_text(dir / "out" / "summary.json");
+  const auto done = run_palpa("sim3d scene.json -o out --resume", dir.path());
+  ASSERT_EQ(done.exit_code, 0) << done.err;
+  EXPECT_NE(done.err.find("is finished (2 steps); nothing to resume"), std::string::npos) << done.err;
+  EXPECT_EQ(test::read_text(dir / "out" / "summary.json"), finished);
+  const auto fresh = run_palpa("sim3d scene.json -o fresh --resume", dir.path());
+  ASSERT_EQ(fresh.exit_code, 0) << fresh.err;
+  EXPECT_NE(fresh.err.find("starting afresh"), std::string::npos) << fresh.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "fresh" / "summary.json"));
 
   // A second run into the same folder is refused, naming it.
   const auto again = run_palpa("sim3d scene.json -o out", dir.path());

@@ -353,8 +353,8 @@ void write_curves(const fs::path& out, const Scene& scene, const std::vector<Jso
 
 Json run(const Scene& scene, const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  ensure_directory(options.out);
-  ensure_directory(options.out / "frames");
+  OutputFolder folder(options.out);
+  OutputFolder frames(options.out / "frames");
   const fs::path state_path = options.out / "state.json";
   const std::string fp = scene_fingerprint(scene);
   Simulation sim(scene);
@@ -483,6 +483,8 @@ Json run(const Scene& scene, const RunOptions& options) {
   Json s = summary(true);
   s["total_seconds"] = seconds_since(t0);
   write_json_file(options.out / "summary.json", s);
+  frames.keep();
+  folder.keep();
   return s;
 }
 
