@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # palpa — the two commands of the README, plus a few conveniences.
 #   make demo    install Debian packages if missing, build the command line (Release),
 #                run `palpa demo`

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Small helpers shared by the benchmarks: repeat a kernel until enough time has
 // passed, and print one JSON line per figure.

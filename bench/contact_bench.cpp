@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Benchmarks of the contact module. Prints one JSON line per figure (see
 // BENCHMARKS.md), each with its in-run reference and the ratio.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // design: every shipped `palpa design` example optimized with both methods —
 // nonlinear CG over the ladder of 8 step lengths (evaluated in parallel) and
 // L-BFGS — for the same number of iterations. Per example and method:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Benchmark of material fitting (palpa::fit) on the bundled example datasets
 // (examples/fit/*/dataset*.json). Prints one JSON line per figure (see
 // BENCHMARKS.md).

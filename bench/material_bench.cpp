@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Element-level throughput of the material kernels: energy + gradient + Hessian
 // per second for a linear tetrahedron (3D) and a bilinear axisymmetric quad
 // (9 Gauss points), for neo-Hookean and the spline material. Reference in the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Benchmark of body meshing (palpa::mesh::make_layer): a generated thigh
 // surface of about 50k triangles (at the largest level) meshed into a soft
 // layer of about 100k tets, with 60 depth samples and 60 stiffness samples

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Benchmark of the axisymmetric punch-indentation simulator (palpa::axisym).
 // Prints one JSON line per figure (see BENCHMARKS.md).
 //

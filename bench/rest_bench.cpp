@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // rest: every shipped `palpa rest` example (the seated body on a bevelled and
 // a flat block chair, the foot on a flat sole and on its negative image, the
 // hand on a two-sphere mouse, the generated thigh on a block and on its

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # Runs every benchmark binary of a build folder; each prints JSON lines.
 set -euo pipefail
 build=${1:-build/release}

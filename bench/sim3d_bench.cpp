@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // sim3d: a cylinder pressed 1 mm into a 60 × 60 × 15 mm block at four mesh
 // levels (up to ~100k tets). Per level: Newton iterations, time per Newton
 // iteration as a multiple of one CHOLMOD numeric factorization of the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Benchmarks of the solve module. Prints one JSON line per figure (see
 // BENCHMARKS.md): each figure with its in-run reference and the ratio.
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # Every dependency comes from Debian's packages (scripts/setup.sh installs them).
 # A missing dependency is a configure error, never a silently reduced build.
 include(deps/Eigen)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # AddressSanitizer + UndefinedBehaviorSanitizer for every palpa target.
 # UBSan is made fatal so a report fails the test that triggered it.
 add_library(palpa_sanitizers INTERFACE)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # Warnings for palpa's own code, as an interface target. Third-party headers come
 # in through imported targets and are treated as system headers, so they do not
 # trip these flags.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # Installs the Debian packages palpa needs, and only those that are missing.
 # Idempotent: when everything is installed it prints one line and changes nothing.
 # OpenBLAS (pthread build) takes over libblas.so.3 and liblapack.so.3 from the

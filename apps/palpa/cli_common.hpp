@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Helpers shared by the subcommands: options that carry units, and the
 // conventions every command follows (SI inside, units required at the edge).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa acquire: raw measurements -> the curves and maps the rest of palpa
 // reads (thesis ch. 3, §7.6): poke logs -> force–indentation curve, ultrasound
 // picks -> tissue depths, pressure-sensor samples -> pressure map.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa compare: the error between two pressure maps on the same support.
 
 #include <fmt/format.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa convert IN OUT [--unit U]`: meshes between formats (coordinates to
 // metres), and CSV tables to SI column units.
 

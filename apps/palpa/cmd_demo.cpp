@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa demo: runs the pipeline on the bundled example data: the material
 // stage (for each example material its small-strain constants and checks, its
 // homogeneous stress-stretch curves, and the spline material that reproduces

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa design: the support shape whose contact pressures are lowest and most
 // even (ergonomic shape optimization).
 

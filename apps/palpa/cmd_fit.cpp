@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa fit: a material (and, if asked, the layer depth) from measured
 // force–indentation, plate-compression or homogeneous stress–stretch curves.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa material: write a material file, show one, list models, and write
 // homogeneous stress–stretch curves.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa mesh: simulation meshes of bodies — a soft tet layer around a rigid
 // core from a scan and tissue depths (`layer`), analytic test bodies (`body`),
 // and solid tet meshes of closed surfaces (`solid`).

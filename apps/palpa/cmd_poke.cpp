@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa poke: force–indentation curve of a flat cylindrical punch pressed into a
 // layer on a rigid base, or force–compression curve of a cylindrical sample
 // between two plates (axisymmetric FEM).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa rest: a body on its rigid core resting on a support; contact pressures
 // on both.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa sim3d: a tet body pressed by rigid obstacles (static equilibria along
 // indentation paths, or settled implicit dynamics), with penalty contact.
 

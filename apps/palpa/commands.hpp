@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // One registration function per subcommand; each lives in cmd_<name>.cpp and
 // attaches a CLI11 subcommand whose callback calls into the library.

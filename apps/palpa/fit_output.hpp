@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The output folder of a fit (palpa fit, palpa demo): material.json,
 // report.json, curves/<name>.csv, curves.svg, objective.svg and (depth search)

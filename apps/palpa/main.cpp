@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa command line. Exit codes: 0 success, 2 bad input or usage, 3 solver
 // failure, 1 internal error, 130 interrupted (SIGINT), 143 stopped (SIGTERM).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # CGAL 5.5 (header-only, with GMP/MPFR), included only by the .cpp files of
 # contact (detail/cgal_tree.cpp) and mesh (detail/). CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE:
 # the presets choose it.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # SuiteSparse 5.x in Debian ships no CMake package: locate CHOLMOD by hand and
 # wrap it in an imported target. Only .cpp files of the solve module include it.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)

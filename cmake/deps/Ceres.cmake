@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # Debian's Ceres names the BLAS it was built with, ATLAS, by its own files
 # (libf77blas, libatlas) besides the generic libblas/liblapack. Linked in, they
 # come before libblas.so.3 in the program's search order, so ATLAS's dgemm would

@@ -1,2 +1,3 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 find_package(GTest REQUIRED)
 include(GoogleTest)

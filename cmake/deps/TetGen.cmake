@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
 # TetGen 1.5 (Debian's libtet1.5-dev ships no CMake package): locate it by hand
 # and wrap it in an imported target. The library is built with TETLIBRARY, so
 # its errors are thrown as int; consumers must define it too. Only

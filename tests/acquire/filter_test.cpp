@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The Butterworth design against its analytic magnitude, and filtfilt's zero
 // phase, squared magnitude and edge handling.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Column specs, log checks (unsorted time, gaps, NaN, clipping) and the
 // monotone calibration table.
 #include <fmt/format.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Writes the synthetic example recordings of examples/acquire from the same
 // generators the tests use:
 //   palpa_acquire_make_examples <examples/acquire folder>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Synthetic poke logs made from a known curve come back to that curve; every
 // bad input named in the protocol is refused with a message naming it.
 #include <fmt/format.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Pressure maps: trimmed statistics, posture compensation, exact
 // reproduction of constant and linear fields, the load normalization, and
 // every bad input named.

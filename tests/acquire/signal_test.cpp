@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Interpolation, poke and plateau detection, clipping runs and clock alignment.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Synthetic poke recordings made from a known force–indentation curve, the way
 // the devices of thesis §3.2 would log them: a force gauge and a laser, each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Catmull–Rom splines on exact cases; synthetic ultrasound picks give back the
 // known rest depths, clock offset and depth-vs-force.
 #include <gtest/gtest.h>

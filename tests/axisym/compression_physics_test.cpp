@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Compression of a cylindrical sample between two plates against its analytic
 // limits, under mesh refinement, and to the depths of real data (label
 // "physics": Release only).

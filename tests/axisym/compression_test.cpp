@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Compression of a whole cylindrical sample between two plates in the
 // axisymmetric poke engine: mesh, derivatives of the system and of the force
 // with the side wall folded onto the platens, sensitivities, bad input.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The axisymmetric element: gradient, Hessian and parameter derivatives against
 // finite differences for both formulations; patch tests (rigid motions,
 // homogeneous deformations) with their exact energies.

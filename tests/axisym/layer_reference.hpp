@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Analytic reference for the small-depth stiffness of a rigid flat-ended
 // cylindrical punch on a linear-elastic layer bonded to a rigid base.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Tests of the bonded-layer flat-punch reference κ(a/h, ν): published values,
 // the half-space and thin-layer limits, the small-a/h expansion, the layer
 // compliance function and the convergence of both quadratures.

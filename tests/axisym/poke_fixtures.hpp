@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Shared set-up of the indentation tests: a 2 mm punch on a 10 kPa layer.
 

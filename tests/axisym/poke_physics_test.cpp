@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The indentation simulator against its analytic limits, its far-field and
 // mesh convergence, and deep indentation (label "physics": Release only).
 #include <gtest/gtest.h>

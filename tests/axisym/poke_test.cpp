@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The indentation simulator: punch geometry, derivatives of the system and of
 // the force, the curve's start, bad input. Physics: poke_physics_test.cpp.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The layer + rigid core system: the exponential map and its Jacobian, the
 // coupled gradient (exact at any pose) and Hessian (exact at the committed
 // pose) against finite differences, rigid motions of the whole body, locked

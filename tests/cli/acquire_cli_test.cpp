@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa acquire` end to end on the synthetic example recordings.
 #include <gtest/gtest.h>
 

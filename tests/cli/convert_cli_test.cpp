@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa convert` end to end: conversions that work, and every kind of bad
 // input failing with exit code 2, a message naming the file and the place, and
 // nothing (not even a temporary file) left in the output folder.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa design` end to end: outputs, resuming, bad input.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa fit` end to end.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa material` and `palpa demo` end to end: results on good input, and for
 // bad input a clear message, exit code 2 and nothing written.
 #include <dlfcn.h>

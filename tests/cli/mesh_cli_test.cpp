@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa mesh` end to end: a test body and a soft layer around its core with
 // every output file, depth samples from a CSV, and bad input failing with exit
 // code 2, a message naming the file and place, and no output at all.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa poke` end to end.
 #include <gtest/gtest.h>
 

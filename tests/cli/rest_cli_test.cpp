@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa rest` end to end: outputs and bad scenes.
 #include <gtest/gtest.h>
 

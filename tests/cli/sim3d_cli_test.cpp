@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa sim3d` end to end: outputs, and bad input refused before anything is
 // written.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The one finite-difference helper every derivative test uses.
 //  - fd_gradient / fd_jacobian: central differences with one Richardson step

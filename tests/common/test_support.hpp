@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Shared test support: a seeded random generator (the seed is printed and can be
 // overridden with PALPA_TEST_SEED), scratch folders, and helpers to assert that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Batch detection, the committed contact set's energy/gradient/Hessian (finite
 // differences), force and torque balance, pressures and the stiffness rule.
 

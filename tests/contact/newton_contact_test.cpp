@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The contact module inside a System solved by Newton, wired as contact.hpp's
 // usage note says (detection in prepare(), fresh detection in energy(),
 // committed set for gradient and Hessian): loaded points settle on a box, at

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Obstacle meshes: validation messages, the inside test on cube, sphere and
 // torus (on faces, edges and vertices too), closest points against brute force,
 // the own tree against CGAL's, poses and refits.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The sliding-anchor penalty of Appendix A: finite-difference checks of
 // energy → gradient and gradient → Hessian, over the query point alone and over
 // (p, q_0, q_1, q_2), in each Voronoi case (vertex, edge, face), and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Closed triangle surfaces for the contact tests and benchmark, and reference
 // answers computed by brute force (no tree, no pseudo-normals).

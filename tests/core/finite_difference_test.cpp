@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The finite-difference helper itself must be able to fail.
 #include <gtest/gtest.h>
 

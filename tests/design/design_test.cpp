@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The ergonomic score, its smoothing and the smoothness term; the adjoint
 // gradient of φ against central differences of re-solved equilibria; the
 // optimizer on a soft block resting on a bumpy slab.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Datasets that must be refused, each with the files it needs and the message
 // fragments that name the file, the field and the problem. Shared by the

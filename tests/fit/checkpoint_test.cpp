@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Checkpoint and resume: a fit interrupted after its second iteration and
 // resumed ends where an uninterrupted fit ends (nonlinear CG: bit for bit;
 // Levenberg–Marquardt, which restarts its trust region: ε within 1e-6

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Plate compression between frictionless platens is homogeneous uniaxial
 // compression: data from the closed form F = π R² |P11(1 − d/H)| of a known
 // neo-Hookean, with noise, fitted by simulating the compression test.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Dataset files: every test kind read with units converted and paths resolved
 // against the dataset's folder; every bad dataset refused naming the file and
 // field.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Layer-depth search: curves made at layer depth 5 mm with three punch radii;
 // seven guesses from 3 to 9 mm, each fitted for the modulus (neo-Hookean with
 // the true ν): the best guess is 5 mm and its objective is well below its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Shared set-up of the fit tests: curve files and datasets written to a scratch
 // folder, and synthetic measurements made with palpa's own simulators plus

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Fits to homogeneous stress–stretch curves (closed form, no FEM): the model
 // the data was made with is recovered; a spline fits far better than the
 // modulus alone.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The cubic interpolation weights that carry simulated forces (and their
 // sensitivities) to the measured depths.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Nonlinear CG and Levenberg–Marquardt on the same small problem: neo-Hookean
 // data with ν = 0.3 fitted from the stage-1 material with the dataset's
 // ν = 0.45, so that the shape stage has something to do.

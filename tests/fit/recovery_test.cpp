@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Recovery: curves simulated from a known material with seeded noise
 // (σ = 0.5% of the largest force + 1 mN), two training radii and one
 // validation radius; the fit with the same model recovers the small-strain

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Stage 1 scales a material's stress-like parameters; stage 2 starts from a
 // material of the chosen model with the same small-strain constants.
 #include <gtest/gtest.h>

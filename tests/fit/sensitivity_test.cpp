@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The Jacobian of the training residuals (exact sensitivities through the
 // simulators and the cubic interpolation, in scaled free parameters) against
 // central finite differences of the residuals.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Closest points on a triangle (each Voronoi region) and on a surface.
 #include <gtest/gtest.h>
 

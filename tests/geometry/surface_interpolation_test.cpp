@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Scattered-data interpolation over a surface: samples reproduced, the range
 // respected, constants (harmonic) and linear functions of position
 // (biharmonic) reproduced exactly, and bad samples refused by name.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Areas, normals, cotangent Laplacian and mass matrix against analytic values
 // on a sphere and exact identities on a plane.
 #include <gtest/gtest.h>

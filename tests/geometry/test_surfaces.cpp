@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #include "geometry/test_surfaces.hpp"
 
 #include "palpa/geometry/icosphere.hpp"

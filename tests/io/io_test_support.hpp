@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Shared fixtures for the io tests: small meshes with known contents, exact
 // (bitwise) comparisons, file helpers and a runner for the system Python that

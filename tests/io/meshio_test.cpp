@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Independent validation of the mesh formats: files palpa writes are read by
 // meshio (a separate implementation of the same formats, run with the system
 // Python), and files meshio writes are read by palpa. Each check compares point

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Real meshes from the shared data folder beside the repository (not copied
 // into it): the MakeHuman base body and a FIND foot model.
 

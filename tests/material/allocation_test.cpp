@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The inner-loop evaluations allocate nothing: counted with a replaced global
 // operator new in this test program only.
 #include <gtest/gtest.h>

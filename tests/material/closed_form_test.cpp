@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Homogeneous tests against closed-form stresses.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The conformance suite: every material model through the same checks.
 //  - stress-free rest state and Ψ(1,1,1) = 0;
 //  - small-strain Lamé parameters;

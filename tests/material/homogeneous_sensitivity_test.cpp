@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Parameter derivatives of homogeneous curve points (homogeneous.hpp):
 //  - d(nominal, cauchy, lateral)/dθ against central finite differences in every
 //    parameter, for every model and load case, in compression and tension;

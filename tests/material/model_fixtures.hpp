@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Every material model, with representative parameters and the small-strain
 // Lamé parameters it must reproduce, for the conformance suite.

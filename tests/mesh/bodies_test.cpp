@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Analytic test bodies: closed and clean, on their implicit surface, with the
 // requested edge length and the analytic volume.
 #include <gtest/gtest.h>

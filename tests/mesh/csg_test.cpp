@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Solid modelling on closed surfaces: booleans obey the inclusion–exclusion
 // identity exactly and match analytic volumes, clipping gives the spherical
 // cap, self-intersections are repaired into a clean surface, and the negative

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Soft layers around a rigid core: a uniform offset of a sphere is a sphere of
 // the expected radius, the layer volume is the analytic shell's, depth samples
 // are reproduced and respected, the core is closed and clean, every attached

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Sample files: positions and values in SI from any units, and bad files
 // refused naming the file and column.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Cheap repairs (merged vertices, degenerate and repeated triangles, winding)
 // and the refusal of open, non-manifold and self-intersecting surfaces.
 #include <gtest/gtest.h>

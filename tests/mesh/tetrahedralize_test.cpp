@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Solid tet meshes of closed surfaces: the volume of the surface exactly (the
 // boundary is kept), positive tets, TetGen's quality bounds met, and the
 // quality figures right on known tets.

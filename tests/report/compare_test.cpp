@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Comparing pressure maps: identical maps agree exactly, a scaled map has
 // the RMS, correlation and forces it must have, maps on different meshes or
 // with a bad field are refused.

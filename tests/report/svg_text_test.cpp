@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/report/svg_text.hpp"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // A small, strict XML reader for the report tests: checks that a document is
 // well formed (one root, matched tags, quoted and unique attributes, only the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The resting block of the rest tests: 40 × 40 × 20 mm of density 1000 kg/m³
 // under standard gravity.

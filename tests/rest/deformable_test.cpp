@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // A body resting on a deformable support (thesis §7.4.3): the coupled
 // system's gradient and Hessian against differences; a soft block on a foam
 // slab with ν = 0 (uniaxial compression: the slab's top sinks by p·h/E and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // A soft block hanging from a rigid core (its top face) falls onto a flat
 // support: the contact force carries the weight, the pressure under the block
 // is ρgH, the penetration lands at the target, locked core DOFs stay put, a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The rigid-contact term inside a tet system: gradient and Hessian against
 // finite differences with the anchors on a face interior, an edge interior and
 // a vertex of the obstacle (Appendix A's three cases), and the forces balance.

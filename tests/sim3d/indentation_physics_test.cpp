@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Indentation of a soft block in 3D against what it must match: the
 // axisymmetric simulator for a cylinder at the block's centre (thesis §6.3.3,
 // Fig. 6.7), a square indenter's monotone force with bounded penetration and no

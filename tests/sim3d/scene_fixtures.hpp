@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Scenes for the sim3d tests, written as JSON text into scratch folders.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Scenes: reading and refusing bad ones, and running with interruption and
 // resume (bit-identical to an uninterrupted run).
 #include <gtest/gtest.h>

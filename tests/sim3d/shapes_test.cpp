@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Rigid indenter shapes: closed, outward, with the analytic volumes.
 #include <gtest/gtest.h>
 

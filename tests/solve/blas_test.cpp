@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The BLAS and LAPACK under CHOLMOD, as loaded into this test program (which
 // links CHOLMOD, so both are loaded), and the thread pin around TBB regions.
 

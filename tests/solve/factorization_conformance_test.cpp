@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Every SymmetricFactorization runs through the same solves (typed test):
 // random SPD matrices, several right-hand sides, many numeric factorizations on
 // one analysis, indefinite matrices, changed patterns, shifts, bad input.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The 1D line searches on analytic functions with known minimizers.
 
 #include "palpa/solve/line_search.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Sparse symmetric test matrices, shared by the solve tests and benchmarks.
 // All are returned with BOTH triangles stored (so A * x is the true product);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Newton's method on systems with known minimizers, and its status reporting.
 
 #include "palpa/solve/newton.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // A 2D network of nonlinear springs with pinned nodes and nodal loads: the
 // smallest realistic System (geometrically nonlinear, sparse, indefinite when

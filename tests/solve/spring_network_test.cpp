@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Newton on nonlinear spring networks: derivatives against finite differences,
 // a chain against its closed-form equilibrium, a pulled 2D mesh against force
 // balance and symmetry, analysis reuse across a load continuation, and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #include "solve/test_systems.hpp"
 
 #include <tbb/blocked_range.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The linear tet: gradient, Hessian and parameter derivatives against finite
 // differences, rigid-motion invariance, PSD projection, Cauchy stress.
 #include <gtest/gtest.h>

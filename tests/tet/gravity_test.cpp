@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Gravity sag of a column against linear elasticity.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Tet mesh checks, boundary extraction and structured box meshes.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Derivatives with respect to the rest positions (shape optimization by the
 // adjoint method): the element kernel tet_rest_gradient_product and the
 // assembled ElasticModel::rest_gradient_product against central differences

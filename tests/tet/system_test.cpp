@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The static and backward-Euler systems of a tet body: derivatives against
 // finite differences (with fixed DOFs, gravity and a vertex term), the patch
 // test, rigid motions, reactions, and dynamics settling to the static answer.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: AGPL-3.0-or-later
 """Converts three Ecoflex 00-30 compression tests to palpa's curve CSVs.
 
 Source: the tissue phantom material database of Dawood, Zhang, Osman, Suulker,

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: AGPL-3.0-or-later
 """Synthetic punch-indentation datasets for `palpa fit`, computed with CalculiX.
 
 Writes the example folders examples/fit/foam, examples/fit/silicone and

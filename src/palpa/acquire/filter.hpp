@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Zero-phase low-pass filtering of uniformly sampled signals (thesis §3.2: "we
 // post-process the curves using low-pass filtering to remove vibrations and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Raw device logs as CSV files (io/csv.hpp): which columns to read, in which
 // units, and the checks every log gets before processing.

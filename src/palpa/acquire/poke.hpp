@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Poke logs -> force–indentation curve (thesis §3.1–3.2, `palpa acquire poke`).
 //

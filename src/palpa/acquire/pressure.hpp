@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Pressure-sensor measurements -> pressure map on a support surface (thesis
 // §7.6, `palpa acquire pressure`).

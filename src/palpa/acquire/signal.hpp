@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Sampled signals: interpolation and resampling, rest-plateau and poke
 // detection, saturation (clipping) runs and the alignment of two clocks

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Ultrasound depth picks -> tissue interface depths (thesis §3.2–3.4, Fig. 3.4,
 // Table 3.1; `palpa acquire ultrasound`).

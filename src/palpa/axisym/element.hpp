@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Bilinear axisymmetric quadrilateral with 3×3 Gauss points (thesis §4.2–4.3).
 // Element DOFs u = (u_r0, u_z0, u_r1, u_z1, u_r2, u_z2, u_r3, u_z3) [m]. At each

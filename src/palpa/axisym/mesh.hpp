@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Structured quadrilateral mesh of the (r, z) half-plane of an axisymmetric
 // layer: r ∈ [0, R], z ∈ [−D, 0], top surface z = 0, rigid base z = −D, punch of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Indentation of a layer on a rigid base by a rigid flat-ended cylindrical
 // punch, in axisymmetry (thesis ch. 4–5): the force–indentation curve, and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The rigid punch as a solid in the deformed (r, z) plane: a flat-ended cylinder
 // of radius a whose face is at z = −d, with its rim rounded by a fillet of radius

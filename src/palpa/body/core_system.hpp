@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // A soft body on a rigid core (thesis §7.3.3, MODEL.md "Body + rigid core +
 // support contact"): a tet layer whose attached vertices (its inner surface)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Penalty contact of points (the surface vertices of a tet mesh) against a
 // closed triangle obstacle (thesis §7.3.4–7.3.5, Appendix A).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // A closed triangle mesh as a contact obstacle (thesis §7.3.5): the rigid
 // indenter or support, or — in the reverse query — the deforming body surface.

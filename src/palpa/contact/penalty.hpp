@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The penalty kernel of one contact (thesis (7.10) and Appendix A):
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Closed, outward triangle surfaces of simple rigid objects (indenters,
 // blocks), centred on the origin of their body frame; place them with

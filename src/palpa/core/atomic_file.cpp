@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/core/atomic_file.hpp"
 
 #include "palpa/core/interrupt.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Atomic output. Every file palpa writes goes to a temporary name in the same
 // folder and is renamed over the target only when complete, so a crash, an error

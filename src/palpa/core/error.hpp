@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // palpa's error type. Three channels (see the style notes):
 //  - programmer errors: assert;

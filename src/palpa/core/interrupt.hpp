@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Cooperative interruption. The command line installs handlers for SIGINT and
 // SIGTERM; long loops call check_interrupt() between units of work, which throws

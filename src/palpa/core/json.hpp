@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // JSON inputs (material files, datasets, subcommand configs) read through a view
 // that remembers where it is: every error names the file and the field path

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Logging with levels. The command line maps --quiet / (default) / --verbose /
 // -vv to Warn / Info / Debug / Trace. Messages go to stderr so that stdout stays

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Progress reporting for long loops (Newton steps over depths, fits, shape
 // optimization). On a terminal it draws one bar that redraws in place; otherwise

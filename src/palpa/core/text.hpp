@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Small, strict text helpers shared by every parser: numbers must be numbers,
 // the whole token must be consumed, and non-finite values are refused unless the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Quantities with units at the edges of palpa. Inside, every value is SI
 // (metres, pascals, newtons, seconds, kilograms). Text from users and files

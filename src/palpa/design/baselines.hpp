@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Pressure estimates without elasticity, to set beside palpa's (thesis §7.8).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Ergonomic shape optimization of a support, rigid or deformable (thesis
 // §7.4).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Writing the results of `palpa design` into a folder (each file atomic):
 //   support.obj              the optimized support [m]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Scenes of `palpa design`: a rest scene (rest/scene.hpp) under the version
 // key "palpa_design", plus what to optimize and how:

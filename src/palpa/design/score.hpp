@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The ergonomic score of a resting contact and the smoothness of a support
 // (thesis §7.4.1, MODEL.md "Body + rigid core + support contact").

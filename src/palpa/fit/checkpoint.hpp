@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The checkpoint file of a fit (JSON, written atomically after every
 // iteration): a fingerprint of the inputs (dataset and curve files, options,

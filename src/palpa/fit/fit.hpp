@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Material identification from measured curves, and layer-depth estimation
 // (thesis ch. 6; MODEL.md "Material fitting").

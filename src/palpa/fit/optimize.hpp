@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The least-squares problem of a fit and the two optimizers that solve it
 // (see fit.hpp for the method).

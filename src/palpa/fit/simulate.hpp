@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Simulated counterparts of measured curves, with exact parameter
 // sensitivities (thesis §6.2).

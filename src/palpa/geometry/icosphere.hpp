@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The subdivided icosahedron: a near-uniform triangulation of the unit sphere.
 

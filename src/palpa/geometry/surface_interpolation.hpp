@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Scattered-data interpolation over a triangle surface: values known at a few
 // sample points near the surface (tissue depths at ultrasound sites, stiffness

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Gmsh .msh tet meshes, format version 4.1, ASCII.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Mesh types shared by palpa's modules, and reading/writing them by file
 // extension. The per-format functions live in obj.hpp, ply.hpp, stl.hpp,

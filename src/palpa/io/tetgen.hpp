@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // TetGen tet meshes: `<stem>.node`, `<stem>.ele` and, optionally, `<stem>.face`.
 //

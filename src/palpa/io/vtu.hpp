@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // VTK XML unstructured grids (.vtu) for ParaView, and .pvd series of them.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Physical sanity of a material, for `palpa material show` and for fits:
 // stress-free rest state, a positive-definite rest Hessian (μ > 0, K > 0), and

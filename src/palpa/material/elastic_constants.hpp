@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Lamé parameters of (E, ν) with their derivatives, for models parametrized by
 // Young's modulus and Poisson's ratio.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Homogeneous stress–stretch tests of a material, in closed form up to one
 // scalar solve (no FEM): what material curve fitters and `palpa material curve`

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // From the deformation gradient F to stress and tangent, for any Material.
 //

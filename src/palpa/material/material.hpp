@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Isotropic hyperelastic energies in principal stretches (thesis §1.1.2, §6.1).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The classic isotropic models, each exact (energy, λ-derivatives and parameter
 // derivatives in closed form). Parameters are SI. See material.hpp for the

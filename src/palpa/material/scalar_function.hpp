@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // One-variable functions with two derivatives, and the quadratic continuation
 // that keeps energies defined (and restoring) for extreme or inverted stretches.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Natural cubic spline through control points (x_k, y_k) (thesis §6.1.2,
 // eq. 6.5–6.13), with exact derivatives of its value, slope and curvature with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Valanis–Landel spline material (thesis §6.1): f, g, h are natural cubic
 // splines with log-uniform knots; the control values are the parameters

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Valanis–Landel separable energies (thesis eq. 1.12 / 6.1):
 //   Ψ(λ) = Σi f(λi) + Σ(i<j) g(λi λj) + h(λ1 λ2 λ3).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Analytic test bodies: closed, outward-oriented, self-intersection-free
 // triangle surfaces with near-equilateral triangles of a chosen edge length,

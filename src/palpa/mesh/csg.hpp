@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Solid modelling on closed surfaces: boolean operations by corefinement,
 // clipping a body to a region of interest, repairing self-intersections of a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The simulation mesh of a body (thesis §3.3, §7.3.1): a tetrahedral soft
 // layer between the outer (skin) surface and an inner surface, whose inner

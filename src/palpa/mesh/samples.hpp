@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Values measured at points on a body (tissue depths, Young's moduli), read
 // from CSV.

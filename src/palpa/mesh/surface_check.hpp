@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Making a scanned surface fit for simulation: cheap repairs, the checks a
 // closed surface must pass, and isotropic remeshing to a chosen resolution.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The one translation unit of palpa that includes TetGen.
 #include <fmt/format.h>
 #include <tetgen.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Quality tetrahedral meshes of closed surfaces (TetGen 1.5, used privately),
 // and the quality figures of any tet mesh.

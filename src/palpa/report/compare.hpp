@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Comparing two pressure maps on the same support (thesis §7.6, §7.8): a
 // simulated map against a measured one (`palpa acquire pressure` on the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Line and scatter plots as self-contained SVG 1.1 documents, for people to look
 // at: measured force–indentation curves as dots beside simulated ones as lines,

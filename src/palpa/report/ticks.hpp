@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Axis ranges and tick marks for the SVG plots (report/plot.hpp).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // A body on its rigid core resting on a deformable support (thesis §7.4.3):
 // the two bodies and their penalty contact as one System, so that Newton and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Writing the results of `palpa rest` into a folder: body.vtu (deformed layer
 // with displacement_m, contact_force_N, pressure_Pa, attached; von Mises stress

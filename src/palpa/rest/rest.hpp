@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // A body resting on a support (thesis §7.3): the soft layer on its rigid core
 // (body/core_system.hpp) under gravity and an external wrench, pressed onto a

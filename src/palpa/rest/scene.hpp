@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Scenes of `palpa rest` (JSON, every quantity with its unit):
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/sim3d/contact_term.hpp"
 
 #include <Eigen/Geometry>

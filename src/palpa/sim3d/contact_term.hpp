@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Penalty contact of a tet body's surface vertices with one rigid obstacle
 // (thesis §7.3.4–7.3.5, Appendix A), as a vertex term of the tet systems.

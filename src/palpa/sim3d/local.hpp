@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Poking a large body locally (thesis §5.5): only the tets near the obstacles
 // are simulated, the cut boundary is held fixed.

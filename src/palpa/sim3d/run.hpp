@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Running a scene (scene.hpp): a sequence of static equilibria (or settled
 // implicit dynamics) along the obstacles' paths, with penalty contact.

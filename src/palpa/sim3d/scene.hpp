@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Scenes of `palpa sim3d` (JSON): a tet body, its materials and supports,
 // rigid obstacles with poses or indentation paths, gravity, contact and solver

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/sim3d/scene_json.hpp"
 
 #include <Eigen/Geometry>

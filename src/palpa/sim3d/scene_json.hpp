@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Reading the pieces scene files share (`palpa sim3d`, `palpa rest`): 3-vectors
 // of quantities, positive quantities, rotations, solver settings, paths

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Closed triangle surfaces of rigid indenters (contact/primitives.hpp moved
 // to stand on their lowest point), outward-oriented, in their own

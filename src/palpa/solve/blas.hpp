@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The dense BLAS and LAPACK under CHOLMOD's supernodal factorization, as loaded
 // at run time. Debian lets several implementations provide libblas.so.3 and

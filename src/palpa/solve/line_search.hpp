@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // One-dimensional line searches (thesis §5.4, §7.3.4). Each works on
 // φ(s) = E(x + s·d), the energy along a search direction d, with s ≥ 0 in units

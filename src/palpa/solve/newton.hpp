@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Newton's method with a line search, minimizing a System's energy (the static
 // equilibrium of every simulated system: thesis §5.4, §7.3.4).

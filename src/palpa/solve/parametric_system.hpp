@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Systems whose energy depends on parameters θ ∈ Rᵖ (material spline control
 // points, support vertex positions, ...), and the sensitivity of an equilibrium

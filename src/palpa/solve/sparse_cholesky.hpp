@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Sparse Cholesky factorization A = L Lᵀ with CHOLMOD (SuiteSparse), behind the
 // SymmetricFactorization interface (see factorization.hpp for the matrix

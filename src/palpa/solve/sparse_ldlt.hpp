@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Sparse LDLᵀ factorization with Eigen's SimplicialLDLT (AMD ordering, no
 // pivoting), behind the SymmetricFactorization interface (see factorization.hpp).

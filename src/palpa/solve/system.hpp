@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The interface every simulated system implements so that Newton, the line
 // searches and the sensitivity code can be written once: a total energy E(x)

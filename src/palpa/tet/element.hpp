@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The linear (4-node) tetrahedron (thesis §7.3.3, Appendix of ch. 4 for the
 // hyperelastic energy): the deformation gradient is constant over the element,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Tet meshes for simulation: checks, orientation, the boundary surface, and
 // structured box meshes.

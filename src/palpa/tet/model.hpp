@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // A hyperelastic body meshed with linear tets (thesis §7.3.3): per-element
 // materials, mass, gravity, and the assembly of energy, gradient and Hessian.

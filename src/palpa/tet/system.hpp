@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Static equilibrium and implicit dynamics of a tet body (thesis §4.4, §7.3.4)
 // as palpa Systems (solve/system.hpp), so Newton and the line searches of the

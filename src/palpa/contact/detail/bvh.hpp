@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // palpa's own bounding-volume hierarchy over triangles for closest-point
 // queries: a binary tree of axis-aligned boxes built by median splits along the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The contact module's second (and last) CGAL translation unit: exact
 // self-intersection tests.
 #include "palpa/contact/detail/cgal_checks.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Mesh checks done with CGAL's Polygon Mesh Processing, behind a wall (no CGAL
 // type here).

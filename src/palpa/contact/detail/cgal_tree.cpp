@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The one translation unit of the contact module that includes CGAL.
 #include "palpa/contact/detail/cgal_tree.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // CGAL's AABB_tree over the obstacle's triangles, behind a wall (no CGAL type
 // here): the alternative to Bvh, kept for the benchmark and agreement tests.

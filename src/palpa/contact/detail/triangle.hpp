@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Closest point of a triangle to a point, with the Voronoi region it lies in
 // (the region tests of Ericson, Real-Time Collision Detection §5.1.5).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Internal helpers for binary formats (PLY, STL, VTU): values are assembled from
 // bytes in an explicit byte order, so files read and write the same on any host.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Internal helpers for mesh readers: growing index lists, fan triangulation,
 // applying the unit, and the checks every reader ends with. Not public API.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Internal helpers shared by palpa's text readers (CSV, OBJ, OFF, PLY headers,
 // TetGen, Gmsh): whole-file input with clear errors, a line cursor that knows its

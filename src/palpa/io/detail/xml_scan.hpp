@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // A small scanner for the XML palpa reads (VTK .vtu headers and .pvd files):
 // start, end and empty-element tags with their attributes, and the text between

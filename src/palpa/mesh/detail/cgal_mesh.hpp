@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Shared by the CGAL translation units of the mesh module (cgal_*.cpp) and
 // by nothing else: the surface type they use and its conversion to palpa's.

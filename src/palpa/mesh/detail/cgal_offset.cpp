@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // Mesh_3 on an implicit function (see cgal_offset.hpp).
 #include "palpa/mesh/detail/cgal_offset.hpp"
 

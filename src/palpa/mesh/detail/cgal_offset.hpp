@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The inward offset of a closed surface by distance (CGAL Mesh_3 on an
 // implicit function), kept apart from cgal_surface.cpp because Mesh_3 is a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 // The one translation unit of palpa that includes CGAL (see cgal_surface.hpp).
 #include "palpa/mesh/detail/cgal_surface.hpp"
 

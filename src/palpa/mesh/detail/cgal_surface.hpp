@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // palpa's wall around CGAL: the surface operations the mesh module needs, with
 // palpa types only. Implemented in cgal_surface.cpp, the one translation unit
