@@ -53,8 +53,8 @@ std::map<const CLI::App*, PathRoles>& path_registry() {
 
 // The file a value names, spelled one way: absolute, with links, "." and
 // ".." resolved as far as the path exists.
-std::filesystem::path same_file_key(std::string value) {
-  if (const auto eq = value.find('='); eq != std::string::npos) value = value.substr(eq + 1);
+std::filesystem::path same_file_key(std::string value, bool named) {
+  if (const auto eq = value.find('='); named && eq != std::string::npos) value = value.substr(eq + 1);
   std::error_code ec;
   std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(value, ec), ec);
   if (ec) p = std::filesystem::absolute(value).lexically_normal();
@@ -69,12 +69,14 @@ void check_command(const CLI::App& cmd) {
     };
     std::map<std::filesystem::path, Seen> seen;
     const auto visit = [&](const std::vector<std::string>& names, bool output) {
-      for (const std::string& name : names) {
+      for (std::string name : names) {
+        const bool named = !name.empty() && name.back() == '=';
+        if (named) name.pop_back();
         const CLI::Option* opt = cmd.get_option_no_throw(name);
         if (opt == nullptr) continue;
         for (const std::string& value : opt->results()) {
           if (value.empty()) continue;
-          const auto key = same_file_key(value);
+          const auto key = same_file_key(value, named);
           const auto [at, fresh] = seen.emplace(key, Seen{opt->get_name(), value, output});
           if (fresh || !(output || at->second.output)) continue;
           const Seen& first = at->second;

@@ -27,7 +27,8 @@ void require_empty_output(const std::filesystem::path& out, std::string_view wha
 
 // Declares which of a command's options (by any of their names, positional
 // ones by their name) are files it reads and which are files or folders it
-// writes. A value "NAME=FILE" counts as FILE.
+// writes. A name ending in '=' ("--interface=") takes values NAME=FILE, of
+// which FILE counts.
 void declare_paths(const CLI::App& cmd, std::vector<std::string> inputs, std::vector<std::string> outputs);
 
 // After parsing: refuses (palpa::Error, Input) any output of a parsed command

@@ -314,7 +314,7 @@ void add_acquire_ultrasound(CLI::App& acquire) {
                       "The refinement looks this far either side of --offset (default 0.5 s)");
   add_log_options(*cmd, a->o.order, a->o.cutoff, a->o.plateau, a->o.check, a->o.saturation);
   cmd->add_option("--force-window", a->force_window, "Poke start and end on the force clock (e.g. 1.9s,3.3s)");
-  declare_paths(*cmd, {"--force", "--interface"}, {"-o", "--depth-table", "--plots", "--summary"});
+  declare_paths(*cmd, {"--force", "--interface="}, {"-o", "--depth-table", "--plots", "--summary"});
   cmd->callback([a] { run_acquire_ultrasound(*a); });
 }
 

@@ -164,6 +164,7 @@ TEST(AcquireCli, UltrasoundRefusesBadOptionsAndWritesNothing) {
       {"-o d.csv --depth-table t.csv --position 1mm,2mm", "is not a position"},
       {"-o d.csv --depth-table t.csv --position 1mm,2mm,3mm --depth-interface skin", "there is no interface 'skin'"},
       {"-o d.csv --offset 10s --no-align", "cover"},
+      {"-o bone.csv", "--output 'bone.csv' is the same file as --interface 'bone=bone.csv'"},
   };
   for (const Bad& b : cases) {
     ScratchDir dir;

@@ -12,13 +12,13 @@ namespace palpa {
 // Installs the SIGINT/SIGTERM handlers (idempotent). A second Ctrl-C while the
 // first is being honoured restores the default action, so it kills at once (a
 // repeated SIGTERM is ignored).
-// A watchdog thread makes sure a signal is honoured within
-// kInterruptGraceSeconds even inside a library call that never reaches a
-// check_interrupt() (a CGAL remeshing, one large factorization): past that it
-// removes the temporary files of outputs being written and ends the process
-// with interrupt_exit_code(). Checkpoints and files already finished stay.
+// A watchdog thread makes sure a signal is honoured within a second, even
+// inside a library call that never reaches a check_interrupt() (a CGAL
+// remeshing, one large factorization): kInterruptGraceSeconds after the
+// signal it removes the temporary files of outputs being written and ends
+// the process with interrupt_exit_code(). Checkpoints and finished files stay.
 void install_interrupt_handlers();
-inline constexpr double kInterruptGraceSeconds = 1.0;
+inline constexpr double kInterruptGraceSeconds = 0.8;
 
 // The exit code of an interrupted run: 128 + the signal (130 for SIGINT, 143
 // for SIGTERM); 130 when the interrupt was requested by a test.
