@@ -283,5 +283,48 @@ TEST_F(Meshio, PalpaReadsMeshioTetFormats) {
   EXPECT_EQ(v.region[1], 7);
 }
 
+// Gmsh files in the other variants palpa reads: 2.2 ASCII and binary (tets
+// and a triangle with physical tags) and 4.1 binary (tets only: meshio writes
+// one node block per cell type only with entity information).
+constexpr const char* kGmshScript = R"PY(
+pts = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]]) * 0.01
+tet = np.array([[0, 1, 2, 3], [1, 2, 3, 4]])
+tri = np.array([[0, 1, 2]])
+m = meshio.Mesh(pts, [("tetra", tet), ("triangle", tri)],
+                cell_data={"gmsh:physical": [np.array([3, 7]), np.array([5])],
+                           "gmsh:geometrical": [np.array([1, 1]), np.array([2])]})
+meshio.write(d + "/a22.msh", m, file_format="gmsh22", binary=False)
+meshio.write(d + "/b22.msh", m, file_format="gmsh22", binary=True)
+t = meshio.Mesh(pts, [("tetra", tet)])
+meshio.write(d + "/a41.msh", t, file_format="gmsh", binary=False)
+meshio.write(d + "/b41.msh", t, file_format="gmsh", binary=True)
+)PY";
+
+TEST_F(Meshio, PalpaReadsMeshioGmshBinaryAndVersion22) {
+  test::ScratchDir dir;
+  python(dir, kGmshScript);
+  Eigen::MatrixX4i T(2, 4);
+  T << 0, 1, 2, 3, 1, 2, 3, 4;
+  const TetMesh a41 = read_gmsh(dir / "a41.msh");
+  for (const char* name : {"a22.msh", "b22.msh", "b41.msh"}) {
+    SCOPED_TRACE(name);
+    const TetMesh m = read_gmsh(dir / name);
+    EXPECT_TRUE(test::same_bits(m.V, a41.V));
+    EXPECT_EQ(m.V(4, 1), 0.01);
+    EXPECT_TRUE(test::same_ints(m.T, T));
+    if (std::string(name).ends_with("22.msh")) {
+      ASSERT_EQ(m.region.size(), 2);
+      EXPECT_EQ(m.region[0], 3);
+      EXPECT_EQ(m.region[1], 7);
+      ASSERT_EQ(m.boundary.rows(), 1);
+      EXPECT_EQ(m.boundary(0, 2), 2);
+      ASSERT_EQ(m.boundary_marker.size(), 1);
+      EXPECT_EQ(m.boundary_marker[0], 5);
+    } else {
+      EXPECT_EQ(m.region.size(), 0);  // no $Entities, so no physical tags
+    }
+  }
+}
+
 }  // namespace
 }  // namespace palpa

@@ -65,7 +65,8 @@ SurfaceMesh read_surface_mesh(const std::filesystem::path& path,
 void write_surface_mesh(const std::filesystem::path& path, const SurfaceMesh& mesh);
 
 // Reads a tet mesh by extension: .node or .ele (TetGen: the pair, plus .face if
-// present), .msh (Gmsh 4.1 ASCII), .vtu (its tetra cells, cell data "region").
+// present), .msh (Gmsh 4.1 or 2.2, ASCII or binary), .vtu (its tetra cells,
+// cell data "region").
 TetMesh read_tet_mesh(const std::filesystem::path& path, const MeshReadOptions& options = {});
 // Writes by extension: .node or .ele (TetGen .node/.ele and .face when there are
 // boundary triangles), .msh (Gmsh 4.1 ASCII), .vtu (tets with cell data

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -57,6 +58,15 @@ bool LineCursor::next(std::string_view& line) {
   pos_ = end == std::string_view::npos ? text_.size() : end + 1;
   ++line_;
   return true;
+}
+
+void LineCursor::skip_to(std::size_t offset) {
+  const std::size_t to = std::min(offset, text_.size());
+  if (to <= pos_) return;
+  line_ +=
+      static_cast<std::size_t>(std::count(text_.begin() + static_cast<std::ptrdiff_t>(pos_),
+                                          text_.begin() + static_cast<std::ptrdiff_t>(to), '\n'));
+  pos_ = to;
 }
 
 bool LineCursor::next_content(std::string_view& line, char comment) {

@@ -43,6 +43,9 @@ class LineCursor {
   const std::string& file() const noexcept { return file_; }
   // Byte offset just after the last line returned (start of the next line).
   std::size_t offset() const noexcept { return pos_; }
+  // Moves on to byte `offset` (>= offset(), e.g. past binary data read by
+  // other means); line numbers count the line ends passed over.
+  void skip_to(std::size_t offset);
 
   ErrorContext here() const;
   [[noreturn]] void fail(const std::string& problem, const std::string& expected = {}) const;
