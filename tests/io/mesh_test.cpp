@@ -3,12 +3,54 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "common/test_support.hpp"
 #include "io/io_test_support.hpp"
+#include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
 
 namespace palpa {
 namespace {
+
+// A NaN or an infinity never reaches a file: every writer refuses it (exit 3,
+// a failed computation), naming the array, the row and the value, and writes
+// nothing.
+TEST(MeshIo, WritersRefuseNonFiniteValuesAndWriteNothing) {
+  test::ScratchDir dir;
+  SurfaceMesh bad = test::unit_cube_surface();
+  bad.V(5, 1) = std::numeric_limits<double>::quiet_NaN();
+  for (const char* ext : {".obj", ".ply", ".stl", ".off", ".vtu"}) {
+    const auto path = dir / (std::string("s") + ext);
+    EXPECT_TRUE(test::throws_error([&] { write_surface_mesh(path, bad); }, ErrorKind::Solver,
+                                   {path.string(), "positions", " 5 is nan"}))
+        << ext;
+    EXPECT_FALSE(std::filesystem::exists(path)) << ext;
+  }
+  std::mt19937_64 rng = test::make_rng(3);
+  TetMesh tets = test::cube_tet_mesh(rng);
+  tets.V(2, 0) = std::numeric_limits<double>::infinity();
+  for (const char* ext : {".node", ".msh", ".vtu"}) {
+    const auto path = dir / (std::string("t") + ext);
+    EXPECT_TRUE(test::throws_error([&] { write_tet_mesh(path, tets); }, ErrorKind::Solver, {" 2 is inf"})) << ext;
+    EXPECT_FALSE(std::filesystem::exists(path)) << ext;
+  }
+  // Data arrays too.
+  const SurfaceMesh cube = test::unit_cube_surface();
+  PlyWriteOptions o;
+  Eigen::VectorXd p = Eigen::VectorXd::Ones(cube.V.rows());
+  p(7) = -std::numeric_limits<double>::infinity();
+  o.vertex_scalars.push_back({"pressure_Pa", p});
+  EXPECT_TRUE(test::throws_error([&] { write_ply(dir / "p.ply", cube, o); }, ErrorKind::Solver,
+                                 {"vertex scalar 'pressure_Pa'", "vertex 7 is -inf"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.ply"));
+  UnstructuredGrid grid = grid_of(cube);
+  grid.point_data.push_back(DataArray{"pressure_Pa", p});
+  EXPECT_TRUE(test::throws_error([&] { write_vtu(dir / "p.vtu", grid); }, ErrorKind::Solver,
+                                 {"point data 'pressure_Pa'", "point 7 is -inf"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.vtu"));
+  EXPECT_EQ(dir.entry_count(), 0u);
+}
 
 TEST(MeshIo, SurfaceRoundTripThroughEveryFormatByExtension) {
   test::ScratchDir dir;

@@ -821,6 +821,7 @@ TetMesh read_gmsh(const std::filesystem::path& path, const MeshReadOptions& opti
 }
 
 void write_gmsh(const std::filesystem::path& path, const TetMesh& mesh) {
+  io_detail::require_finite(mesh.V, path.string(), "vertex positions", "vertex");
   const auto volumes = group_by_label(mesh.T.rows(), mesh.region);
   const auto surfaces = mesh.boundary.rows() > 0
                             ? group_by_label(mesh.boundary.rows(), mesh.boundary_marker)

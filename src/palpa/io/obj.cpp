@@ -199,6 +199,7 @@ SurfaceMesh read_obj(const std::filesystem::path& path, const MeshReadOptions& o
 }
 
 void write_obj(const std::filesystem::path& path, const SurfaceMesh& mesh) {
+  io_detail::require_finite(mesh.V, path.string(), "vertex positions", "vertex");
   std::string text = "# written by palpa\n";
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
     fmt::format_to(std::back_inserter(text), "v {} {} {}\n", mesh.V(i, 0), mesh.V(i, 1),

@@ -102,6 +102,7 @@ SurfaceMesh read_off(const std::filesystem::path& path, const MeshReadOptions& o
 }
 
 void write_off(const std::filesystem::path& path, const SurfaceMesh& mesh) {
+  io_detail::require_finite(mesh.V, path.string(), "vertex positions", "vertex");
   std::string text = fmt::format("OFF\n{} {} 0\n", mesh.V.rows(), mesh.F.rows());
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
     fmt::format_to(std::back_inserter(text), "{} {} {}\n", mesh.V(i, 0), mesh.V(i, 1),

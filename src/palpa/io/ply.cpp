@@ -435,6 +435,10 @@ SurfaceMesh read_ply(const std::filesystem::path& path, const MeshReadOptions& o
 void write_ply(const std::filesystem::path& path, const SurfaceMesh& mesh,
                const PlyWriteOptions& options) {
   const Eigen::Index nv = mesh.V.rows();
+  io_detail::require_finite(mesh.V, path.string(), "vertex positions", "vertex");
+  for (const auto& s : options.vertex_scalars) {
+    if (s.values.size() == nv) io_detail::require_finite(s.values, path.string(), "vertex scalar '" + s.name + "'", "vertex");
+  }
   for (std::size_t k = 0; k < options.vertex_scalars.size(); ++k) {
     const auto& s = options.vertex_scalars[k];
     const bool bad_name =

@@ -225,6 +225,7 @@ SurfaceMesh read_stl(const std::filesystem::path& path, const MeshReadOptions& o
 }
 
 void write_stl(const std::filesystem::path& path, const SurfaceMesh& mesh) {
+  io_detail::require_finite(mesh.V, path.string(), "vertex positions", "vertex");
   std::string out;
   out.reserve(kPreambleBytes + kTriangleBytes * static_cast<std::size_t>(mesh.F.rows()));
   std::string header = "binary STL written by palpa";

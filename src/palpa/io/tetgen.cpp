@@ -199,6 +199,7 @@ TetMesh read_tetgen(const std::filesystem::path& path, const MeshReadOptions& op
 }
 
 void write_tetgen(const std::filesystem::path& path, const TetMesh& mesh) {
+  io_detail::require_finite(mesh.V, path.string(), "vertex positions", "vertex");
   const std::filesystem::path stem = tetgen_stem(path);
   std::string node = fmt::format("# written by palpa\n{} 3 0 0\n", mesh.V.rows());
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {

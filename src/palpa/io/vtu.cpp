@@ -613,6 +613,13 @@ void write_vtu(const std::filesystem::path& path, const UnstructuredGrid& grid) 
   }
   check_arrays(path, grid.point_data, np, "point data");
   check_arrays(path, grid.cell_data, nc, "cell data");
+  io_detail::require_finite(grid.points, path.string(), "point positions", "point");
+  for (const DataArray& a : grid.point_data) {
+    io_detail::require_finite(a.values, path.string(), "point data '" + a.name + "'", "point");
+  }
+  for (const DataArray& a : grid.cell_data) {
+    io_detail::require_finite(a.values, path.string(), "cell data '" + a.name + "'", "cell");
+  }
 
   AppendedWriter appended;
   std::string xml;

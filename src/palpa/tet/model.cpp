@@ -248,7 +248,7 @@ Eigen::MatrixXd ElasticModel::cauchy_stress(const Eigen::VectorXd& u) const {
       const Mat34 x = element_positions(u, e);
       const double J = deformation_gradient(geometry_[static_cast<std::size_t>(e)], x).determinant();
       if (!(J > 0.0)) {
-        s.row(e).setConstant(std::numeric_limits<double>::quiet_NaN());
+        s.row(e).setZero();  // undefined; the caller reports det F (no NaN in any output)
         continue;
       }
       const material::Mat3 c = tet::cauchy_stress(material_of(e), geometry_[static_cast<std::size_t>(e)], x);

@@ -75,7 +75,8 @@ class ElasticModel {
   Eigen::VectorXd gravity_gradient(const Eigen::Vector3d& gravity) const;
 
   // Per element: Cauchy stress (rows: σxx σyy σzz σyz σxz σxy) [Pa] and its von
-  // Mises value, at u.
+  // Mises value, at u. An inverted element (det F ≤ 0), where the stress is
+  // undefined, gets 0: its det F says what happened there.
   Eigen::MatrixXd cauchy_stress(const Eigen::VectorXd& u) const;  // #T×6
   static Eigen::VectorXd von_mises(const Eigen::MatrixXd& stress6);
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/io/detail/mesh_build.hpp"
 
+#include "palpa/core/error.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -38,6 +40,23 @@ void apply_unit(Eigen::MatrixX3d& V, const MeshReadOptions& options, const std::
                       ctx, "a length unit such as mm or m");
   }
   if (options.unit_to_si != 1.0) V *= options.unit_to_si;
+}
+
+void require_finite(const Eigen::Ref<const Eigen::MatrixXd>& values, const std::string& file, const std::string& what,
+                    const char* row) {
+  for (Eigen::Index j = 0; j < values.cols(); ++j) {
+    for (Eigen::Index i = 0; i < values.rows(); ++i) {
+      const double v = values(i, j);
+      if (std::isfinite(v)) continue;
+      ErrorContext c;
+      c.file = file;
+      c.field = what;
+      throw_solver_error(fmt::format("{} {} is {}{}: the computation that made it failed there, so nothing was "
+                                     "written",
+                                     row, i, v, values.cols() > 1 ? fmt::format(" (component {})", j) : ""),
+                         c);
+    }
+  }
 }
 
 }  // namespace palpa::io_detail

@@ -27,6 +27,14 @@ Eigen::MatrixX3i triangles_from(const std::vector<Triangle>& tris);
 // (palpa::Error, Input, naming `file` otherwise).
 void apply_unit(Eigen::MatrixX3d& V, const MeshReadOptions& options, const std::string& file);
 
+// Writers call this on every array of numbers before a byte is written: a NaN
+// or an infinity means the computation that made the array failed, and it must
+// not reach a file. Throws palpa::Error (Solver: exit 3) naming `file`, the
+// array (`what`, e.g. "point data 'pressure_Pa'"), the row (`row`, e.g.
+// "vertex") and the value.
+void require_finite(const Eigen::Ref<const Eigen::MatrixXd>& values, const std::string& file, const std::string& what,
+                    const char* row);
+
 // The largest vertex count a 32-bit index can address; readers refuse more.
 inline constexpr long long kMaxIndex = 2147483647LL;
 
