@@ -3,4 +3,4 @@
 # contact (detail/cgal_tree.cpp) and mesh (detail/). CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE:
 # the presets choose it.
 set(CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE TRUE)
-find_package(CGAL 5.5 REQUIRED)
+palpa_find_package(CGAL 5.5)

@@ -8,10 +8,27 @@
 # (OpenBLAS, see scripts/setup.sh), and `palpa --version` names it.
 # BLA_VENDOR=Generic makes FindBLAS (called by Ceres's configuration for the
 # BLAS::BLAS and LAPACK::LAPACK targets) choose those; Ceres's own target lists
-# the files it was built with, which are filtered out below.
+# the files it was built with, which are filtered out below. BLA_VENDOR is
+# restored afterwards, so that the choice does not reach a project that finds
+# an installed palpa.
+set(_palpa_bla_vendor_set FALSE)
+if(DEFINED BLA_VENDOR)
+  set(_palpa_bla_vendor_set TRUE)
+  set(_palpa_bla_vendor "${BLA_VENDOR}")
+endif()
 set(BLA_VENDOR Generic)
-find_package(Ceres 2.1 REQUIRED)
+palpa_find_package(Ceres 2.1)
+if(_palpa_bla_vendor_set)
+  set(BLA_VENDOR "${_palpa_bla_vendor}")
+else()
+  unset(BLA_VENDOR)
+endif()
+unset(_palpa_bla_vendor_set)
+unset(_palpa_bla_vendor)
 get_target_property(_palpa_ceres_links Ceres::ceres INTERFACE_LINK_LIBRARIES)
+if(NOT _palpa_ceres_links)
+  set(_palpa_ceres_links)
+endif()
 set(_palpa_ceres_kept)
 foreach(_lib IN LISTS _palpa_ceres_links)
   if(_lib MATCHES "/lib(f77blas|cblas|atlas|satlas|tatlas)\\.(so|a)$")

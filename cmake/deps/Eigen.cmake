@@ -1,2 +1,2 @@
 # SPDX-License-Identifier: AGPL-3.0-or-later
-find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+palpa_find_package(Eigen3 3.4 NO_MODULE)

@@ -1,2 +1,2 @@
 # SPDX-License-Identifier: AGPL-3.0-or-later
-find_package(fmt REQUIRED)
+palpa_find_package(fmt)

@@ -1,3 +1,3 @@
 # SPDX-License-Identifier: AGPL-3.0-or-later
 # zlib: compressed VTU arrays (vtkZLibDataCompressor), Debian's zlib1g-dev.
-find_package(ZLIB REQUIRED)
+palpa_find_package(ZLIB)
