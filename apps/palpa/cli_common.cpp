@@ -81,9 +81,10 @@ void check_command(const CLI::App& cmd) {
           if (fresh || !(output || at->second.output)) continue;
           const Seen& first = at->second;
           throw_input_error(
-              fmt::format("{} '{}' is the same file as {} '{}': palpa {} would {} it", opt->get_name(), value,
+              fmt::format("{} '{}' is the same file as {} '{}': palpa {} would {}", opt->get_name(), value,
                           first.option, first.value, cmd.get_name(),
-                          first.output && output ? "write it twice and keep only one of" : "overwrite its input with"),
+                          first.output && output ? "write both outputs into it, one over the other"
+                                                 : "overwrite its input with its output"),
               ErrorContext{value, 0, 0, fmt::format("option {}", opt->get_name())},
               "a path for each output that is no input and no other output");
         }

@@ -130,6 +130,13 @@ void run_fit_command(const FitArgs& a) {
     spdlog::info("fit: no checkpoint in {}: starting afresh", out.string());
     resume = false;
   }
+  // A finished fit is left exactly as it is (a checkpoint of another fit is
+  // refused here, naming what differs).
+  if (resume && std::filesystem::exists(out / "report.json") &&
+      fit::fit_finished(fit::read_dataset(a.dataset), o, out / "checkpoint.json")) {
+    spdlog::info("fit: the fit in {} is finished (report.json); nothing to resume", out.string());
+    return;
+  }
   if (!resume && !a.overwrite) require_empty_output(out, "fit");
   try {
     run_fit(a.dataset, out, o, resume, a.command_line);

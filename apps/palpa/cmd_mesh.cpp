@@ -115,16 +115,24 @@ void add_quality_options(CLI::App& cmd, QualityArgs& q) {
 
 // Writes every output into a staging folder beside the first target, then
 // moves them into place: all files appear or none.
+// The folder `target` goes into; refused if it does not exist. Checked before
+// the meshing too, so that a typo in -o does not cost the whole run.
+std::filesystem::path existing_folder_of(const std::filesystem::path& target) {
+  const auto folder = target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+  if (!std::filesystem::is_directory(folder)) {
+    ErrorContext c;
+    c.file = target.string();
+    c.field = "option -o";
+    throw_input_error(fmt::format("the output folder '{}' does not exist", folder.string()), c,
+                      "an existing folder");
+  }
+  return folder;
+}
+
 class Staging {
  public:
   explicit Staging(const std::filesystem::path& first_target) {
-    const auto folder = first_target.parent_path().empty() ? std::filesystem::path(".")
-                                                           : first_target.parent_path();
-    if (!std::filesystem::is_directory(folder)) {
-      ErrorContext c;
-      c.file = first_target.string();
-      throw_input_error("the output folder does not exist", c, "an existing folder");
-    }
+    const auto folder = existing_folder_of(first_target);
     dir_ = folder / fmt::format(".palpa-mesh-{}", ::getpid());
     std::filesystem::create_directory(dir_);
   }
@@ -169,6 +177,7 @@ Json statistics_json(const mesh::TetStatistics& s) {
 }
 
 void run_layer(const LayerArgs& a) {
+  existing_folder_of(a.output);
   MeshReadOptions read;
   read.unit_to_si = length_unit(a.unit);
   const SurfaceMesh scan = read_surface_mesh(a.surface, read);
@@ -307,6 +316,7 @@ void run_solid(const SolidArgs& a) {
   MeshReadOptions read;
   read.unit_to_si = length_unit(a.unit);
   SurfaceMesh s = mesh::repair_surface(read_surface_mesh(a.surface, read));
+  existing_folder_of(a.output);
   mesh::check_closed_surface(s, a.surface);
   if (a.edge > 0.0) s = mesh::remesh_surface(s, a.edge);
   const mesh::TetQuality q = quality_from(a.quality);

@@ -76,6 +76,19 @@ TEST(FitCli, WritesTheMaterialReportCurvesAndPlots) {
   EXPECT_EQ(again.exit_code, 2) << again.err;
   EXPECT_NE(again.err.find("output folder 'out' is not empty"), std::string::npos) << again.err;
   EXPECT_EQ(std::filesystem::last_write_time(out / "report.json"), before);
+
+  // --resume on the finished fit says so and changes nothing; with other
+  // options it refuses, naming what differs.
+  const auto done = run_palpa(
+      "fit dataset.json -o out --model neo-hookean --mesh-level 0 --steps 6 --max-iterations 4 --resume", dir.path());
+  EXPECT_EQ(done.exit_code, 0) << done.err;
+  EXPECT_NE(done.err.find("is finished (report.json); nothing to resume"), std::string::npos) << done.err;
+  EXPECT_EQ(std::filesystem::last_write_time(out / "report.json"), before);
+  const auto other = run_palpa(
+      "fit dataset.json -o out --model neo-hookean --mesh-level 0 --steps 6 --max-iterations 9 --resume", dir.path());
+  EXPECT_EQ(other.exit_code, 2) << other.err;
+  EXPECT_NE(other.err.find("the fit options differ"), std::string::npos) << other.err;
+  EXPECT_EQ(std::filesystem::last_write_time(out / "report.json"), before);
 }
 
 TEST(FitCli, BadDatasetsAreRefusedAndNothingIsWritten) {

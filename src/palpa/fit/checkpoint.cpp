@@ -181,6 +181,13 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,
   }
 }
 
+bool Checkpoint::done(std::size_t g) const {
+  if (path_.empty() || !doc_.contains("guesses")) return false;
+  const std::string key = std::to_string(g);
+  if (!doc_["guesses"].contains(key)) return false;
+  return JsonView(doc_["guesses"][key], path_.string(), "guesses." + key).at("done").as_bool();
+}
+
 bool Checkpoint::restore(std::size_t g, GuessResult& r, GuessState& s, std::vector<axisym::WarmStart>* warm) const {
   if (path_.empty() || !doc_.contains("guesses")) return false;
   const std::string key = std::to_string(g);

@@ -35,6 +35,9 @@ class Checkpoint {
   // the warm-start file it names is missing or damaged.
   bool restore(std::size_t g, GuessResult& r, GuessState& s, std::vector<axisym::WarmStart>* warm = nullptr) const;
 
+  // Whether the loaded file records guess g as done.
+  bool done(std::size_t g) const;
+
   const std::string& fingerprint() const noexcept { return fingerprint_; }
 
  private:

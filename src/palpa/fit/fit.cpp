@@ -235,6 +235,17 @@ std::unique_ptr<Material> default_initial(const Dataset& d) {
 
 }  // namespace
 
+bool fit_finished(const Dataset& d, const FitOptions& o, const std::filesystem::path& checkpoint) {
+  const std::shared_ptr<const Material> initial =
+      o.initial ? o.initial : std::shared_ptr<const Material>(default_initial(d));
+  Checkpoint c(checkpoint, d, o, *initial);
+  c.load();
+  for (std::size_t g = 0; g < d.layer_depths.size(); ++g) {
+    if (!c.done(g)) return false;
+  }
+  return true;
+}
+
 FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& control) {
   if (o.max_iterations < 0 || o.max_iterations > 10000) {
     throw_input_error(fmt::format("{} iterations", o.max_iterations), ErrorContext{"", 0, 0, "max-iterations"},

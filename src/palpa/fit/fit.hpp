@@ -125,6 +125,11 @@ struct FitControl {
 // (Interrupted) on Ctrl-C (the checkpoint then holds the last iteration).
 FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& control = {});
 
+// Whether the checkpoint at `checkpoint` records every layer-depth guess of
+// this fit as done (a finished fit: resuming it has nothing left to do).
+// Throws palpa::Error (Input) if it is malformed or belongs to another fit.
+bool fit_finished(const Dataset& d, const FitOptions& o, const std::filesystem::path& checkpoint);
+
 // The material that starts stage 2 for `model`, matching `stage1` at small
 // strain (spline: SplineMaterial::from_model with `layout`; ogden: N terms with
 // exponents 2, 5, −2, ...; mooney-rivlin: 90/10 split of C10/C01; yeoh:
