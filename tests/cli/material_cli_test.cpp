@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-// `palpa material` and `palpa demo` end to end: results on good input, and for
+// `palpa material` and the top-level options end to end: results on good input, and for
 // bad input a clear message, exit code 2 and nothing written.
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <link.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <fmt/format.h>
 
 #include "common/test_support.hpp"
 
@@ -88,18 +91,6 @@ TEST(MaterialCli, BadInputIsRefusedAndNothingIsWritten) {
   }
 }
 
-TEST(DemoCli, RunsOnTheBundledExamples) {
-  ScratchDir dir;
-  const auto r = run_palpa("demo --out result", dir.path());
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(std::filesystem::exists(dir / "result" / "summary.txt"));
-  EXPECT_TRUE(std::filesystem::exists(dir / "result" / "tissue_uniaxial.csv"));
-  EXPECT_TRUE(std::filesystem::exists(dir / "result" / "tissue_poke.csv"));
-  EXPECT_NE(r.out.find("poke         3 mm punch, 10 mm layer"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("tissue (neo-hookean-volume): small-strain E = 10 kPa"), std::string::npos)
-      << r.out;
-}
-
 // The BLAS that palpa runs on is the libblas.so.3 that the system's dynamic
 // linker finds (Debian's alternatives), not a library linked ahead of it.
 TEST(Cli, VersionNamesTheSystemsLibblas) {
@@ -112,6 +103,24 @@ TEST(Cli, VersionNamesTheSystemsLibblas) {
   const auto r = run_palpa("--version");
   ASSERT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("(" + libblas + ")"), std::string::npos) << "libblas.so.3 is " << libblas << "\n" << r.out;
+}
+
+// BLAS runs on one thread unless the environment asks for more.
+TEST(Cli, BlasRunsOnOneThreadUnlessTheEnvironmentSaysOtherwise) {
+  ScratchDir dir;
+  const auto version = [&](const std::string& env) {
+    const auto out = dir / "version.txt";
+    const std::string cmd = fmt::format("env -u OPENBLAS_NUM_THREADS -u OMP_NUM_THREADS {} '{}' --version >'{}' 2>&1",
+                                        env, PALPA_BINARY, out.string());
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return test::read_text(out);
+  };
+  const std::string plain = version("");
+  EXPECT_NE(plain.find(", 1 thread;"), std::string::npos) << plain;
+  const std::string two = version("OPENBLAS_NUM_THREADS=2");
+  if (two.find("OpenBLAS") != std::string::npos && two.find("openblas-pthread") != std::string::npos) {
+    EXPECT_NE(two.find(", 2 threads;"), std::string::npos) << two;
+  }
 }
 
 TEST(Cli, VersionHelpAndUsageErrors) {
