@@ -6,12 +6,15 @@
 #                in the sanitizer build, then the physics and command-line tests in the
 #                Release build (ends with ctest's summary)
 #   make bench   build (Release) and run the benchmarks, one JSON line per figure
+#   make fuzz    build the libFuzzer programs (preset fuzz) and run each for
+#                FUZZ_SECONDS (default 60); findings go to build/fuzz/fuzz/artifacts
 # Repeated calls rebuild incrementally.
 
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+FUZZ_SECONDS ?= 60
 DEMO_OUT ?= demo-out
 
-.PHONY: all setup build demo test test-release test-asan bench clean
+.PHONY: all setup build demo test test-release test-asan bench fuzz clean
 
 all: build
 
@@ -45,6 +48,11 @@ test: setup
 bench: build
 	cmake --build --preset release -j $(JOBS) --target palpa_benchmarks
 	bash bench/run.sh build/release
+
+fuzz: setup
+	cmake --preset fuzz >/dev/null
+	cmake --build --preset fuzz -j $(JOBS)
+	bash fuzz/run.sh build/fuzz $(FUZZ_SECONDS)
 
 clean:
 	rm -rf build

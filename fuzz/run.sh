@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: AGPL-3.0-or-later
+# Runs every palpa_fuzz_<target> of BUILD_DIR for SECONDS each (default 60), on
+# a working corpus in BUILD_DIR/fuzz/corpus/<target> seeded from
+# fuzz/corpus/<target>. Inputs that crash, leak, hang over 1 s or allocate more
+# than 2 GB are saved in BUILD_DIR/fuzz/artifacts/<target>/ (copy them into
+# fuzz/regressions/<target>/ once fixed: the unit tests replay that folder).
+# Prints one line per target: executions, coverage features, corpus size,
+# findings. Exit status 1 if any target found something. FUZZ_TARGETS="csv obj"
+# runs only those.
+set -u
+build=${1:?usage: fuzz/run.sh BUILD_DIR [SECONDS]}
+seconds=${2:-60}
+src=$(cd "$(dirname "$0")" && pwd)
+status=0
+printf '%-10s %12s %10s %8s  %s\n' target executions features corpus findings
+for prog in "$build"/fuzz/palpa_fuzz_*; do
+  t=${prog##*/palpa_fuzz_}
+  if [ -n "${FUZZ_TARGETS:-}" ] && [[ " $FUZZ_TARGETS " != *" $t "* ]]; then continue; fi
+  work="$build/fuzz/corpus/$t"
+  art="$build/fuzz/artifacts/$t"
+  mkdir -p "$work" "$art"
+  log="$build/fuzz/$t.log"
+  "$prog" -max_total_time="$seconds" -timeout=1 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
+    -max_len=1048576 -print_final_stats=1 -artifact_prefix="$art/" "$work" "$src/corpus/$t" >"$log" 2>&1
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
+  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*' || echo 0)
+  found=$(find "$art" -type f | wc -l)
+  [ "$found" -gt 0 ] && status=1
+  printf '%-10s %12s %10s %8s  %s\n' "$t" "${execs:-0}" "${ft:-0}" "$(ls "$work" | wc -l)" \
+    "$([ "$found" -gt 0 ] && echo "$found in $art (log: $log)" || echo none)"
+done
+exit $status
