@@ -14,6 +14,15 @@ TEST(Json, SyntaxErrorNamesLineAndColumn) {
                                  {"m.json:3:", "invalid JSON"}));
 }
 
+// Found by fuzzing: a number beyond a double's range escaped as another
+// exception and aborted the program.
+TEST(Json, NumbersBeyondADoublesRangeAreRefused) {
+  test::ScratchDir dir;
+  const auto p = dir.write("big.json", "{\"E\": 1111111111111111e1111111111}");
+  EXPECT_TRUE(test::throws_error([&] { read_json_file(p); }, ErrorKind::Input,
+                                 {"big.json", "invalid JSON", "number overflow", "range of a double"}));
+}
+
 TEST(Json, EmptyAndMissingFilesAreErrors) {
   test::ScratchDir dir;
   const auto p = dir.write("empty.json", "  \n");

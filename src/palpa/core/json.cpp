@@ -59,6 +59,12 @@ Json read_json_file(const std::filesystem::path& path) {
     const auto pos = what.find("parse error");
     throw_input_error(fmt::format("invalid JSON: {}", pos == std::string::npos ? what : what.substr(pos)),
                       ctx);
+  } catch (const Json::exception& e) {
+    // The parser's other refusals, such as a number beyond the range of a
+    // double ("1e999"): no position is known.
+    std::string what = e.what();
+    if (const auto end = what.find("] "); end != std::string::npos) what = what.substr(end + 2);
+    throw_input_error(fmt::format("invalid JSON: {}", what), ctx, "numbers within the range of a double");
   }
 }
 
