@@ -6,6 +6,7 @@
 #include <map>
 #include <utility>
 
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
 
 namespace palpa::cli {
@@ -31,6 +32,8 @@ CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double&
 }
 
 void require_empty_output(const std::filesystem::path& out, std::string_view what) {
+  // What a killed run left half-written does not count.
+  remove_stale_temporaries(out);
   std::error_code ec;
   if (std::filesystem::is_directory(out, ec) && !std::filesystem::is_empty(out, ec)) {
     throw_input_error(fmt::format("output folder '{}' is not empty", out.string()),

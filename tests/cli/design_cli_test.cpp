@@ -2,6 +2,10 @@
 // `palpa design` end to end: outputs, resuming, bad input.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <filesystem>
+#include <string>
+
 #include <nlohmann/json.hpp>
 
 #include "common/test_support.hpp"
@@ -108,6 +112,31 @@ TEST(DesignCli, ResumesAnInterruptedRun) {
   ASSERT_EQ(fresh.exit_code, 0) << fresh.err;
   EXPECT_NE(fresh.err.find("starting afresh"), std::string::npos) << fresh.err;
   EXPECT_FALSE(summary(dir / "new" / "summary.json")["resumed"].get<bool>());
+}
+
+// Killed with SIGKILL at five moments of its run, a design continued with
+// --resume ends exactly where an uninterrupted run ends (the optimizer is
+// deterministic and every checkpoint is written whole), and a killed run
+// never leaves a summary.json presented as finished.
+TEST(DesignCli, SurvivesSigkillAtFiveMomentsAndResumesToTheSameResult) {
+  ScratchDir dir;
+  dir.write("scene.json", kDesignScene);
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(run_palpa("design scene.json -o straight", dir.path()).exit_code, 0);
+  const double whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double zeta = summary(dir / "straight" / "summary.json")["final"]["zeta"].get<double>();
+  int killed = 0;
+  for (const double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {
+    const std::string out = "killed" + std::to_string(static_cast<int>(10 * f));
+    if (test::run_palpa_killed_after("design scene.json -o " + out, dir.path(), f * whole)) {
+      ++killed;
+      EXPECT_FALSE(std::filesystem::exists(dir / out / "summary.json")) << out;
+    }
+    const auto r = run_palpa("design scene.json -o " + out + " --resume", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << out << "\n" << r.err;
+    EXPECT_EQ(summary(dir / out / "summary.json")["final"]["zeta"].get<double>(), zeta) << out;
+  }
+  EXPECT_GE(killed, 3) << "most kills should land inside the run";
 }
 
 TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {

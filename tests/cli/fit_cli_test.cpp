@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <filesystem>
 
 #include "common/test_support.hpp"
@@ -24,6 +25,51 @@ std::size_t files_in(const std::filesystem::path& p) {
   std::size_t n = 0;
   for (const auto& e : std::filesystem::directory_iterator(p)) n += e.is_regular_file() ? 1 : 0;
   return n;
+}
+
+// Killed with SIGKILL at five moments of its run, a fit continued with
+// --resume ends bit for bit where an uninterrupted fit ends (every checkpoint
+// is written whole; the optimizer restarts from the last one exactly), and a
+// killed run never leaves a report.json presented as finished.
+TEST(FitCli, SurvivesSigkillAtFiveMomentsAndResumesToTheSameResult) {
+  ScratchDir dir;
+  dir.write("truth.json", kTruth);
+  ASSERT_EQ(run_palpa("poke --material truth.json --thickness 10mm --radius 3mm --depth 1.5mm --steps 6 "
+                      "--mesh-level 0 -o a3mm.csv",
+                      dir.path())
+                .exit_code,
+            0);
+  dir.write("dataset.json", R"({"palpa_dataset": 1, "sample": "cli test", "test": "indentation",
+    "layer_depth": ["8 mm", "9 mm", "10 mm", "11 mm"], "contact": "stick", "poisson": 0.45,
+    "curves": [{"file": "a3mm.csv", "radius": "3 mm", "role": "train"}]})");
+  // Four guesses of 15 iterations each (2 s on 2 cores), checkpointed after
+  // every iteration, with the deterministic optimizer (a resumed
+  // Levenberg-Marquardt restarts its trust region and takes another path).
+  const std::string fit =
+      "fit dataset.json --model neo-hookean --optimizer nlcg --mesh-level 0 --steps 6 --max-iterations 15 "
+      "--tolerance 1e-12 -o ";
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(run_palpa(fit + "straight", dir.path()).exit_code, 0);
+  const double whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const Json straight = Json::parse(test::read_text(dir / "straight" / "report.json"));
+  int killed = 0;
+  for (const double f : {0.1, 0.3, 0.5, 0.7, 0.9}) {
+    const std::string out = fmt::format("killed{:.0f}", 10 * f);
+    if (test::run_palpa_killed_after(fit + out, dir.path(), f * whole)) {
+      ++killed;
+      EXPECT_FALSE(std::filesystem::exists(dir / out / "report.json")) << out;
+    }
+    const auto r = run_palpa(fit + out + " --resume", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << out << "\n" << r.err;
+    const Json resumed = Json::parse(test::read_text(dir / out / "report.json"));
+    EXPECT_EQ(resumed["objective"]["final"].get<double>(), straight["objective"]["final"].get<double>()) << out;
+    EXPECT_EQ(resumed["iterations"], straight["iterations"]) << out;
+    const auto parameters = [](const std::string& material) { return material.substr(0, material.find("provenance")); };
+    EXPECT_EQ(parameters(test::read_text(dir / out / "material.json")),
+              parameters(test::read_text(dir / "straight" / "material.json")))
+        << out;
+  }
+  EXPECT_GE(killed, 3) << "most kills should land inside the run";
 }
 
 TEST(FitCli, WritesTheMaterialReportCurvesAndPlots) {

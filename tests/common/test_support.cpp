@@ -2,9 +2,11 @@
 #include "common/test_support.hpp"
 
 #include <fmt/format.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -94,6 +96,26 @@ CommandResult run_palpa(const std::string& args, const std::filesystem::path& cw
   r.out = read_text(out);
   r.err = read_text(err);
   return r;
+}
+
+bool run_palpa_killed_after(const std::string& args, const std::filesystem::path& cwd, double seconds) {
+  const std::string cmd =
+      fmt::format("cd '{}' && exec '{}' {} >/dev/null 2>&1 </dev/null", cwd.string(), PALPA_BINARY, args);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  if (pid < 0) return false;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return false;
+    usleep(2000);
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
 }
 
 std::string shell_quote(const std::filesystem::path& p) { return fmt::format("'{}'", p.string()); }

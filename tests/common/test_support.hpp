@@ -62,4 +62,9 @@ struct CommandResult {
 // Runs `palpa <args>` (args are passed to /bin/sh, quote as needed) in `cwd`.
 CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd = {});
 
+// Starts `palpa <args>` in `cwd` (output discarded) and kills it with SIGKILL
+// `seconds` after the start, as a crash or an out-of-memory killer would.
+// Returns true if it was killed, false if it had ended by then.
+bool run_palpa_killed_after(const std::string& args, const std::filesystem::path& cwd, double seconds);
+
 }  // namespace palpa::test

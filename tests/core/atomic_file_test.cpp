@@ -1,5 +1,9 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
 
 #include <fstream>
 #include <sstream>
@@ -77,6 +81,27 @@ TEST(EnsureDirectory, CreatesAndRejectsFiles) {
   const auto file = dir.write("f", "");
   EXPECT_TRUE(test::throws_error([&] { ensure_directory(file); }, ErrorKind::Input,
                                  {"not a folder"}));
+}
+
+// A run killed with SIGKILL cannot remove its temporaries: the next run in
+// the folder does, for processes that are gone, and nothing else.
+TEST(OutputFolder, RemovesTheTemporariesOfKilledRunsOnly) {
+  test::ScratchDir dir;
+  const pid_t gone = fork();
+  if (gone == 0) _exit(0);
+  waitpid(gone, nullptr, 0);  // a pid that no longer runs
+  const std::string stale = fmt::format(".summary.json.tmp-{}-0", gone);
+  const std::string live = fmt::format(".summary.json.tmp-{}-3", ::getppid());
+  dir.write(stale, "half");
+  dir.write(live, "in progress");
+  dir.write(".hidden", "mine");
+  dir.write("summary.json.tmp-1-1", "not a temporary's name");
+  EXPECT_EQ(remove_stale_temporaries(dir.path()), 1u);
+  EXPECT_FALSE(std::filesystem::exists(dir / stale));
+  EXPECT_TRUE(std::filesystem::exists(dir / live));
+  EXPECT_TRUE(std::filesystem::exists(dir / ".hidden"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "summary.json.tmp-1-1"));
+  EXPECT_EQ(remove_stale_temporaries(dir / "missing"), 0u);
 }
 
 TEST(OutputFolder, AFailedRunLeavesNoEmptyFolderAndKeepsWhatItHolds) {

@@ -4,6 +4,7 @@
 #include "palpa/core/interrupt.hpp"
 
 #include <fmt/format.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -124,6 +125,28 @@ void ensure_directory(const std::filesystem::path& dir) {
   if (ec) throw_input_error(fmt::format("cannot create the folder: {}", ec.message()), ctx);
 }
 
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir) {
+  std::size_t removed = 0;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() < 2 || name[0] != '.') continue;
+    const auto tmp = name.rfind(".tmp-");
+    if (tmp == std::string::npos) continue;
+    const auto dash = name.find('-', tmp + 5);
+    if (dash == std::string::npos) continue;
+    const std::string pid_text = name.substr(tmp + 5, dash - tmp - 5);
+    if (pid_text.empty() || pid_text.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::stol(pid_text);
+    if (pid == static_cast<long>(::getpid())) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // still running (or not ours)
+    std::error_code rm;
+    if (std::filesystem::remove(e.path(), rm)) ++removed;
+  }
+  return removed;
+}
+
 OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy) : policy_(policy) {
   std::error_code ec;
   for (std::filesystem::path p = std::filesystem::absolute(dir, ec).lexically_normal();
@@ -132,6 +155,7 @@ OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy) :
     if (p == p.parent_path()) break;
   }
   ensure_directory(dir);
+  remove_stale_temporaries(dir);
 }
 
 OutputFolder::~OutputFolder() {

@@ -66,6 +66,12 @@ void ensure_directory(const std::filesystem::path& dir);
 // Folders that hold a checkpoint or any finished file stay, unless the run
 // asks for `Wipe`: then a folder it created goes with whatever it wrote there
 // (outputs that only count together, such as a VTU series).
+// Removes from `dir` the temporaries that AtomicFile left behind in a process
+// that no longer runs (killed with SIGKILL or by the out-of-memory killer:
+// ".<name>.tmp-<pid>-<n>" of a pid that is gone); returns how many. Files of
+// running processes and every other file stay.
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
+
 class OutputFolder {
  public:
   enum class OnFailure { RemoveIfEmpty, Wipe };
