@@ -388,7 +388,10 @@ Eigen::VectorXd PokeModel::gradient_param_adjoint(const Eigen::VectorXd& x, cons
   const Eigen::VectorXd u = full_displacement(x);
   const Eigen::Index p = material_->num_params();
   const auto n_el = static_cast<std::size_t>(mesh_.num_elements());
-  return tbb::parallel_reduce(
+  // Deterministic: the same state gives the same bits however the threads
+  // are scheduled, so fits (and fits resumed from a checkpoint) repeat
+  // exactly on a busy machine too.
+  return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, n_el, kGrain), Eigen::VectorXd(Eigen::VectorXd::Zero(p)),
       [&](const auto& range, Eigen::VectorXd acc) {
         Eigen::MatrixXd work3(3, p);
