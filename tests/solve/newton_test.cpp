@@ -186,6 +186,67 @@ TEST(Newton, ChordStepsReachTheSameMinimizerWithFewerFactorizations) {
   EXPECT_EQ(b.hessian_evaluations + chord_steps, b.iterations);
 }
 
+// A system declared stateless (System::stateless) forwarding to another one:
+// Newton then keeps the energy and gradient of a taken full step from the
+// line search's first trial instead of evaluating them again.
+class StatelessView final : public System {
+ public:
+  explicit StatelessView(const System& inner) : inner_(&inner) {}
+  Eigen::Index num_dofs() const override { return inner_->num_dofs(); }
+  double energy(const Eigen::VectorXd& x) const override {
+    ++energy_only_;
+    return inner_->energy(x);
+  }
+  void gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override { inner_->gradient(x, g); }
+  double energy_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override {
+    ++energy_gradient_;
+    return inner_->energy_gradient(x, g);
+  }
+  void hessian(const Eigen::VectorXd& x, SpMat& H) const override { inner_->hessian(x, H); }
+  bool stateless() const noexcept override { return true; }
+  int energy_only_calls() const noexcept { return energy_only_; }
+  int energy_gradient_calls() const noexcept { return energy_gradient_; }
+
+ private:
+  const System* inner_;
+  mutable int energy_only_ = 0;
+  mutable int energy_gradient_ = 0;
+};
+
+// The same iterates, bit for bit, with fewer evaluations: on Rosenbrock
+// (backtracking, shifted Hessians, chord steps) every iteration ends at the
+// same x with the same E and ‖g‖, and the accepted full steps cost no second
+// energy pass.
+TEST(Newton, AStatelessSystemReusesTheFullStepsEnergyAndGradient) {
+  test::RosenbrockSystem r12(12);
+  NewtonOptions o = tight_options();
+  o.chord_ratio = 100.0;
+  NewtonSolver plain(o);
+  Eigen::VectorXd x_plain = Eigen::VectorXd::Constant(12, -0.5);
+  const NewtonResult a = plain.solve(r12, x_plain);
+  ASSERT_TRUE(a.converged()) << a.message;
+  StatelessView view(r12);
+  NewtonSolver reuse(o);
+  Eigen::VectorXd x_reuse = Eigen::VectorXd::Constant(12, -0.5);
+  const NewtonResult b = reuse.solve(view, x_reuse);
+  ASSERT_TRUE(b.converged()) << b.message;
+  EXPECT_EQ(x_reuse, x_plain);
+  ASSERT_EQ(b.history.size(), a.history.size());
+  int full_steps = 0;
+  for (std::size_t k = 0; k < a.history.size(); ++k) {
+    EXPECT_EQ(b.history[k].energy, a.history[k].energy) << "iteration " << k + 1;
+    EXPECT_EQ(b.history[k].gradient_norm, a.history[k].gradient_norm) << "iteration " << k + 1;
+    EXPECT_EQ(b.history[k].step, a.history[k].step) << "iteration " << k + 1;
+    full_steps += a.history[k].step == 1.0 ? 1 : 0;
+  }
+  ASSERT_GT(full_steps, 3);
+  // Every full step (chord steps included) saved one energy evaluation.
+  EXPECT_EQ(a.energy_evaluations - b.energy_evaluations, full_steps);
+  EXPECT_EQ(view.energy_only_calls() + view.energy_gradient_calls(), b.energy_evaluations);
+  // A step shorter than 1 was taken somewhere (so the fallback path ran too).
+  EXPECT_LT(full_steps, static_cast<int>(a.history.size()));
+}
+
 // --- (d) indefinite Hessian at the start ---------------------------------------
 
 TEST_P(NewtonLineSearch, ShiftsAnIndefiniteHessianAndStillConverges) {

@@ -122,6 +122,8 @@ class PokeModel final : public System, public ParametricSystem {
   // Element Hessians projected to PSD and the contact's k n nᵀ (Newton's
   // stand-in where the true Hessian is not positive definite).
   bool projected_hessian(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>& H) const override;
+  // The punch's contact is checked inside every call (no committed anchors).
+  bool stateless() const noexcept override { return true; }
 
   // ParametricSystem: ∂g/∂θ over the free DOFs (#free × p).
   Eigen::Index num_params() const override;

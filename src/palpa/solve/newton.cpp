@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <optional>
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
@@ -222,20 +224,54 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
   NewtonStatus status = NewtonStatus::MaxIterations;
   std::string message;
 
+  // A stateless system's E and g at the full step x + d, evaluated together
+  // by the first line-search trial, become those of the next iterate when
+  // that step is taken (System::stateless): one energy pass fewer per step.
+  const bool stateless = system.stateless();
+  Eigen::VectorXd g_full(stateless ? n : 0);
+  double energy_full = 0.0;
+  bool have_full = false;
   const LineFunction phi = [&](double s) {
     trial.noalias() = x + s * d;
+    if (stateless && s == 1.0) {
+      if (!have_full) {
+        ++r.energy_evaluations;
+        ++r.gradient_evaluations;
+        energy_full = system.energy_gradient(trial, g_full);
+        have_full = std::isfinite(energy_full) && g_full.allFinite();
+        if (!have_full) return std::numeric_limits<double>::infinity();
+      }
+      return energy_full;
+    }
     ++r.energy_evaluations;
     return system.energy(trial);
   };
-
-  // After x moved: prepare, evaluate E and g there and record the iteration
-  // (its energy and gradient norm filled in). False, with the status set,
-  // when E or g is not finite.
-  const auto commit_step = [&](NewtonIteration it, std::string_view what) {
-    system.prepare(x);
-    energy = system.energy_gradient(x, g);
-    ++r.energy_evaluations;
+  // g at trial = x + d, right after phi(1.0) returned a finite energy.
+  const auto gradient_at_full_step = [&]() -> const Eigen::VectorXd& {
+    if (have_full) return g_full;
+    system.gradient(trial, g_trial);
     ++r.gradient_evaluations;
+    return g_trial;
+  };
+
+  // After x moved: prepare, evaluate E and g there (or, for a stateless
+  // system, take `known`, E and g already evaluated at this x) and record the
+  // iteration (its energy and gradient norm filled in). False, with the
+  // status set, when E or g is not finite.
+  struct Known {
+    double energy;
+    const Eigen::VectorXd* gradient;
+  };
+  const auto commit_step = [&](NewtonIteration it, std::string_view what, std::optional<Known> known = {}) {
+    system.prepare(x);
+    if (stateless && known) {
+      energy = known->energy;
+      g = *known->gradient;
+    } else {
+      energy = system.energy_gradient(x, g);
+      ++r.energy_evaluations;
+      ++r.gradient_evaluations;
+    }
     gnorm = inf_norm(g);
     ++r.iterations;
     it.energy = energy;
@@ -270,21 +306,22 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
       break;
     }
 
+    have_full = false;  // (a new direction d follows)
     if (chord_ready) {
       chord_ready = false;
       d = factor_->solve(-g);
-      const double e1 = phi(1.0);
-      if (d.allFinite() && std::isfinite(e1)) {
-        system.gradient(trial, g_trial);
-        ++r.gradient_evaluations;
-        const double gnorm_trial = inf_norm(g_trial);
-        if (g_trial.allFinite() && gnorm_trial * options_.chord_ratio <= gnorm) {
+      const double e1 = d.allFinite() ? phi(1.0) : std::numeric_limits<double>::infinity();
+      if (std::isfinite(e1)) {
+        const Eigen::VectorXd& g1 = gradient_at_full_step();
+        const double gnorm_trial = inf_norm(g1);
+        if (g1.allFinite() && gnorm_trial * options_.chord_ratio <= gnorm) {
           x = trial;
-          if (!commit_step(NewtonIteration{0.0, 0.0, 1.0, 0.0, 1, 0}, "chord step")) break;
+          if (!commit_step(NewtonIteration{0.0, 0.0, 1.0, 0.0, 1, 0}, "chord step", Known{e1, &g1})) break;
           chord_ready = true;
           continue;
         }
       }
+      have_full = false;
     }
 
     system.hessian(x, hessian_);
@@ -315,9 +352,8 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
       const double e1 = phi(1.0);
       ls.evaluations = 1;
       if (std::isfinite(e1)) {
-        system.gradient(trial, g_trial);
-        ++r.gradient_evaluations;
-        if (g_trial.allFinite() && inf_norm(g_trial) < gnorm) {
+        const Eigen::VectorXd& g1 = gradient_at_full_step();
+        if (g1.allFinite() && inf_norm(g1) < gnorm) {
           ls.step = 1.0;
           ls.value = e1;
           ls.success = true;
@@ -351,7 +387,9 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
     const double gnorm_before = gnorm;
     NewtonIteration it{0.0, 0.0, ls.step, dir.shift, ls.evaluations, dir.factorizations};
     it.projected = dir.projected;
-    if (!commit_step(it, dir.projected ? "projected step" : "step")) break;
+    const std::optional<Known> known =
+        ls.step == 1.0 && have_full ? std::optional<Known>(Known{energy_full, &g_full}) : std::nullopt;
+    if (!commit_step(it, dir.projected ? "projected step" : "step", known)) break;
     // Near a saddle or an instability the stand-in, blind to the negative
     // curvature, creeps (‖g‖ falling by a constant factor near 1 per step):
     // from then on this solve shifts H, which can move along that curvature.

@@ -87,6 +87,12 @@ class System {
   // iterate, before gradient/Hessian there (see above). Default: nothing.
   virtual void prepare(const Eigen::VectorXd& x);
 
+  // True when E, g and H depend on x alone: prepare() commits nothing that
+  // changes them. The solver may then keep the energy and gradient it
+  // evaluated at a trial point as those of the iterate it accepts there,
+  // instead of evaluating them again after prepare(). Default: false.
+  virtual bool stateless() const noexcept { return false; }
+
  protected:
   System() = default;
   System(const System&) = default;
