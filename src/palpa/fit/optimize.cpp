@@ -88,6 +88,9 @@ class ProgressCallback final : public ceres::IterationCallback {
     if (record && cb_->on_iteration) {
       GuessState st;
       st.x = Eigen::Map<const Eigen::VectorXd>(x_, n_);
+      // (After an accepted step the summary holds the radius already updated
+      // by the step's quality: the one the next step is taken with.)
+      st.trust_region_radius = s.trust_region_radius;
       cb_->on_iteration(st.x, 2.0 * s.cost, st);
     }
     return ceres::SOLVER_CONTINUE;
@@ -120,7 +123,6 @@ OptimizeOutcome levenberg_marquardt(TrainingProblem& p, const GuessState& start,
     if (std::isfinite(p.lower()[k])) problem.SetParameterLowerBound(x.data(), static_cast<int>(i), p.lower()[k]);
     if (std::isfinite(p.upper()[k])) problem.SetParameterUpperBound(x.data(), static_cast<int>(i), p.upper()[k]);
   }
-  ProgressCallback progress(x.data(), x.size(), cache, o, cb);
   ceres::Solver::Options opt;
   opt.minimizer_type = ceres::TRUST_REGION;
   opt.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -139,6 +141,9 @@ OptimizeOutcome levenberg_marquardt(TrainingProblem& p, const GuessState& start,
   opt.minimizer_progress_to_stdout = false;
   opt.update_state_every_iteration = true;
   opt.num_threads = 1;
+  // A resumed fit goes on with the radius the interrupted one had reached.
+  if (start.trust_region_radius > 0.0) opt.initial_trust_region_radius = start.trust_region_radius;
+  ProgressCallback progress(x.data(), x.size(), cache, o, cb);
   opt.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
   ceres::Solve(opt, &problem, &summary);
