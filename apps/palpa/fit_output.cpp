@@ -76,8 +76,11 @@ struct Errors {
 FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Dataset& d, const fit::FitOptions& o,
                              const fit::FitResult& r, double seconds, const std::string& command) {
   const fit::GuessResult& best = r.guesses[r.best];
-  const auto before = fit::predict_curves(d, best.layer_depth, *best.stage1_material, o.simulation);
-  const auto after = fit::predict_curves(d, best.layer_depth, *best.material, o.simulation);
+  const auto curves_of = fit::predict_curves(
+      d, best.layer_depth, std::vector<const material::Material*>{best.stage1_material.get(), best.material.get()},
+      o.simulation);
+  const std::vector<fit::CurvePrediction>& before = curves_of[0];
+  const std::vector<fit::CurvePrediction>& after = curves_of[1];
 
   ensure_directory(out);
   ensure_directory(out / "curves");

@@ -171,11 +171,19 @@ double rms_error(const MeasuredCurve& c, const CurvePrediction& p) {
 
 std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth, const Material& m,
                                             const SimulationOptions& o) {
-  std::vector<CurvePrediction> out(d.curves.size());
-  tbb::parallel_for(std::size_t{0}, d.curves.size(), [&](std::size_t i) {
+  return std::move(predict_curves(d, layer_depth, std::vector<const Material*>{&m}, o).front());
+}
+
+std::vector<std::vector<CurvePrediction>> predict_curves(const Dataset& d, double layer_depth,
+                                                         const std::vector<const Material*>& materials,
+                                                         const SimulationOptions& o) {
+  const std::size_t n = d.curves.size();
+  std::vector<std::vector<CurvePrediction>> out(materials.size(), std::vector<CurvePrediction>(n));
+  tbb::parallel_for(std::size_t{0}, materials.size() * n, [&](std::size_t k) {
+    const std::size_t m = k / n, i = k % n;
     auto sim = make_curve_simulator(d, d.curves[i], layer_depth, o);
     sim->allow_partial(true);
-    out[i] = sim->predict(m, false);
+    out[m][i] = sim->predict(*materials[m], false);
   });
   return out;
 }

@@ -160,6 +160,12 @@ std::unique_ptr<material::Material> scaled_material(const material::Material& m,
 // simulation stops early is returned partial (CurvePrediction::failure).
 std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth, const material::Material& m,
                                             const SimulationOptions& o);
+// The same for several materials in one parallel pass over every (material,
+// curve) pair, so that the slowest curves of each run side by side: out[k]
+// holds the curves of materials[k].
+std::vector<std::vector<CurvePrediction>> predict_curves(const Dataset& d, double layer_depth,
+                                                         const std::vector<const material::Material*>& materials,
+                                                         const SimulationOptions& o);
 
 // ε contribution and root-mean-square error of one curve, over the points the
 // prediction reached (a partial prediction is NaN beyond; see compared_points).
