@@ -129,10 +129,10 @@ void add_convert_command(CLI::App& app) {
       ->type_name("NAME");
   cmd->footer(
       "Examples:\n"
-      "  palpa convert scan.stl scan.ply --unit mm     surface in mm -> binary PLY in m\n"
-      "  palpa convert body.msh body.vtu                Gmsh tet mesh -> ParaView\n"
-      "  palpa convert base.obj body.ply --unit '0.1 m' --obj-group body\n"
-      "  palpa convert raw.csv curve.csv                indentation_mm,force_gf -> "
+      "  palpa convert examples/convert/scan.stl scan.ply --unit mm     surface in mm -> binary PLY in m\n"
+      "  palpa convert examples/convert/scan.obj ball.ply --unit mm --obj-group body\n"
+      "  palpa convert thigh.msh thigh.vtu                              Gmsh tet mesh -> ParaView\n"
+      "  palpa convert examples/convert/raw.csv curve.csv               indentation_mm,force_gf -> "
       "indentation_m,force_N");
   declare_paths(*cmd, {"IN"}, {"OUT"});
   cmd->callback([opt] { run_convert(*opt); });

@@ -158,7 +158,7 @@ void add_fit_command(CLI::App& app) {
       "modulus in closed form, then the model's shape.\n"
       "  palpa fit examples/fit/foam/dataset.json -o fit-foam\n"
       "  palpa fit examples/fit/silicone/dataset-depth.json --model neo-hookean -o fit-depth\n"
-      "  palpa fit DATASET -o OUT --resume    (continue an interrupted fit)");
+      "  palpa fit examples/fit/foam/dataset.json -o fit-foam --resume    (continue an interrupted fit)");
   auto a = std::make_shared<FitArgs>();
   cmd->add_option("dataset", a->dataset, "Dataset file (JSON, see the README)")->required();
   cmd->add_option("-o,--output", a->output, "Output folder (material.json, report.json, curves, plots)")

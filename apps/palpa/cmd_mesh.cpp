@@ -385,8 +385,9 @@ void add_mesh_command(CLI::App& app) {
       "Examples:\n"
       "  palpa mesh body thigh -o thigh.obj\n"
       "  palpa mesh layer --surface thigh.obj --depth 15mm --edge 8mm -o thigh.vtu\n"
-      "  palpa mesh layer --surface arm.obj --unit mm --depth-samples table31.csv \\\n"
-      "      --depth-column bone_distance --stiffness-samples moduli.csv -o arm.vtu");
+      "  palpa mesh layer --surface examples/rest/foot/foot_mean.obj \\\n"
+      "      --depth-samples examples/mesh/foot-table31.csv --depth-column bone_distance \\\n"
+      "      --stiffness-samples examples/mesh/foot-moduli.csv --clamp-depth --edge 6mm -o foot.vtu");
   declare_paths(*layer, {"--surface", "--depth-samples", "--stiffness-samples"}, {"-o"});
   layer->callback([la] { run_layer(*la); });
 

@@ -79,7 +79,7 @@ void add_sim3d_command(CLI::App& app) {
       "Simulate a tet body pressed by rigid obstacles (3D FEM, penalty contact): force-indentation curves, "
       "deformed meshes with stress and contact pressure.\n"
       "  palpa sim3d examples/sim3d/punch/scene.json -o punch\n"
-      "  palpa sim3d SCENE -o OUT --resume    (continue an interrupted run)");
+      "  palpa sim3d examples/sim3d/punch/scene.json -o punch --resume    (continue an interrupted run)");
   auto a = std::make_shared<Sim3dArgs>();
   cmd->add_option("scene", a->scene, "Scene file (JSON, see the README)")->required();
   cmd->add_option("-o,--output", a->output,

@@ -313,6 +313,30 @@ TEST(ReadmeCli, HasCommandsInEverySectionAndNoneThatIsNotPalpa) {
   }
 }
 
+// The examples in the help texts name bundled files, as the README does:
+// every `examples/...` path a help text shows exists in the repository.
+TEST(ReadmeCli, TheHelpExamplesNameBundledFiles) {
+  std::size_t paths = 0;
+  for (const char* command : {"--help", "demo --help", "material --help", "poke --help", "fit --help",
+                              "sim3d --help", "mesh --help", "mesh layer --help", "rest --help",
+                              "design --help", "compare --help", "convert --help", "acquire --help"}) {
+    const test::CommandResult r = test::run_palpa(command);
+    ASSERT_EQ(r.exit_code, 0) << "palpa " << command << "\n" << r.err;
+    std::istringstream words(r.out);
+    std::string word;
+    while (words >> word) {
+      const std::size_t at = word.find("examples/");
+      if (at == std::string::npos) continue;
+      std::string path = word.substr(at);
+      while (!path.empty() && std::string(")],;'\"").find(path.back()) != std::string::npos) path.pop_back();
+      ++paths;
+      EXPECT_TRUE(std::filesystem::exists(test::source_path(path))) << "palpa " << command << " names " << path;
+    }
+  }
+  // A help text without bundled examples (or a reader that finds none) must not pass.
+  EXPECT_GE(paths, 10u);
+}
+
 TEST(ReadmeCli, TheCommandParserJoinsLinesAndStripsComments) {
   const std::string readme =
       "# x\n## Commands\n### `palpa a`\n```sh\ne=examples/acquire   # where\n"
