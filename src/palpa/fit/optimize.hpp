@@ -93,8 +93,8 @@ struct GuessState {
   double step = 0.0;           // last accepted step length along `direction`
   double slope = 0.0;          // gradient·direction at the start of the last line search
   int since_restart = 0;
-  // Levenberg–Marquardt: the trust-region radius of the next step (0 until
-  // the first iteration), so that a resumed fit takes the same steps.
+  // Levenberg–Marquardt: the trust-region radius of the next step (0 before
+  // the start point is recorded), so that a resumed fit takes the same steps.
   double trust_region_radius = 0.0;
 };
 

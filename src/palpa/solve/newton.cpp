@@ -227,6 +227,8 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
   // A stateless system's E and g at the full step x + d, evaluated together
   // by the first line-search trial, become those of the next iterate when
   // that step is taken (System::stateless): one energy pass fewer per step.
+  // A full step whose E is finite but whose g is not counts as inadmissible
+  // (E = +inf), so the line search shortens it instead of stopping there.
   const bool stateless = system.stateless();
   Eigen::VectorXd g_full(stateless ? n : 0);
   double energy_full = 0.0;
