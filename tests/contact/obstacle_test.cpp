@@ -15,8 +15,9 @@
 
 #include "common/test_support.hpp"
 #include "contact/shapes.hpp"
-#include "palpa/contact/detail/triangle.hpp"
 #include "palpa/contact/primitives.hpp"
+#include "palpa/geometry/closest_point_on_triangle.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 
 namespace palpa::contact {
 namespace {
@@ -344,7 +345,7 @@ TEST(ObstacleClosest, TriangleRegionsAreOptimal) {
   int seen[7] = {};
   for (int i = 0; i < 2000; ++i) {
     const Eigen::Vector3d p = random_point(rng, 0.04);
-    const auto tp = detail::closest_on_triangle(p, a, b, c);
+    const auto tp = geometry::closest_on_triangle(p, a, b, c);
     for (const Eigen::Vector3d& v : {a, b, c}) EXPECT_LE((p - tp.point).dot(v - tp.point), 1e-18);
     EXPECT_LT((tp.weights[0] * a + tp.weights[1] * b + tp.weights[2] * c - tp.point).norm(), 1e-17);
     const int zeros = (tp.weights.array() == 0.0).count();
@@ -378,7 +379,7 @@ TEST(Primitives, ValidClosedSurfacesWithTheirVolumes) {
 
 TEST(VertexAreas, ThirdOfIncidentTriangles) {
   const SurfaceMesh box = test::cube_mesh(0.01);
-  const Eigen::VectorXd area = vertex_areas(box.V, box.F);
+  const Eigen::VectorXd area = geometry::vertex_areas(box.V, box.F);
   EXPECT_NEAR(area.sum(), 6.0 * 4e-4, 1e-18);
   // Every cube corner has either 4 or 5 incident right triangles of area 2e-4.
   for (Eigen::Index v = 0; v < area.size(); ++v) {

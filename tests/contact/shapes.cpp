@@ -7,8 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include "palpa/contact/detail/triangle.hpp"
 #include "palpa/contact/primitives.hpp"
+#include "palpa/geometry/closest_point_on_triangle.hpp"
 
 namespace palpa::test {
 
@@ -66,7 +66,7 @@ double winding_number(const SurfaceMesh& mesh, const Eigen::Vector3d& p) {
 double brute_distance(const SurfaceMesh& mesh, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const auto tp = contact::detail::closest_on_triangle(
+    const auto tp = geometry::closest_on_triangle(
         p, mesh.V.row(mesh.F(f, 0)), mesh.V.row(mesh.F(f, 1)), mesh.V.row(mesh.F(f, 2)));
     best = std::min(best, (p - tp.point).norm());
   }

@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::test {
 

@@ -10,6 +10,8 @@
 
 #include "palpa/design/baselines.hpp"
 #include "palpa/design/optimizer.hpp"
+#include "palpa/geometry/surface_operators.hpp"
+#include "palpa/geometry/umbrella.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/sim3d/shapes.hpp"
 #include "palpa/tet/mesh.hpp"
@@ -70,7 +72,7 @@ TEST(DesignScore, PressureSmoothingKeepsConstantsAndSpreadsASpike) {
   // A flat 5 × 5 grid: smoothing keeps a constant, halves a spike and
   // spreads the other half evenly over its ring.
   SurfaceMesh grid = sim3d::make_box_surface(Eigen::Vector3d(1, 1, 1), 4);
-  const Eigen::SparseMatrix<double> W = umbrella_matrix(grid.F, grid.V.rows());
+  const Eigen::SparseMatrix<double> W = geometry::umbrella_matrix(grid.F, grid.V.rows());
   Eigen::SparseMatrix<double> I(W.rows(), W.cols());
   I.setIdentity();
   const Eigen::SparseMatrix<double> S = 0.5 * I + 0.5 * W;
@@ -129,7 +131,7 @@ TEST(DesignScore, AreaGradientMatchesDifferences) {
   for (Eigen::Index i = 0; i < D.size(); ++i) D.data()[i] = u(rng);
   const double h = 1e-6;
   const double fd =
-      (w.dot(contact::vertex_areas(s.V + h * D, s.F)) - w.dot(contact::vertex_areas(s.V - h * D, s.F))) / (2 * h);
+      (w.dot(geometry::vertex_areas(s.V + h * D, s.F)) - w.dot(geometry::vertex_areas(s.V - h * D, s.F))) / (2 * h);
   EXPECT_NEAR(fd, (G.array() * D.array()).sum(), 1e-7 * std::abs(fd));
 }
 

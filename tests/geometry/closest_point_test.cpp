@@ -38,6 +38,29 @@ TEST(ClosestPoint, DegenerateTriangleFallsBackToItsEdges) {
   EXPECT_NEAR(w.sum(), 1.0, 1e-15);
 }
 
+TEST(ClosestPoint, RepeatedCornerGivesAFiniteEdgePoint) {
+  // a = b: the edge ab is a point, so its parameter d1/(d1 − d3) would be 0/0.
+  const Eigen::Vector3d a(0, 0, 0), c(1, 0, 0), p(0.5, 1, 0);
+  const TrianglePoint tp = closest_on_triangle(p, a, a, c);
+  ASSERT_TRUE(tp.point.allFinite());
+  ASSERT_TRUE(tp.weights.allFinite());
+  EXPECT_NEAR((tp.point - Eigen::Vector3d(0.5, 0, 0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(tp.weights.sum(), 1.0, 1e-15);
+  EXPECT_GE(tp.weights.minCoeff(), 0.0);
+  EXPECT_GE(tp.region, kEdgeAB);
+  EXPECT_LT(tp.region, kFace);
+}
+
+TEST(ClosestPoint, CollinearTriangleRegionMatchesItsWeights) {
+  // A zero-area triangle whose closest point is inside its longest edge ac.
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(2, 0, 0);
+  const TrianglePoint tp = closest_on_triangle(Eigen::Vector3d(1.5, 1, 0), a, b, c);
+  EXPECT_NEAR((tp.point - Eigen::Vector3d(1.5, 0, 0)).norm(), 0.0, 1e-15);
+  const Eigen::Vector3d q = tp.weights(0) * a + tp.weights(1) * b + tp.weights(2) * c;
+  EXPECT_NEAR((q - tp.point).norm(), 0.0, 1e-15);
+  EXPECT_NE(tp.region, kFace);
+}
+
 TEST(ClosestPoint, OnASphereMatchesExhaustiveSearchAndTheRadialDistance) {
   const double r = 0.05;
   const SurfaceMesh sphere = test::icosphere(3, r);

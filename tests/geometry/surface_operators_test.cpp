@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // Areas, normals, cotangent Laplacian and mass matrix against analytic values
-// on a sphere and exact identities on a plane.
+// on a sphere and exact identities on a plane; the umbrella operator and
+// sub-meshes.
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCore>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "geometry/test_surfaces.hpp"
+#include "palpa/geometry/submesh.hpp"
 #include "palpa/geometry/surface_operators.hpp"
+#include "palpa/geometry/umbrella.hpp"
 
 namespace palpa::geometry {
 namespace {
@@ -130,6 +134,65 @@ TEST(SurfaceOperators, DegenerateTrianglesContributeNothing) {
   EXPECT_TRUE(Eigen::MatrixXd(L1).allFinite());
   EXPECT_NEAR((Eigen::MatrixXd(L1) - Eigen::MatrixXd(L0)).norm(), 0.0, 1e-15);
   EXPECT_TRUE(face_normals(m).row(m.F.rows() - 1).isZero());
+}
+
+TEST(SurfaceOperators, ArrayOverloadsGiveTheMeshResultsExactly) {
+  const SurfaceMesh sphere = icosphere(2, kRadius);
+  EXPECT_EQ(face_areas(sphere.V, sphere.F), face_areas(sphere));
+  EXPECT_EQ(vertex_areas(sphere.V, sphere.F), vertex_areas(sphere));
+}
+
+TEST(SurfaceOperators, NormalWeightingsWeighTheFacesAsDocumented) {
+  // Around vertex 0: a long thin triangle in z = 0 (normal +z, area 5, corner
+  // angle atan(1/10)) and a small right triangle in x = 0 (normal +x, area ½,
+  // corner angle π/2).
+  SurfaceMesh m;
+  m.V.resize(5, 3);
+  m.V << 0, 0, 0, 10, 0, 0, 10, 1, 0, 0, 1, 0, 0, 0, 1;
+  m.F.resize(2, 3);
+  m.F << 0, 1, 2, 0, 3, 4;
+  const Eigen::RowVector3d z(0, 0, 1), x(1, 0, 0);
+  EXPECT_TRUE(vertex_normals(m, NormalWeighting::Uniform)
+                  .row(0)
+                  .isApprox((z + x).normalized(), 1e-14));
+  EXPECT_TRUE(
+      vertex_normals(m, NormalWeighting::Area).row(0).isApprox((10 * z + x).normalized(), 1e-14));
+  EXPECT_TRUE(vertex_normals(m, NormalWeighting::Angle)
+                  .row(0)
+                  .isApprox((std::atan(0.1) * z + std::numbers::pi / 2 * x).normalized(), 1e-14));
+  EXPECT_EQ(vertex_normals(m), vertex_normals(m, NormalWeighting::Angle));
+}
+
+TEST(Umbrella, NeighboursAreSymmetricAndRowsAreMeans) {
+  // Two triangles of an open strip and an unused vertex 4.
+  Eigen::MatrixX3i F(2, 3);
+  F << 0, 1, 2, 1, 3, 2;
+  const auto nb = vertex_neighbours(F, 5);
+  EXPECT_EQ(nb[0], (std::vector<int>{1, 2}));
+  EXPECT_EQ(nb[1], (std::vector<int>{0, 2, 3}));
+  EXPECT_EQ(nb[3], (std::vector<int>{1, 2}));
+  EXPECT_TRUE(nb[4].empty());
+  const Eigen::MatrixXd W(umbrella_matrix(F, 5));
+  EXPECT_DOUBLE_EQ(W(1, 3), 1.0 / 3.0);
+  EXPECT_EQ(W(1, 1), 0.0);
+  EXPECT_EQ(W(4, 4), 1.0);
+  for (Eigen::Index i = 0; i < 5; ++i) EXPECT_NEAR(W.row(i).sum(), 1.0, 1e-15);
+}
+
+TEST(Submesh, NumbersVerticesInOrderOfFirstUse) {
+  Eigen::MatrixX3d V(6, 3);
+  for (Eigen::Index i = 0; i < V.rows(); ++i) V.row(i) << double(i), 0.0, 0.0;
+  Eigen::MatrixX3i F(2, 3);
+  F << 4, 1, 5, 1, 2, 5;
+  const Submesh s = submesh(V, F);
+  EXPECT_EQ(s.to_old, (std::vector<int>{4, 1, 5, 2}));
+  EXPECT_EQ(s.to_new, (std::vector<int>{-1, 1, 3, -1, 0, 2}));
+  Eigen::MatrixX3i expected(2, 3);
+  expected << 0, 1, 2, 1, 3, 2;
+  EXPECT_EQ(s.mesh.F, expected);
+  for (std::size_t i = 0; i < s.to_old.size(); ++i) {
+    EXPECT_EQ(s.mesh.V.row(Eigen::Index(i)), V.row(s.to_old[i]));
+  }
 }
 
 }  // namespace

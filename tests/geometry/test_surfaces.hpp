@@ -2,7 +2,7 @@
 #pragma once
 // Small analytic surfaces for the geometry tests.
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::test {
 

@@ -11,7 +11,7 @@
 #include <random>
 #include <string>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::test {
 

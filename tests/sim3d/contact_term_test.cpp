@@ -9,6 +9,7 @@
 
 #include "common/finite_difference.hpp"
 #include "common/test_support.hpp"
+#include "palpa/geometry/boundary.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/sim3d/contact_term.hpp"
 #include "palpa/tet/mesh.hpp"
@@ -38,7 +39,7 @@ SurfaceMesh notched_cube() {
   }
   m.T.resize(static_cast<Eigen::Index>(keep.size()), 4);
   for (std::size_t i = 0; i < keep.size(); ++i) m.T.row(static_cast<Eigen::Index>(i)) = box.mesh.T.row(keep[i]);
-  const tet::Boundary b = tet::boundary_of(m);
+  const geometry::Boundary b = geometry::boundary_of(m);
   // Compact: only the boundary's vertices.
   std::vector<int> to_new(static_cast<std::size_t>(m.V.rows()), -1);
   SurfaceMesh s;
@@ -70,7 +71,7 @@ TEST_P(ContactTermRegions, SystemDerivativesMatchFiniteDifferences) {
   const tet::ElasticModel model(box.mesh, {tet::BodyMaterial{std::make_shared<material::NeoHookean>(5e3, 0.3), 1000.0}});
   contact::Obstacle obstacle(notched_cube(), "notch");
   obstacle.set_pose({Eigen::Matrix3d::Identity(), -c.corner});  // obstacle frame origin at −corner
-  RigidContactTerm term(obstacle, box.mesh.V, tet::boundary_of(box.mesh).faces, 2e3);
+  RigidContactTerm term(obstacle, box.mesh.V, geometry::boundary_of(box.mesh).faces, 2e3);
   tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0));
   sys.add_term(&term);
   sys.set_gravity(Eigen::Vector3d(0.0, 0.0, -9.81));

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "palpa/contact/obstacle.hpp"
+#include "palpa/core/error.hpp"
 #include "palpa/sim3d/shapes.hpp"
 
 namespace palpa::sim3d {

@@ -6,6 +6,7 @@
 
 #include "common/test_support.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/boundary.hpp"
 #include "palpa/tet/element.hpp"
 #include "palpa/tet/mesh.hpp"
 
@@ -42,7 +43,7 @@ TEST(BoxMesh, VolumesOrientationAndNamedFaces) {
 TEST(BoxMesh, BoundaryIsClosedOutwardAndEnclosesTheVolume) {
   const BoxMesh box = make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.03, 0.02, 0.01),
                                     Eigen::Vector3i(3, 2, 2));
-  const Boundary b = boundary_of(box.mesh);
+  const geometry::Boundary b = geometry::boundary_of(box.mesh);
   // Two triangles per boundary square.
   EXPECT_EQ(b.faces.rows(), 2 * 2 * (3 * 2 + 2 * 2 + 3 * 2));
   // Divergence theorem: V = (1/3) Σ_f (centroid · n) A, and Σ n A = 0.

@@ -10,6 +10,7 @@
 
 #include "common/finite_difference.hpp"
 #include "common/test_support.hpp"
+#include "palpa/geometry/boundary.hpp"
 #include "palpa/material/kinematics.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/solve/newton.hpp"
@@ -109,7 +110,7 @@ TEST(StaticSystem, PatchTestReproducesAHomogeneousDeformationExactly) {
   BoxMesh box = make_box_mesh(Eigen::Vector3d::Zero(), size, Eigen::Vector3i(4, 3, 3));
   const ElasticModel model(box.mesh, {BodyMaterial{std::make_shared<material::NeoHookean>(kE, kNu), 0.0}});
   // Every boundary vertex follows x = F X + c; the interior must follow too.
-  const Boundary b = boundary_of(box.mesh);
+  const geometry::Boundary b = geometry::boundary_of(box.mesh);
   StaticSystem sys(model, fix_vertices(model.num_vertices(), b.vertices));
   material::Mat3 F;
   F << 1.12, 0.05, 0.0, -0.03, 0.93, 0.02, 0.01, 0.04, 1.05;

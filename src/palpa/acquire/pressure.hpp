@@ -29,8 +29,8 @@
 #include <string>
 #include <vector>
 
+#include "palpa/geometry/mesh.hpp"
 #include "palpa/geometry/surface_interpolation.hpp"
-#include "palpa/io/mesh.hpp"
 
 namespace palpa::acquire {
 

@@ -15,12 +15,11 @@
 #include "palpa/contact/detail/cgal_checks.hpp"
 #include "palpa/contact/detail/cgal_tree.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/closest_point_on_triangle.hpp"
 
 namespace palpa::contact {
 
 namespace {
-
-using detail::TriangleRegion;
 
 // Triangles with an area below this fraction of the squared bounding-box
 // diagonal are degenerate; a volume below this fraction of its cube is zero.
@@ -262,10 +261,10 @@ struct Obstacle::Impl {
   // Closest point to a body-coordinate point xb, in body coordinates.
   ClosestPoint closest_body(const Eigen::Vector3d& xb) const {
     int f = 0;
-    detail::TrianglePoint tp;
+    geometry::TrianglePoint tp;
     if (cgal) {
       f = cgal->closest_triangle(xb);
-      tp = detail::closest_on_triangle(xb, corner(f, 0), corner(f, 1), corner(f, 2));
+      tp = geometry::closest_on_triangle(xb, corner(f, 0), corner(f, 1), corner(f, 2));
     } else {
       const detail::Bvh::Hit hit = bvh.closest(xb);
       f = hit.triangle;
@@ -278,13 +277,13 @@ struct Obstacle::Impl {
     out.distance = d.norm();
     const auto fs = static_cast<std::size_t>(f);
     Eigen::Vector3d normal;
-    if (tp.region == detail::kFace) {
+    if (tp.region == geometry::kFace) {
       out.feature = Feature::Face;
       out.vertices = {F(f, 0), F(f, 1), F(f, 2)};
       out.weights = tp.weights;
       normal = face_normal[fs];
-    } else if (tp.region >= detail::kEdgeAB) {
-      const int k = tp.region - detail::kEdgeAB;
+    } else if (tp.region >= geometry::kEdgeAB) {
+      const int k = tp.region - geometry::kEdgeAB;
       const int a = F(f, k);
       const int b = F(f, (k + 1) % 3);
       const double wa = tp.weights[k];
@@ -427,17 +426,6 @@ bool Obstacle::penetration(const Eigen::Vector3d& x, ClosestPoint& out) const {
 bool Obstacle::inside(const Eigen::Vector3d& x) const {
   ClosestPoint c;
   return penetration(x, c);
-}
-
-Eigen::VectorXd vertex_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(V.rows());
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const Eigen::Vector3d a = V.row(F(f, 0));
-    const double third =
-        (V.row(F(f, 1)).transpose() - a).cross(V.row(F(f, 2)).transpose() - a).norm() / 6.0;
-    for (int k = 0; k < 3; ++k) area[F(f, k)] += third;
-  }
-  return area;
 }
 
 }  // namespace palpa::contact

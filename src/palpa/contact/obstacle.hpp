@@ -30,7 +30,7 @@
 #include <memory>
 #include <string>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::contact {
 
@@ -134,9 +134,5 @@ class Obstacle {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// Per-vertex areas of a triangle surface [m²]: a third of the area of each
-// incident triangle (#V, zero for unused vertices). V: #V×3 [m]; F: #F×3.
-Eigen::VectorXd vertex_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
 
 }  // namespace palpa::contact

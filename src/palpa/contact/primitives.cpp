@@ -3,10 +3,10 @@
 
 #include <cassert>
 #include <cmath>
-#include <map>
 #include <numbers>
-#include <utility>
 #include <vector>
+
+#include "palpa/geometry/icosphere.hpp"
 
 namespace palpa::contact {
 
@@ -39,40 +39,9 @@ SurfaceMesh box_surface(const Eigen::Vector3d& half) {
 }
 
 SurfaceMesh sphere_surface(double radius, int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (auto& p : v) p.normalize();
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back((v[static_cast<std::size_t>(a)] + v[static_cast<std::size_t>(b)]).normalized());
-      const int id = static_cast<int>(v.size()) - 1;
-      mid.emplace(key, id);
-      return id;
-    };
-    std::vector<Eigen::Vector3i> next;
-    for (const auto& tri : f) {
-      const int a = midpoint(tri[0], tri[1]);
-      const int b = midpoint(tri[1], tri[2]);
-      const int c = midpoint(tri[2], tri[0]);
-      next.emplace_back(tri[0], a, c);
-      next.emplace_back(tri[1], b, a);
-      next.emplace_back(tri[2], c, b);
-      next.emplace_back(a, b, c);
-    }
-    f = std::move(next);
-  }
-  for (auto& p : v) p *= radius;
-  return from_lists(v, f);
+  SurfaceMesh m = geometry::unit_icosphere(levels);
+  m.V *= radius;
+  return m;
 }
 
 SurfaceMesh cylinder_surface(double radius, double length, int segments) {

@@ -19,6 +19,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/csg.hpp"
 #include "palpa/solve/blas.hpp"
 
@@ -142,26 +143,11 @@ IterationRecord record_of(const JsonView& j) {
   return r;
 }
 
-// Area-weighted unit vertex normals.
-Eigen::MatrixX3d vertex_normals(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
-  Eigen::MatrixX3d N = Eigen::MatrixX3d::Zero(V.rows(), 3);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();
-    for (int k = 0; k < 3; ++k) N.row(F(f, k)) += n;
-  }
-  for (Eigen::Index v = 0; v < N.rows(); ++v) {
-    const double len = N.row(v).norm();
-    if (len > 0.0) N.row(v) /= len;
-  }
-  return N;
-}
-
 }  // namespace
 
 DesignSpace::DesignSpace(const Eigen::MatrixX3d& X0, const Eigen::MatrixX3i& F, std::vector<int> vertices,
                          bool normal_only)
-    : X0_(X0), normals_(vertex_normals(X0, F)), vertices_(std::move(vertices)), normal_only_(normal_only) {
+    : X0_(X0), normals_(geometry::vertex_normals(SurfaceMesh{X0, F}, geometry::NormalWeighting::Area)), vertices_(std::move(vertices)), normal_only_(normal_only) {
   if (vertices_.empty()) {
     throw Error(ErrorKind::Input, "the design region holds no support vertex: nothing to optimize",
                 {}, "a region around the contact");

@@ -8,19 +8,18 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/sim3d/scene_json.hpp"
 
 namespace palpa::design {
 
 std::vector<int> facing_vertices(const SurfaceMesh& support, const Eigen::Vector3d& up, double angle,
                                  const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  Eigen::MatrixX3d N = Eigen::MatrixX3d::Zero(support.V.rows(), 3);
+  const Eigen::MatrixX3d N = geometry::vertex_normals(support, geometry::NormalWeighting::Area);
   double six_volume = 0.0;
   for (Eigen::Index f = 0; f < support.F.rows(); ++f) {
     const Eigen::Vector3d a = support.V.row(support.F(f, 0)), b = support.V.row(support.F(f, 1)),
                           c = support.V.row(support.F(f, 2));
-    const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();
-    for (int k = 0; k < 3; ++k) N.row(support.F(f, k)) += n;
     six_volume += a.dot(b.cross(c));
   }
   const double sign = six_volume < 0.0 ? -1.0 : 1.0;
@@ -28,11 +27,10 @@ std::vector<int> facing_vertices(const SurfaceMesh& support, const Eigen::Vector
   const double cos_max = std::cos(angle);
   std::vector<int> out;
   for (Eigen::Index v = 0; v < support.V.rows(); ++v) {
-    const double len = N.row(v).norm();
-    if (!(len > 0.0)) continue;
+    if (!(N.row(v).squaredNorm() > 0.0)) continue;
     const Eigen::Vector3d x = support.V.row(v).transpose();
     if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
-    if (sign * N.row(v).dot(u) / len >= cos_max - 1e-12) out.push_back(static_cast<int>(v));
+    if (sign * N.row(v).dot(u) >= cos_max - 1e-12) out.push_back(static_cast<int>(v));
   }
   return out;
 }

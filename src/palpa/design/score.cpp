@@ -9,6 +9,8 @@
 #include "palpa/contact/contact.hpp"
 #include "palpa/contact/penalty.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/surface_operators.hpp"
+#include "palpa/geometry/umbrella.hpp"
 
 namespace palpa::design {
 
@@ -31,31 +33,6 @@ double power(double x, int e) {
 
 }  // namespace
 
-Eigen::SparseMatrix<double> umbrella_matrix(const Eigen::MatrixX3i& F, Eigen::Index n) {
-  std::vector<std::vector<int>> nb(static_cast<std::size_t>(n));
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      nb[static_cast<std::size_t>(a)].push_back(b);
-      nb[static_cast<std::size_t>(b)].push_back(a);
-    }
-  }
-  std::vector<Eigen::Triplet<double>> t;
-  for (Eigen::Index v = 0; v < n; ++v) {
-    auto& l = nb[static_cast<std::size_t>(v)];
-    std::sort(l.begin(), l.end());
-    l.erase(std::unique(l.begin(), l.end()), l.end());
-    if (l.empty()) {
-      t.emplace_back(static_cast<int>(v), static_cast<int>(v), 1.0);
-      continue;
-    }
-    for (int j : l) t.emplace_back(static_cast<int>(v), j, 1.0 / static_cast<double>(l.size()));
-  }
-  Eigen::SparseMatrix<double> W(n, n);
-  W.setFromTriplets(t.begin(), t.end());
-  return W;
-}
-
 ErgonomicScore::ErgonomicScore(const rest::RestSimulation& sim, ScoreOptions options) : options_(options) {
   if (options_.exponent < 2 || options_.exponent > 4) {
     throw Error(ErrorKind::Input,
@@ -66,8 +43,8 @@ ErgonomicScore::ErgonomicScore(const rest::RestSimulation& sim, ScoreOptions opt
                                               options_.pressure_smoothing));
   }
   body_smoothing_ =
-      identity_plus(umbrella_matrix(sim.surface_faces(), sim.model().num_vertices()), options_.pressure_smoothing);
-  support_smoothing_ = identity_plus(umbrella_matrix(sim.support().triangles(), sim.support().vertices().rows()),
+      identity_plus(geometry::umbrella_matrix(sim.surface_faces(), sim.model().num_vertices()), options_.pressure_smoothing);
+  support_smoothing_ = identity_plus(geometry::umbrella_matrix(sim.support().triangles(), sim.support().vertices().rows()),
                                      options_.pressure_smoothing);
 }
 
@@ -128,7 +105,7 @@ Score ErgonomicScore::evaluate_deformable(const rest::RestSimulation& sim, bool 
   const std::vector<double>& spring = sim.contact_term().spring_area();
   const Eigen::MatrixX3d& X = sim.support_rest_vertices();
   const Eigen::MatrixX3i& F = sim.support().triangles();
-  const Eigen::VectorXd support_area = contact::vertex_areas(X, F);
+  const Eigen::VectorXd support_area = geometry::vertex_areas(X, F);
   Eigen::VectorXd wb, ws;
   sum(sim, support_area, s, wb, ws);
   if (!gradient) return s;
@@ -204,7 +181,7 @@ Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) c
     ++s.support_contacts;
   }
 
-  const Eigen::VectorXd support_area = contact::vertex_areas(sim.support_rest_vertices(), support.triangles());
+  const Eigen::VectorXd support_area = geometry::vertex_areas(sim.support_rest_vertices(), support.triangles());
   Eigen::VectorXd wb, ws;  // ∂ζ/∂p̄
   sum(sim, support_area, s, wb, ws);
   Eigen::VectorXd area_weight = Eigen::VectorXd::Zero(ns);  // ∂ζ/∂s (support)
@@ -245,7 +222,7 @@ Smoothness::Smoothness(const Eigen::MatrixX3i& F, Eigen::Index n, std::vector<in
   if (iterations < 1) {
     throw Error(ErrorKind::Input, fmt::format("Taubin smoothing needs at least one iteration, got {}", iterations));
   }
-  const Eigen::SparseMatrix<double> W = umbrella_matrix(F, n);
+  const Eigen::SparseMatrix<double> W = geometry::umbrella_matrix(F, n);
   step_lambda_ = identity_plus(W, lambda);
   step_mu_ = identity_plus(W, mu);
 }

@@ -43,10 +43,6 @@
 
 namespace palpa::design {
 
-// W: the row-normalized adjacency of a triangle mesh's vertices (n × n); a
-// vertex of no triangle is its own neighbour.
-Eigen::SparseMatrix<double> umbrella_matrix(const Eigen::MatrixX3i& F, Eigen::Index n);
-
 struct ScoreOptions {
   int exponent = 3;               // e: 2, 3 or 4
   double pressure_smoothing = 0.5;  // λ of the smoothing step p̄ = (I + λL) p

@@ -4,7 +4,8 @@
 
 #include <Eigen/Core>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/closest_point_on_triangle.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::geometry {
 
@@ -15,12 +16,6 @@ struct SurfacePoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();     // Σ b_k V(F(face,k)) [m]
   double distance = 0.0;  // from the query point to `position` [m]
 };
-
-// The closest point of triangle (a, b, c) to p, as barycentric weights of
-// (a, b, c) (non-negative, summing to 1; a degenerate triangle is handled as
-// its longest edge or a point).
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 // The closest point of the surface to p. Exhaustive over the triangles with a
 // bounding-sphere cut (O(#F) per query; a few ms for 100k triangles), ties go

@@ -2,7 +2,7 @@
 #pragma once
 // The subdivided icosahedron: a near-uniform triangulation of the unit sphere.
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::geometry {
 

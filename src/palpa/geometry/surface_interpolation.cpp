@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "palpa/core/error.hpp"
 #include "palpa/core/units.hpp"
 #include "palpa/geometry/format.hpp"
 #include "palpa/geometry/surface_operators.hpp"

@@ -56,7 +56,7 @@
 #include <vector>
 
 #include "palpa/geometry/closest_point.hpp"
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::geometry {
 

@@ -22,10 +22,14 @@ double corner_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
 }  // namespace
 
 Eigen::VectorXd face_areas(const SurfaceMesh& mesh) {
-  Eigen::VectorXd areas(mesh.F.rows());
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::Vector3d a = corner(mesh, f, 0);
-    areas(f) = 0.5 * (corner(mesh, f, 1) - a).cross(corner(mesh, f, 2) - a).norm();
+  return face_areas(mesh.V, mesh.F);
+}
+
+Eigen::VectorXd face_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+  Eigen::VectorXd areas(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0));
+    areas(f) = 0.5 * (V.row(F(f, 1)).transpose() - a).cross(V.row(F(f, 2)).transpose() - a).norm();
   }
   return areas;
 }
@@ -43,22 +47,37 @@ Eigen::MatrixX3d face_normals(const SurfaceMesh& mesh) {
 }
 
 Eigen::VectorXd vertex_areas(const SurfaceMesh& mesh) {
-  const Eigen::VectorXd fa = face_areas(mesh);
-  Eigen::VectorXd areas = Eigen::VectorXd::Zero(mesh.V.rows());
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) areas(mesh.F(f, k)) += fa(f) / 3.0;
+  return vertex_areas(mesh.V, mesh.F);
+}
+
+Eigen::VectorXd vertex_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+  const Eigen::VectorXd fa = face_areas(V, F);
+  Eigen::VectorXd areas = Eigen::VectorXd::Zero(V.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) areas(F(f, k)) += fa(f) / 3.0;
   }
   return areas;
 }
 
-Eigen::MatrixX3d vertex_normals(const SurfaceMesh& mesh) {
-  const Eigen::MatrixX3d fn = face_normals(mesh);
+Eigen::MatrixX3d vertex_normals(const SurfaceMesh& mesh, NormalWeighting weighting) {
   Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(mesh.V.rows(), 3);
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const double angle =
-          corner_angle(corner(mesh, f, k), corner(mesh, f, (k + 1) % 3), corner(mesh, f, (k + 2) % 3));
-      normals.row(mesh.F(f, k)) += angle * fn.row(f);
+  if (weighting == NormalWeighting::Area) {
+    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+      const Eigen::Vector3d a = corner(mesh, f, 0);
+      const Eigen::RowVector3d n =
+          (corner(mesh, f, 1) - a).cross(corner(mesh, f, 2) - a).transpose();
+      for (int k = 0; k < 3; ++k) normals.row(mesh.F(f, k)) += n;
+    }
+  } else {
+    const Eigen::MatrixX3d fn = face_normals(mesh);
+    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const double weight = weighting == NormalWeighting::Uniform
+                                  ? 1.0
+                                  : corner_angle(corner(mesh, f, k), corner(mesh, f, (k + 1) % 3),
+                                                 corner(mesh, f, (k + 2) % 3));
+        normals.row(mesh.F(f, k)) += weight * fn.row(f);
+      }
     }
   }
   for (Eigen::Index i = 0; i < normals.rows(); ++i) {

@@ -10,12 +10,14 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::geometry {
 
 // #F triangle areas [m²].
 Eigen::VectorXd face_areas(const SurfaceMesh& mesh);
+// The same for V: #V×3 [m] and F: #F×3 rows of V.
+Eigen::VectorXd face_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
 
 // #F×3 unit triangle normals, (V1−V0)×(V2−V0) normalized (outward for a closed
 // surface wound counter-clockwise seen from outside). Zero rows for zero-area
@@ -25,11 +27,21 @@ Eigen::MatrixX3d face_normals(const SurfaceMesh& mesh);
 // #V barycentric vertex areas [m²]: one third of the area of every incident
 // triangle. They sum to the surface area and are never negative.
 Eigen::VectorXd vertex_areas(const SurfaceMesh& mesh);
+// The same for V: #V×3 [m] and F: #F×3 rows of V.
+Eigen::VectorXd vertex_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
 
-// #V×3 unit vertex normals, the incident face normals weighted by the corner
-// angle at the vertex (Thürmer & Wüthrich): independent of how a flat region is
-// triangulated. Zero rows for vertices with no (non-degenerate) triangle.
-Eigen::MatrixX3d vertex_normals(const SurfaceMesh& mesh);
+// How vertex_normals() weighs the normals of the triangles around a vertex.
+enum class NormalWeighting {
+  Uniform,  // the unit face normals, each counted once
+  Area,     // the face normals scaled by the triangle's area: the sum of (V1−V0)×(V2−V0)
+  Angle,    // the unit face normals scaled by the corner angle at the vertex (Thürmer &
+            // Wüthrich): independent of how a flat region is triangulated
+};
+
+// #V×3 unit vertex normals: the weighted sum of the incident face normals,
+// normalized. Zero rows for vertices with no (non-degenerate) triangle.
+Eigen::MatrixX3d vertex_normals(const SurfaceMesh& mesh,
+                                NormalWeighting weighting = NormalWeighting::Angle);
 
 // #V×#V cotangent Laplacian L (the P1 finite-element stiffness matrix):
 //   L_ij = −½ (cot α_ij + cot β_ij) for an edge ij (α, β the angles opposite

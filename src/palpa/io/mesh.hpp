@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
-// Mesh types shared by palpa's modules, and reading/writing them by file
+// Reading and writing palpa's mesh types (geometry/mesh.hpp) by file
 // extension. The per-format functions live in obj.hpp, ply.hpp, stl.hpp,
 // off.hpp, tetgen.hpp, gmsh.hpp and vtu.hpp.
 //
@@ -14,32 +14,9 @@
 #include <string>
 
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa {
-
-// A triangle surface.
-struct SurfaceMesh {
-  // #V×3 vertex positions [m] (file unit × MeshReadOptions::unit_to_si).
-  Eigen::MatrixX3d V;
-  // #F×3 triangles as 0-based rows of V, in the file's winding: counter-clockwise
-  // seen from the side the normal (V1−V0)×(V2−V0) points to.
-  Eigen::MatrixX3i F;
-};
-
-// A tetrahedral volume mesh, with optional labelled boundary triangles.
-struct TetMesh {
-  // #V×3 vertex positions [m].
-  Eigen::MatrixX3d V;
-  // #T×4 tetrahedra as 0-based rows of V, in the file's vertex order.
-  Eigen::MatrixX4i T;
-  // #T region (material) ids, one per tet; empty when the file has none.
-  Eigen::VectorXi region;
-  // #B×3 boundary triangles as 0-based rows of V; #B may be 0.
-  Eigen::MatrixX3i boundary;
-  // #B boundary markers (e.g. Gmsh physical tags), one per boundary triangle;
-  // empty when the file has none.
-  Eigen::VectorXi boundary_marker;
-};
 
 struct MeshReadOptions {
   // Metres per file unit: positions are multiplied by it (1e-3 for a file in

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa {
 

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::mesh {
 

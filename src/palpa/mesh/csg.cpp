@@ -9,6 +9,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/units.hpp"
 #include "palpa/geometry/format.hpp"
+#include "palpa/geometry/umbrella.hpp"
 #include "palpa/mesh/detail/cgal_offset.hpp"
 #include "palpa/mesh/detail/cgal_surface.hpp"
 #include "palpa/mesh/surface_check.hpp"
@@ -87,20 +88,8 @@ SurfaceMesh remove_self_intersections(const SurfaceMesh& mesh, const std::string
   return repair_surface(*out);
 }
 
-std::vector<std::vector<int>> vertex_neighbours(const SurfaceMesh& m) {
-  std::vector<std::vector<int>> nb(static_cast<std::size_t>(m.V.rows()));
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) nb[m.F(f, k)].push_back(m.F(f, (k + 1) % 3));
-  }
-  for (auto& list : nb) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
-  return nb;
-}
-
 void taubin_smooth(SurfaceMesh& m, int rounds, const std::vector<bool>* movable) {
-  const auto nb = vertex_neighbours(m);
+  const auto nb = geometry::vertex_neighbours(m.F, m.V.rows());
   for (int r = 0; r < rounds; ++r) {
     for (double factor : {kTaubinLambda, kTaubinMu}) {
       Eigen::MatrixX3d next = m.V;

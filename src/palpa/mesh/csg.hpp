@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::mesh {
 
@@ -38,11 +38,10 @@ SurfaceMesh clip_to_box(const SurfaceMesh& mesh, const Eigen::AlignedBox3d& keep
 SurfaceMesh remove_self_intersections(const SurfaceMesh& mesh, const std::string& source,
                                       Eigen::Index* pairs_found = nullptr);
 
-// The distinct neighbours of each vertex (along triangle edges), sorted.
-std::vector<std::vector<int>> vertex_neighbours(const SurfaceMesh& mesh);
-
 // Taubin's smoothing (λ = 0.5, μ = −0.53 per round: smooths without
-// shrinking). With `movable` (one flag per vertex), only flagged vertices move.
+// shrinking), each vertex moved towards the mean of its neighbours
+// (geometry::vertex_neighbours). With `movable` (one flag per vertex), only
+// flagged vertices move.
 void taubin_smooth(SurfaceMesh& mesh, int rounds, const std::vector<bool>* movable = nullptr);
 
 struct NegativeImageOptions {

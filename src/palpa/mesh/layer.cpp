@@ -13,9 +13,11 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/units.hpp"
-#include "palpa/geometry/format.hpp"
+#include "palpa/geometry/boundary.hpp"
 #include "palpa/geometry/closest_point.hpp"
+#include "palpa/geometry/format.hpp"
 #include "palpa/geometry/surface_operators.hpp"
+#include "palpa/geometry/umbrella.hpp"
 #include "palpa/mesh/csg.hpp"
 #include "palpa/mesh/detail/cgal_offset.hpp"
 #include "palpa/mesh/detail/cgal_surface.hpp"
@@ -67,31 +69,21 @@ std::vector<Eigen::Vector3d> inside_points(const SurfaceMesh& s, double edge) {
   return points;
 }
 
-// The faces of tets seen by one tet only, outward (by sorting all faces).
-std::vector<std::array<int, 3>> boundary_faces(const Eigen::MatrixX4i& T) {
-  static constexpr int kFace[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  struct Face {
-    std::array<int, 3> key;
-    std::array<int, 3> face;
+// The outward faces of tets seen by one tet only, ordered by their sorted
+// vertex triples.
+std::vector<std::array<int, 3>> boundary_faces(const TetMesh& tets) {
+  const Eigen::MatrixX3i faces = geometry::boundary_of(tets).faces;
+  std::vector<std::array<int, 3>> out(static_cast<std::size_t>(faces.rows()));
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    out[static_cast<std::size_t>(f)] = {faces(f, 0), faces(f, 1), faces(f, 2)};
+  }
+  const auto key = [](std::array<int, 3> f) {
+    std::sort(f.begin(), f.end());
+    return f;
   };
-  std::vector<Face> faces;
-  faces.reserve(static_cast<std::size_t>(4 * T.rows()));
-  for (Eigen::Index t = 0; t < T.rows(); ++t) {
-    for (const auto& f : kFace) {
-      Face x{{}, {T(t, f[0]), T(t, f[1]), T(t, f[2])}};
-      x.key = x.face;
-      std::sort(x.key.begin(), x.key.end());
-      faces.push_back(x);
-    }
-  }
-  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
-  std::vector<std::array<int, 3>> out;
-  for (std::size_t i = 0; i < faces.size();) {
-    std::size_t j = i + 1;
-    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
-    if (j == i + 1) out.push_back(faces[i].face);
-    i = j;
-  }
+  std::sort(out.begin(), out.end(), [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
+    return key(a) < key(b);
+  });
   return out;
 }
 
@@ -212,7 +204,7 @@ Eigen::Index check_thickness(const SurfaceMesh& outer, const Eigen::MatrixX3d& n
   if (clamped > 0) {
     // Ease the thinned spots: a vertex keeps at most the mean of itself and
     // its neighbours, for a few rounds (depths only decrease).
-    const auto nb = vertex_neighbours(outer);
+    const auto nb = geometry::vertex_neighbours(outer.F, outer.V.rows());
     for (int round = 0; round < 3; ++round) {
       Eigen::VectorXd next = depth;
       for (Eigen::Index i = 0; i < depth.size(); ++i) {
@@ -385,7 +377,7 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
 
   // Boundary: outer or core, by which surface is nearer.
   const detail::SurfaceQueries outer_queries(layer.outer);
-  const auto faces = boundary_faces(layer.tets.T);
+  const auto faces = boundary_faces(layer.tets);
   layer.tets.boundary.resize(static_cast<Eigen::Index>(faces.size()), 3);
   layer.tets.boundary_marker.resize(static_cast<Eigen::Index>(faces.size()));
   std::vector<bool> on_core(static_cast<std::size_t>(next), false);

@@ -31,12 +31,12 @@
 #include <Eigen/Core>
 #include <functional>
 #include <optional>
-#include <string_view>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "palpa/geometry/mesh.hpp"
 #include "palpa/geometry/surface_interpolation.hpp"
-#include "palpa/io/mesh.hpp"
 #include "palpa/mesh/samples.hpp"
 #include "palpa/mesh/tetrahedralize.hpp"
 

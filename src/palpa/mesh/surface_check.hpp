@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::mesh {
 

@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::mesh {
 

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
 
@@ -18,16 +19,6 @@ namespace {
   ErrorContext c;
   c.file = file;
   throw_input_error(what, c, expected);
-}
-
-Eigen::VectorXd areas(const SurfaceMesh& m) {
-  Eigen::VectorXd a = Eigen::VectorXd::Zero(m.V.rows());
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    const Eigen::Vector3d p = m.V.row(m.F(f, 0)), q = m.V.row(m.F(f, 1)), r = m.V.row(m.F(f, 2));
-    const double third = (q - p).cross(r - p).norm() / 6.0;
-    for (int k = 0; k < 3; ++k) a[m.F(f, k)] += third;
-  }
-  return a;
 }
 
 }  // namespace
@@ -82,7 +73,7 @@ MapComparison compare_pressure_maps(const PressureMap& a, const PressureMap& b) 
     fail(a.source, fmt::format("its vertices lie up to {:.3g} m from those of {}", moved, b.source),
          "two maps on the same support mesh");
   }
-  const Eigen::VectorXd A = areas(a.mesh);
+  const Eigen::VectorXd A = geometry::vertex_areas(a.mesh);
   MapComparison c;
   auto side = [&](const Eigen::VectorXd& p) {
     MapSide s;

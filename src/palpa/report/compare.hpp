@@ -21,7 +21,7 @@
 #include <filesystem>
 #include <string>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::report {
 

@@ -5,6 +5,9 @@
 
 #include "palpa/contact/contact.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/boundary.hpp"
+#include "palpa/geometry/submesh.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/tet/mesh.hpp"
 
 #include <array>
@@ -66,29 +69,15 @@ CoupledSystem::CoupledSystem(body::CoreSystem& body, tet::StaticSystem& support,
   }
   // The body's boundary (skin and core shells close it), renumbered.
   const TetMesh& mesh = body.model().mesh();
-  const Eigen::MatrixX3i faces = tet::boundary_of(mesh).faces;
-  std::vector<int> compact(static_cast<std::size_t>(mesh.V.rows()), -1);
-  SurfaceMesh boundary;
-  boundary.F.resize(faces.rows(), 3);
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      int& i = compact[static_cast<std::size_t>(faces(f, c))];
-      if (i < 0) {
-        i = static_cast<int>(body_vertex_.size());
-        body_vertex_.push_back(faces(f, c));
-      }
-      boundary.F(f, c) = i;
-    }
-  }
-  boundary.V.resize(static_cast<Eigen::Index>(body_vertex_.size()), 3);
-  for (std::size_t i = 0; i < body_vertex_.size(); ++i) boundary.V.row(static_cast<Eigen::Index>(i)) = mesh.V.row(body_vertex_[i]);
+  geometry::Submesh boundary = geometry::submesh(mesh.V, geometry::boundary_of(mesh).faces);
+  body_vertex_ = std::move(boundary.to_old);
   contact::ObstacleOptions oo;
   oo.check_self_intersections = false;
-  body_surface_ = std::make_unique<contact::Obstacle>(boundary, "the body's surface", oo);
+  body_surface_ = std::make_unique<contact::Obstacle>(boundary.mesh, "the body's surface", oo);
   attached_.assign(static_cast<std::size_t>(mesh.V.rows()), 0);
   for (int v : body.core().attached) attached_[static_cast<std::size_t>(v)] = 1;
   // Springs of the support's vertices: k·A_j/Ā, areas as built.
-  const Eigen::VectorXd area = contact::vertex_areas(obstacle.vertices(), obstacle.triangles());
+  const Eigen::VectorXd area = geometry::vertex_areas(obstacle.vertices(), obstacle.triangles());
   reverse_scale_.resize(static_cast<std::size_t>(area.size()));
   for (Eigen::Index j = 0; j < area.size(); ++j) reverse_scale_[static_cast<std::size_t>(j)] = area[j] / term.mean_area();
   reverse_.set_scale(reverse_scale_);

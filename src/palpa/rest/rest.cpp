@@ -13,6 +13,9 @@
 
 #include "palpa/contact/contact.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/boundary.hpp"
+#include "palpa/geometry/submesh.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/tetrahedralize.hpp"
 #include "palpa/rest/coupled.hpp"
 #include "palpa/tet/mesh.hpp"
@@ -28,7 +31,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 Eigen::MatrixX3i skin_faces(const TetMesh& mesh, const std::vector<int>& attached) {
-  const tet::Boundary boundary = tet::boundary_of(mesh);
+  const geometry::Boundary boundary = geometry::boundary_of(mesh);
   std::vector<char> on_core(static_cast<std::size_t>(mesh.V.rows()), 0);
   for (int v : attached) on_core[static_cast<std::size_t>(v)] = 1;
   std::vector<Eigen::Index> skin;
@@ -43,23 +46,7 @@ Eigen::MatrixX3i skin_faces(const TetMesh& mesh, const std::vector<int>& attache
 }
 
 SurfaceMesh body_skin(const RestBody& body) {
-  const Eigen::MatrixX3i faces = skin_faces(body.mesh, body.attached);
-  std::vector<int> index(static_cast<std::size_t>(body.mesh.V.rows()), -1);
-  SurfaceMesh s;
-  s.F.resize(faces.rows(), 3);
-  int next = 0;
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      int& i = index[static_cast<std::size_t>(faces(f, c))];
-      if (i < 0) i = next++;
-      s.F(f, c) = i;
-    }
-  }
-  s.V.resize(next, 3);
-  for (std::size_t v = 0; v < index.size(); ++v) {
-    if (index[v] >= 0) s.V.row(index[v]) = body.mesh.V.row(static_cast<Eigen::Index>(v));
-  }
-  return s;
+  return geometry::submesh(body.mesh.V, skin_faces(body.mesh, body.attached)).mesh;
 }
 
 RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOptions options)
@@ -82,7 +69,7 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
   system_->set_regularization(options_.regularization);
   system_->set_true_hessian(true);
 
-  boundary_faces_ = tet::boundary_of(mesh).faces;
+  boundary_faces_ = geometry::boundary_of(mesh).faces;
   surface_faces_ = skin_faces(mesh, body_.attached);
   std::vector<char> on_skin(static_cast<std::size_t>(mesh.V.rows()), 0);
   for (Eigen::Index f = 0; f < surface_faces_.rows(); ++f) {
@@ -92,11 +79,11 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
     if (on_skin[v]) surface_.push_back(static_cast<int>(v));
   }
   if (surface_.empty()) throw Error(ErrorKind::Input, "the body has no skin: every boundary face touches the core");
-  body_area_ = contact::vertex_areas(mesh.V, surface_faces_);
+  body_area_ = geometry::vertex_areas(mesh.V, surface_faces_);
 
   support_ = std::make_unique<contact::Obstacle>(support, options_.support_name);
   support_rest_ = support_->vertices();
-  support_area_ = contact::vertex_areas(support_rest_, support_->triangles());
+  support_area_ = geometry::vertex_areas(support_rest_, support_->triangles());
   support_fixed_.assign(static_cast<std::size_t>(support_rest_.rows()), 0);
   if (options_.deformable_support) build_deformable_support();
 
@@ -353,27 +340,12 @@ std::vector<ReverseContact> RestSimulation::reverse_contacts() const {
   // The deformed boundary (skin and core shells bound the layer) as an
   // obstacle, its vertices renumbered.
   const Eigen::VectorXd p = system_->positions(x_);
-  std::vector<int> to_compact(static_cast<std::size_t>(model_->num_vertices()), -1);
-  std::vector<int> used;
-  for (Eigen::Index fi = 0; fi < boundary_faces_.rows(); ++fi) {
-    for (int k = 0; k < 3; ++k) {
-      const int v = boundary_faces_(fi, k);
-      if (to_compact[static_cast<std::size_t>(v)] < 0) {
-        to_compact[static_cast<std::size_t>(v)] = static_cast<int>(used.size());
-        used.push_back(v);
-      }
-    }
-  }
-  SurfaceMesh deformed;
-  deformed.V.resize(static_cast<Eigen::Index>(used.size()), 3);
-  for (std::size_t i = 0; i < used.size(); ++i) deformed.V.row(static_cast<Eigen::Index>(i)) = p.segment<3>(3 * used[i]).transpose();
-  deformed.F.resize(boundary_faces_.rows(), 3);
-  for (Eigen::Index fi = 0; fi < boundary_faces_.rows(); ++fi) {
-    for (int k = 0; k < 3; ++k) deformed.F(fi, k) = to_compact[static_cast<std::size_t>(boundary_faces_(fi, k))];
-  }
+  const Eigen::MatrixX3d positions =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
+  const geometry::Submesh deformed = geometry::submesh(positions, boundary_faces_);
   contact::ObstacleOptions oo;
   oo.check_self_intersections = false;
-  const contact::Obstacle body_surface(deformed, "the deformed body surface", oo);
+  const contact::Obstacle body_surface(deformed.mesh, "the deformed body surface", oo);
   std::vector<ReverseContact> out;
   for (Eigen::Index v = 0; v < support_->vertices().rows(); ++v) {
     ReverseContact c;
@@ -381,7 +353,7 @@ std::vector<ReverseContact> RestSimulation::reverse_contacts() const {
     double area = 0.0;
     for (int k = 0; k < contact::feature_size(c.closest.feature); ++k) {
       int& b = c.closest.vertices[static_cast<std::size_t>(k)];
-      b = used[static_cast<std::size_t>(b)];
+      b = deformed.to_old[static_cast<std::size_t>(b)];
       area += c.closest.weights[k] * body_area_[b];
     }
     if (!(area > 0.0)) continue;  // against the core shell: not a skin contact
@@ -430,7 +402,7 @@ void RestSimulation::set_support_vertices(const Eigen::MatrixX3d& V) {
     support_->set_vertices(V, false);
     support_rest_ = V;
   }
-  support_area_ = contact::vertex_areas(support_rest_, support_->triangles());
+  support_area_ = geometry::vertex_areas(support_rest_, support_->triangles());
 }
 
 bool RestSimulation::shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support,

@@ -8,6 +8,7 @@
 
 #include "palpa/core/json.hpp"
 #include "palpa/geometry/format.hpp"
+#include "palpa/io/mesh.hpp"
 #include "palpa/io/vtu.hpp"
 #include "palpa/material/material_file.hpp"
 #include "palpa/mesh/bodies.hpp"

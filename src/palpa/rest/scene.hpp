@@ -40,8 +40,7 @@
 #include <vector>
 
 #include "palpa/core/json.hpp"
-
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 #include "palpa/rest/rest.hpp"
 
 namespace palpa::rest {

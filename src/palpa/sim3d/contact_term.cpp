@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 
 namespace palpa::sim3d {
 
@@ -39,12 +40,8 @@ RigidContactTerm::RigidContactTerm(const contact::Obstacle& obstacle, const Eige
                                    Eigen::MatrixX3i faces, double k)
     : obstacle_(&obstacle), faces_(std::move(faces)), k_(0.0) {
   set_stiffness(k);
-  skin_area_ = contact::vertex_areas(rest, faces_);
-  face_area_.resize(faces_.rows());
-  for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
-    const Eigen::Vector3d a = rest.row(faces_(f, 0)), b = rest.row(faces_(f, 1)), c = rest.row(faces_(f, 2));
-    face_area_[f] = 0.5 * (b - a).cross(c - a).norm();
-  }
+  skin_area_ = geometry::vertex_areas(rest, faces_);
+  face_area_ = geometry::face_areas(rest, faces_);
   std::vector<char> on(static_cast<std::size_t>(rest.rows()), 0);
   for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
     for (int c = 0; c < 3; ++c) on[static_cast<std::size_t>(faces_(f, c))] = 1;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "palpa/contact/obstacle.hpp"
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::sim3d {
 

@@ -13,6 +13,8 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/text.hpp"
+#include "palpa/geometry/boundary.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/io/csv.hpp"
 #include "palpa/tet/mesh.hpp"
 
@@ -80,8 +82,8 @@ Simulation::Simulation(const Scene& scene) : scene_(&scene) {
   if (!held) system_->set_regularization(kFreeFallAlpha);
 
   // Contact: the boundary vertices against every obstacle.
-  const tet::Boundary boundary = tet::boundary_of(model_->mesh());
-  boundary_area_ = contact::vertex_areas(model_->mesh().V, boundary.faces);
+  const geometry::Boundary boundary = geometry::boundary_of(model_->mesh());
+  boundary_area_ = geometry::vertex_areas(model_->mesh().V, boundary.faces);
   double edge_sum = 0.0;
   for (Eigen::Index f = 0; f < boundary.faces.rows(); ++f) {
     for (int c = 0; c < 3; ++c) {

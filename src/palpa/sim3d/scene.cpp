@@ -9,6 +9,8 @@
 #include <set>
 
 #include "palpa/core/json.hpp"
+#include "palpa/geometry/boundary.hpp"
+#include "palpa/io/mesh.hpp"
 #include "palpa/material/material_file.hpp"
 #include "palpa/sim3d/scene_json.hpp"
 #include "palpa/sim3d/shapes.hpp"
@@ -152,7 +154,7 @@ Scene read_scene(const fs::path& path) {
   }
 
   // Fixed vertex sets.
-  const tet::Boundary boundary = tet::boundary_of(s.mesh);
+  const geometry::Boundary boundary = geometry::boundary_of(s.mesh);
   sets["boundary"] = boundary.vertices;
   for (Eigen::Index f = 0; f < s.mesh.boundary_marker.size() && f < s.mesh.boundary.rows(); ++f) {
     auto& v = sets[fmt::format("marker:{}", s.mesh.boundary_marker[f])];

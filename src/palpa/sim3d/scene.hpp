@@ -52,7 +52,7 @@
 #include <string>
 #include <vector>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 #include "palpa/solve/newton.hpp"
 #include "palpa/tet/model.hpp"
 

@@ -5,7 +5,7 @@
 // frame: the contact face down, its lowest point at the origin, the axis +z.
 // A pose then places that point where the indenter starts.
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::sim3d {
 

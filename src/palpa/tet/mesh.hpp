@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
-// Tet meshes for simulation: checks, orientation, the boundary surface, and
-// structured box meshes.
+// Tet meshes for simulation: checks, orientation and structured box meshes
+// (the boundary surface is geometry/boundary.hpp).
 
 #include <Eigen/Core>
 #include <map>
@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::tet {
 
@@ -29,17 +29,6 @@ struct TetMeshCheck {
 // accepted and flipped (some writers use that convention), but a mix of
 // orientations means inverted elements and is refused, naming the first one.
 TetMeshCheck prepare_tet_mesh(TetMesh& mesh, std::string_view name);
-
-// The boundary of a tet mesh: the faces that belong to one tet only, wound so
-// that their normals point out of the volume. Vertices keep their tet-mesh
-// numbering (the returned mesh's V is the tet mesh's V), so unused rows are
-// the interior vertices.
-struct Boundary {
-  Eigen::MatrixX3i faces;          // #B×3 outward triangles (rows of the tet mesh's V)
-  std::vector<int> vertices;       // the distinct vertices of those faces, sorted
-  Eigen::VectorXi face_tet;        // #B: the tet each face belongs to
-};
-Boundary boundary_of(const TetMesh& mesh);
 
 // A structured box [lo, hi] with cells(0)×cells(1)×cells(2) cubes, each cut
 // into 6 tets around its main diagonal (a conforming Kuhn subdivision), all

@@ -16,7 +16,7 @@
 #include <memory>
 #include <vector>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 #include "palpa/material/material.hpp"
 #include "palpa/tet/element.hpp"
 

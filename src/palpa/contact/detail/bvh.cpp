@@ -112,7 +112,8 @@ Bvh::Hit Bvh::closest(const Eigen::Vector3d& p) const {
     if (n.count > 0) {
       for (int s = n.first; s < n.first + n.count; ++s) {
         const auto c = 3 * static_cast<std::size_t>(s);
-        const TrianglePoint tp = closest_on_triangle(p, corner_[c], corner_[c + 1], corner_[c + 2]);
+        const geometry::TrianglePoint tp =
+            geometry::closest_on_triangle(p, corner_[c], corner_[c + 1], corner_[c + 2]);
         const double d2 = (p - tp.point).squaredNorm();
         if (d2 < best.distance2) {
           best.distance2 = d2;

@@ -11,7 +11,7 @@
 #include <limits>
 #include <vector>
 
-#include "palpa/contact/detail/triangle.hpp"
+#include "palpa/geometry/closest_point_on_triangle.hpp"
 
 namespace palpa::contact::detail {
 
@@ -27,7 +27,7 @@ class Bvh {
   struct Hit {
     int triangle = -1;
     double distance2 = std::numeric_limits<double>::infinity();
-    TrianglePoint where{};
+    geometry::TrianglePoint where{};
   };
   // Closest triangle to p (ties: the first found).
   Hit closest(const Eigen::Vector3d& p) const;

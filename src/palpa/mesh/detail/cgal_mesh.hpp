@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::mesh::detail {
 

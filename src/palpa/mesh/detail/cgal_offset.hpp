@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <functional>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::mesh::detail {
 

@@ -9,7 +9,7 @@
 #include <optional>
 #include <utility>
 
-#include "palpa/io/mesh.hpp"
+#include "palpa/geometry/mesh.hpp"
 
 namespace palpa::mesh::detail {
 
