@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-// Batch detection, the committed contact set's energy/gradient/Hessian (finite
-// differences), force and torque balance, pressures and the stiffness rule.
+// Batch detection; the penalty-contact potential's energy, gradient and
+// Hessian (finite differences, over the points and the obstacle's vertices),
+// force and torque balance on both sides, excluded features; the stiffness
+// rule and its controller.
 
 #include "palpa/contact/contact.hpp"
+#include "palpa/contact/penalty_contact.hpp"
+#include "palpa/contact/stiffness.hpp"
 
 #include <gtest/gtest.h>
 
@@ -84,11 +88,11 @@ TEST(ContactDetection, ReusesItsStorage) {
 
 TEST(ContactDetection, DetectedEnergyEqualsCommittedEnergyAtThePreparedPoint) {
   Scene s;
-  ContactSet set;
-  set.detect(s.obstacle, s.points, s.which);
-  const double detected = detected_energy(s.obstacle, s.points, s.which, kPenalty);
+  PenaltyContact set(s.which, kPenalty, "torus");
+  set.commit(s.obstacle, s.points);
+  const double detected = set.detected_energy(s.obstacle, s.points);
   EXPECT_GT(detected, 0.0);
-  EXPECT_NEAR(set.energy(s.obstacle, s.points, kPenalty), detected, 1e-12 * detected);
+  EXPECT_NEAR(set.energy(s.obstacle, s.points), detected, 1e-12 * detected);
   double sum = 0.0;
   for (const Contact& c : set.contacts())
     sum += kPenalty * c.closest.distance * c.closest.distance;
@@ -99,8 +103,8 @@ TEST(ContactDetection, DetectedEnergyEqualsCommittedEnergyAtThePreparedPoint) {
 
 TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePreparedPoint) {
   Scene s(400);
-  ContactSet set;
-  set.detect(s.obstacle, s.points, s.which);
+  PenaltyContact set(s.which, kPenalty, "torus");
+  set.commit(s.obstacle, s.points);
   ASSERT_GT(set.size(), 5U);
   // Evaluate at moved points: the anchors slide on the committed features.
   auto rng = test::make_rng(21);
@@ -127,55 +131,136 @@ TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePrepar
     return full;
   };
   const auto energy = [&](const Eigen::VectorXd& r) {
-    return set.energy(s.obstacle, as_points(expand(r)), kPenalty);
+    return set.energy(s.obstacle, as_points(expand(r)));
   };
   const auto gradient = [&](const Eigen::VectorXd& r) {
     Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, s.points.cols());
-    set.add_gradient(s.obstacle, as_points(expand(r)), kPenalty, g);
+    set.add_gradient(s.obstacle, as_points(expand(r)), g);
     return restrict(g.reshaped());
   };
   const Eigen::VectorXd r = restrict(x);
   EXPECT_TRUE(derivatives_match(gradient(r), fd_gradient(energy, r, 1e-6), 1e-7));
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(r.size(), r.size());
-  for (std::size_t c = 0; c < set.size(); ++c) {
-    H.block<3, 3>(3 * static_cast<Eigen::Index>(c), 3 * static_cast<Eigen::Index>(c)) =
-        hessian_block(s.obstacle, set.contacts()[c], kPenalty);
-  }
+  Eigen::Index c = 0;
+  set.for_each_point_hessian(s.obstacle, [&](int point, const Eigen::Matrix3d& block) {
+    EXPECT_EQ(point, set.contacts()[static_cast<std::size_t>(c)].point);
+    H.block<3, 3>(3 * c, 3 * c) = block;
+    ++c;
+  });
   EXPECT_TRUE(derivatives_match(H, fd_jacobian(gradient, r, 1e-6), 1e-7));
 }
 
+// A small sphere as a deformable obstacle and three points inside it,
+// committed.
+struct SphereScene {
+  SurfaceMesh sphere = test::sphere_mesh(0.03, 1);
+  Obstacle obstacle{sphere, "sphere"};
+  Eigen::Matrix3Xd points{3, 3};
+  PenaltyContact contact{{0, 1, 2}, kPenalty, "sphere"};
+
+  SphereScene() {
+    points << 0.025, -0.01, 0.0,  //
+        0.003, 0.02, -0.027,      //
+        0.01, 0.015, 0.005;
+    contact.commit(obstacle, points);
+  }
+};
+
 TEST(ContactCommitted, ObstacleGradientMatchesFiniteDifferences) {
-  // A small sphere as a deformable obstacle: the energy as a function of its
-  // vertices (world = body here), with the committed features.
-  const SurfaceMesh sphere = test::sphere_mesh(0.03, 1);
-  Obstacle obstacle(sphere, "sphere");
-  Eigen::Matrix3Xd points(3, 3);
-  points << 0.025, -0.01, 0.0,  //
-      0.003, 0.02, -0.027,      //
-      0.01, 0.015, 0.005;
-  ContactSet set;
-  set.detect(obstacle, points);
-  ASSERT_EQ(set.size(), 3U);
+  // The energy as a function of the sphere's vertices (world = body here),
+  // with the committed features.
+  const SphereScene s;
+  ASSERT_EQ(s.contact.size(), 3U);
   const auto energy = [&](const Eigen::VectorXd& v) {
-    Obstacle o = Obstacle(sphere, "sphere");
+    Obstacle o = Obstacle(s.sphere, "sphere");
     o.set_vertices(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-        v.data(), sphere.V.rows(), 3));
-    return set.energy(o, points, kPenalty);
+        v.data(), s.sphere.V.rows(), 3));
+    return s.contact.energy(o, s.points);
   };
-  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> rows = sphere.V;
+  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> rows = s.sphere.V;
   const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(rows.data(), rows.size());
-  Eigen::Matrix3Xd grad = Eigen::Matrix3Xd::Zero(3, sphere.V.rows());
-  set.add_obstacle_gradient(obstacle, points, kPenalty, grad);
+  Eigen::Matrix3Xd grad = Eigen::Matrix3Xd::Zero(3, s.sphere.V.rows());
+  s.contact.add_obstacle_gradient(s.obstacle, s.points, grad);
   EXPECT_TRUE(derivatives_match(grad.reshaped(), fd_gradient(energy, v, 1e-6), 1e-7));
+}
+
+TEST(ContactCommitted, StencilHessianProductMatchesFiniteDifferences) {
+  // The whole Hessian over the points and the obstacle's vertices, as a
+  // product, against finite differences of both gradients: what the coupled
+  // support and the shape derivative use.
+  const SphereScene s;
+  ASSERT_EQ(s.contact.size(), 3U);
+  const Eigen::Index np = s.points.size(), nq = s.sphere.V.size();
+  const auto split = [&](const Eigen::VectorXd& z, Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& q) {
+    p = Eigen::Map<const Eigen::Matrix3Xd>(z.data(), 3, s.points.cols());
+    q = Eigen::Map<const Eigen::Matrix3Xd>(z.data() + np, 3, s.sphere.V.rows());
+  };
+  const auto gradient = [&](const Eigen::VectorXd& z) {
+    Eigen::Matrix3Xd p, q;
+    split(z, p, q);
+    Obstacle o = Obstacle(s.sphere, "sphere");
+    o.set_vertices(q.transpose());
+    Eigen::Matrix3Xd gp = Eigen::Matrix3Xd::Zero(3, p.cols()), gq = Eigen::Matrix3Xd::Zero(3, q.cols());
+    s.contact.add_gradient(o, p, gp);
+    s.contact.add_obstacle_gradient(o, p, gq);
+    Eigen::VectorXd g(np + nq);
+    g << gp.reshaped(), gq.reshaped();
+    return g;
+  };
+  Eigen::VectorXd z(np + nq);
+  const Eigen::Matrix3Xd q0 = s.sphere.V.transpose();
+  z << s.points.reshaped(), q0.reshaped();
+  const Eigen::MatrixXd fd = fd_jacobian(gradient, z, 1e-7);
+  Eigen::MatrixXd H(np + nq, np + nq);
+  for (Eigen::Index j = 0; j < np + nq; ++j) {
+    Eigen::VectorXd e = Eigen::VectorXd::Unit(np + nq, j);
+    Eigen::Matrix3Xd vp, vq;
+    split(e, vp, vq);
+    Eigen::Matrix3Xd hp = Eigen::Matrix3Xd::Zero(3, s.points.cols()), hq = Eigen::Matrix3Xd::Zero(3, q0.cols());
+    s.contact.add_hessian_product(s.obstacle, s.points, vp, vq, hp, hq);
+    H.col(j) << hp.reshaped(), hq.reshaped();
+  }
+  EXPECT_TRUE(derivatives_match(H, fd, 1e-6));
+  // The point side alone (a rigid obstacle's response): the same rows.
+  Eigen::Matrix3Xd hp = Eigen::Matrix3Xd::Zero(3, s.points.cols()), none(3, 0);
+  const Eigen::Matrix3Xd vp = Eigen::Matrix3Xd::Ones(3, s.points.cols());
+  s.contact.add_hessian_product(s.obstacle, s.points, vp, none, hp, none);
+  EXPECT_TRUE(derivatives_match(Eigen::VectorXd(hp.reshaped()), Eigen::VectorXd(H.topLeftCorner(np, np) * vp.reshaped()), 1e-12));
+}
+
+TEST(ContactCommitted, ExcludedFeaturesAreNoContacts) {
+  // Two points under a cube's top face; flag the corners of the face's
+  // triangles under one of them: that point is no contact, in the trial
+  // energy as in the committed set.
+  const Obstacle box(test::cube_mesh(0.01), "box");
+  Eigen::Matrix3Xd points(3, 2);
+  points << 0.002, -0.002, 0.003, -0.003, 0.0098, 0.0097;
+  PenaltyContact all({0, 1}, kPenalty, "box");
+  all.commit(box, points);
+  ASSERT_EQ(all.size(), 2U);
+  std::vector<char> excluded(static_cast<std::size_t>(box.vertices().rows()), 0);
+  for (int i = 0; i < feature_size(all.contacts()[0].closest.feature); ++i) {
+    excluded[static_cast<std::size_t>(all.contacts()[0].closest.vertices[static_cast<std::size_t>(i)])] = 1;
+  }
+  PenaltyContact some({0, 1}, kPenalty, "box");
+  some.set_excluded(excluded);
+  some.commit(box, points);
+  const bool shared = std::any_of(all.contacts()[1].closest.vertices.begin(),
+                                  all.contacts()[1].closest.vertices.end(),
+                                  [&](int v) { return v >= 0 && excluded[static_cast<std::size_t>(v)] != 0; });
+  ASSERT_EQ(some.size(), shared ? 0U : 1U);
+  if (!shared) EXPECT_EQ(some.contacts()[0].point, 1);
+  EXPECT_NEAR(some.detected_energy(box, points), some.energy(box, points), 1e-12 * all.energy(box, points));
+  EXPECT_LT(some.detected_energy(box, points), all.detected_energy(box, points));
 }
 
 TEST(ContactForces, BalanceForceAndTorque) {
   Scene s;
-  ContactSet set;
-  set.detect(s.obstacle, s.points, s.which);
-  Eigen::Matrix3Xd f;
-  set.forces(s.obstacle, s.points, kPenalty, f);
-  ASSERT_EQ(f.cols(), s.points.cols());
+  PenaltyContact set(s.which, kPenalty, "torus");
+  set.commit(s.obstacle, s.points);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, s.points.cols());
+  Eigen::Matrix3Xd on_obstacle = Eigen::Matrix3Xd::Zero(3, s.obstacle.vertices().rows());
+  set.add_forces(s.obstacle, s.points, f, on_obstacle);
   const Eigen::Vector3d about(0.003, -0.02, 0.01);
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();
@@ -183,14 +268,15 @@ TEST(ContactForces, BalanceForceAndTorque) {
     force += f.col(i);
     torque += (s.points.col(i) - about).cross(f.col(i));
   }
-  const Wrench w = set.obstacle_wrench(s.obstacle, s.points, kPenalty, about);
+  const Wrench w = set.obstacle_wrench(s.obstacle, s.points, about);
   EXPECT_GT(w.force.norm(), 0.0);
   EXPECT_LT((w.force + force).norm(), 1e-12 * f.colwise().norm().sum());
   EXPECT_LT((w.torque + torque).norm(), 1e-12 * 0.1 * f.colwise().norm().sum());
   EXPECT_GT(w.torque.norm(), 0.0);
   // The reaction is also what the obstacle's vertices feel: −∂E/∂q.
   Eigen::Matrix3Xd gq = Eigen::Matrix3Xd::Zero(3, s.obstacle.vertices().rows());
-  set.add_obstacle_gradient(s.obstacle, s.points, kPenalty, gq);
+  set.add_obstacle_gradient(s.obstacle, s.points, gq);
+  EXPECT_EQ(on_obstacle, -gq);
   Eigen::Vector3d vertex_torque = Eigen::Vector3d::Zero();
   for (Eigen::Index v = 0; v < gq.cols(); ++v) {
     vertex_torque += (s.obstacle.world_vertex(static_cast<int>(v)) - about).cross(-gq.col(v));
@@ -208,17 +294,22 @@ TEST(ContactForces, PressureOnAFlatFace) {
   const Obstacle box(test::cube_mesh(0.01), "box");
   Eigen::Matrix3Xd points(3, 2);
   points << 0.001, 0.5, 0.002, 0.5, 0.0098, 0.5;  // the second is far outside
-  ContactSet set;
-  set.detect(box, points);
+  PenaltyContact set({0, 1}, kPenalty, "box");
+  set.commit(box, points);
   ASSERT_EQ(set.size(), 1U);
-  Eigen::Matrix3Xd f;
-  set.forces(box, points, kPenalty, f);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 2), none(3, 0);
+  set.add_forces(box, points, f, none);
   EXPECT_NEAR(f(2, 0), 2.0 * kPenalty * 2e-4, 1e-12);
   EXPECT_LT(f.col(0).head<2>().norm(), 1e-12 * f(2, 0));
   EXPECT_EQ(f.col(1).norm(), 0.0);
-  const Eigen::VectorXd p = pressures(f, Eigen::Vector2d(1e-6, 0.0));
-  EXPECT_NEAR(p[0], 2.0 * kPenalty * 2e-4 / 1e-6, 1e-6);
-  EXPECT_EQ(p[1], 0.0);
+  // Per-point spring factors scale the force.
+  PenaltyContact scaled({0, 1}, kPenalty, "box");
+  scaled.set_scale({0.5, 3.0});
+  scaled.commit(box, points);
+  Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, 2);
+  scaled.add_forces(box, points, g, none);
+  EXPECT_NEAR(g(2, 0), 0.5 * f(2, 0), 1e-15);
+  EXPECT_TRUE(test::throws_error([&] { scaled.set_stiffness(0.0); }, ErrorKind::Input, {"box", "stiffness"}));
 }
 
 TEST(ContactStiffness, RuleAndCorrection) {
@@ -235,6 +326,33 @@ TEST(ContactStiffness, RuleAndCorrection) {
   EXPECT_EQ(corrected_stiffness(k, 0.0, 3e-4), k);
   EXPECT_TRUE(test::throws_error([] { stiffness_for_penetration(100.0, 0.0, 3e-4); },
                                  ErrorKind::Input, {"contact stiffness", "0 contact points"}));
+  // A pressure E/10 on a vertex of area A at the target depth.
+  EXPECT_NEAR(2.0 * stiffness_for_pressure(1e3, 4e-6, 2e-4) * 2e-4 / 4e-6, 1e3, 1e-9);
+}
+
+TEST(ContactStiffness, ControllerKeepsKInsideTheBandAndCorrectsOutside) {
+  StiffnessPolicy band;
+  band.target = 3e-4;
+  const StiffnessController c(band);
+  const double k = 2e4;
+  EXPECT_EQ(c.next(k, 3e-4), k);
+  EXPECT_EQ(c.next(k, 0.86 * 3e-4), k);
+  EXPECT_TRUE(c.accepts(1.14 * 3e-4));
+  EXPECT_FALSE(c.accepts(1.2 * 3e-4));
+  EXPECT_NEAR(c.next(k, 6e-4), 2.0 * k, 1e-9 * k);
+  EXPECT_NEAR(c.next(k, 1.5e-4), 0.5 * k, 1e-9 * k);
+  EXPECT_NEAR(c.next(k, 1.0), 10.0 * k, 1e-9 * k);  // clamped
+  // Only raising, 10% beyond the proportional rule: any depth up to the target passes.
+  StiffnessPolicy raise = band;
+  raise.low = 0.0;
+  raise.high = 1.0;
+  raise.overshoot = 1.1;
+  const StiffnessController r(raise);
+  EXPECT_EQ(r.next(k, 1e-5), k);
+  EXPECT_EQ(r.next(k, 0.0), k);
+  EXPECT_NEAR(r.next(k, 6e-4), 2.2 * k, 1e-9 * k);
+  band.target = 0.0;
+  EXPECT_TRUE(test::throws_error([&] { StiffnessController bad(band); }, ErrorKind::Input, {"target penetration"}));
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-// The contact module inside a System solved by Newton, wired as contact.hpp's
-// usage note says (detection in prepare(), fresh detection in energy(),
-// committed set for gradient and Hessian): loaded points settle on a box, at
+// The contact potential inside a System solved by Newton, wired as
+// contact.hpp's usage note says (commit in prepare(), fresh detection in
+// energy(), committed contacts for gradient and Hessian): loaded points settle on a box, at
 // the analytic depth, and the stiffness rule hits its target penetration.
 
 #include <gtest/gtest.h>
@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "contact/shapes.hpp"
-#include "palpa/contact/contact.hpp"
+#include "palpa/contact/penalty_contact.hpp"
+#include "palpa/contact/stiffness.hpp"
 #include "palpa/solve/newton.hpp"
 
 namespace palpa::contact {
@@ -21,30 +22,28 @@ namespace {
 class LoadedPoints : public System {
  public:
   LoadedPoints(const Obstacle& obstacle, Eigen::Matrix3Xd rest, double s, double F, double k)
-      : obstacle_(obstacle), rest_(std::move(rest)), s_(s), F_(F), k_(k) {
-    for (int i = 0; i < rest_.cols(); ++i) which_.push_back(i);
-  }
+      : obstacle_(obstacle), rest_(std::move(rest)), s_(s), F_(F), committed_(all(rest_.cols()), k, "box") {}
   Eigen::Index num_dofs() const override { return rest_.size(); }
 
   double energy(const Eigen::VectorXd& x) const override {
     const auto P = points(x);
     return 0.5 * s_ * (P - rest_).squaredNorm() + F_ * P.row(2).sum() +
-           detected_energy(obstacle_, P, which_, k_);
+           committed_.detected_energy(obstacle_, P);
   }
   void gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override {
     const auto P = points(x);
     Eigen::Matrix3Xd G = s_ * (P - rest_);
     G.row(2).array() += F_;
-    committed_.add_gradient(obstacle_, P, k_, G);
+    committed_.add_gradient(obstacle_, P, G);
     g = G.reshaped();
   }
   void hessian(const Eigen::VectorXd&, Eigen::SparseMatrix<double>& H) const override {
     // Lower triangles of the 3×3 diagonal blocks: a fixed pattern.
     std::vector<Eigen::Matrix3d> block(static_cast<std::size_t>(rest_.cols()),
                                        s_ * Eigen::Matrix3d::Identity());
-    for (const Contact& c : committed_.contacts()) {
-      block[static_cast<std::size_t>(c.point)] += hessian_block(obstacle_, c, k_);
-    }
+    committed_.for_each_point_hessian(obstacle_, [&](int point, const Eigen::Matrix3d& b) {
+      block[static_cast<std::size_t>(point)] += b;
+    });
     std::vector<Eigen::Triplet<double>> t;
     for (std::size_t i = 0; i < block.size(); ++i) {
       for (int r = 0; r < 3; ++r) {
@@ -58,20 +57,25 @@ class LoadedPoints : public System {
     H.setFromTriplets(t.begin(), t.end());
   }
   void prepare(const Eigen::VectorXd& x) override {
-    committed_.detect(obstacle_, points(x), which_);
+    committed_.commit(obstacle_, points(x));
   }
 
-  const ContactSet& committed() const { return committed_; }
+  const PenaltyContact& committed() const { return committed_; }
   static Eigen::Map<const Eigen::Matrix3Xd> points(const Eigen::VectorXd& x) {
     return {x.data(), 3, x.size() / 3};
   }
 
  private:
+  static std::vector<int> all(Eigen::Index n) {
+    std::vector<int> out(static_cast<std::size_t>(n));
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<int>(i);
+    return out;
+  }
+
   const Obstacle& obstacle_;
   Eigen::Matrix3Xd rest_;
-  double s_, F_, k_;
-  std::vector<int> which_;
-  ContactSet committed_;
+  double s_, F_;
+  PenaltyContact committed_;
 };
 
 TEST(ContactNewton, LoadedPointsSettleAtTheAnalyticDepthAndTheStiffnessRuleHitsItsTarget) {
@@ -114,7 +118,7 @@ TEST(ContactNewton, LoadedPointsSettleAtTheAnalyticDepthAndTheStiffnessRuleHitsI
   EXPECT_NEAR(h - z, target, 0.06 * target);
 
   // Reaction on the box = the load the contact carries.
-  const Wrench w = system.committed().obstacle_wrench(box, P, k, Eigen::Vector3d::Zero());
+  const Wrench w = system.committed().obstacle_wrench(box, P, Eigen::Vector3d::Zero());
   EXPECT_NEAR(w.force.z(), -36.0 * 2.0 * k * (h - z), 1e-9);
   EXPECT_NEAR(w.force.head<2>().norm(), 0.0, 1e-9);
 

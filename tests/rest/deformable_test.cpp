@@ -61,7 +61,7 @@ TEST(DeformableSupport, CoupledGradientAndHessianMatchDifferences) {
   RestSimulation sim(block(4, 0.3, 3e-4), slab(0.06, 0.012, 8), o);
   sim.solve();
   ASSERT_TRUE(sim.deformable_support());
-  ASSERT_GT(sim.contact_term().contacts().size(), 8u);
+  ASSERT_GT(sim.contact_term().potential().size(), 8u);
   CoupledSystem& system = *sim.coupled_system();
   Eigen::VectorXd y(system.num_dofs());
   y << sim.dofs(), sim.support_dofs();

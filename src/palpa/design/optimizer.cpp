@@ -296,8 +296,9 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestS
   if (gradient && ev.ok) {
     const auto ta = Clock::now();
     Eigen::MatrixX3d through;
-    if (!sim.shape_derivative(ev.score.d_body, ev.score.d_support, through, ev.failure)) {
+    if (const AdjointStatus st = sim.shape_derivative(ev.score.d_body, ev.score.d_support, through); !st.ok()) {
       ev.ok = false;
+      ev.failure = st.message();
     } else {
       ev.gradient = through + ev.score.d_support_area + gamma_ * dpsi;
     }

@@ -138,7 +138,7 @@ Score ErgonomicScore::evaluate_deformable(const rest::RestSimulation& sim, bool 
 
 Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) const {
   if (sim.deformable_support()) return evaluate_deformable(sim, gradient);
-  const sim3d::RigidContactTerm& term = sim.contact_term();
+  const body::ContactTerm& term = sim.contact_term();
   const contact::Obstacle& support = sim.support();
   const double k = sim.contact_stiffness();
   const double abar = term.mean_area();
@@ -160,7 +160,7 @@ Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) c
   };
   std::vector<Depth> body_side, support_side;
 
-  for (const contact::Contact& c : term.contacts().contacts()) {
+  for (const contact::Contact& c : term.potential().contacts()) {
     Depth d{c.point, contact::feature_geometry(support, c.closest), c.closest.vertices, contact::Vector12d::Zero()};
     const Eigen::Vector3d p = Y.segment<3>(3 * c.point);
     const double depth = (p - contact::sliding_anchor(p, d.g).point).norm();

@@ -9,9 +9,9 @@
 // tet mesh (its base is fixed). Energy:
 //   E(y) = E_body(x) + E_support(v) + E_contact(positions of the body's skin,
 //                                              deformed support surface).
-// The contact term is the body's own vertex term (sim3d::RigidContactTerm,
-// already in the CoreSystem); its obstacle is the support's boundary surface,
-// which this system moves to the deformed positions at v before every call.
+// The contact term is the body's own vertex term (body::ContactTerm, already
+// in the CoreSystem); its obstacle is the support's boundary surface, which
+// this system moves to the deformed positions at v before every call.
 // So calls must not run concurrently on one object (Newton's line searches
 // evaluate their trials one after the other).
 //
@@ -25,11 +25,13 @@
 // support vertex that deep is a failed simulation, not a contact).
 //
 // Derivatives. With the committed contacts and sliding anchors, the contact
-// energy of one contact is a function of the body vertex p and the feature's
-// support vertices q (contact/penalty.hpp): its p-block is in the body's
-// Hessian already; the (q, q) blocks are added to the support's, and the
-// (q, p) blocks couple the two (contact never touches a core-attached vertex,
-// so the core's rotational curvature does not see it). The Hessian is
+// energy of one contact is a function of its stencil, a point and its
+// feature's vertices (contact/penalty_contact.hpp), each a vertex of the body
+// or of the support. The forward pass's point blocks are in the body's Hessian
+// already; every other block goes to the body's, the support's or the
+// coupling, by the sides of its two vertices (contact never touches a
+// core-attached vertex, so the core's rotational curvature does not see it).
+// The Hessian is
 //   [ K_body            ]
 //   [ C        K_support]   (lower triangle),
 // whose coupling pattern C holds every (support vertex, body vertex) pair that
@@ -45,9 +47,9 @@
 #include <vector>
 
 #include "palpa/body/core_system.hpp"
-#include "palpa/contact/contact.hpp"
+#include "palpa/body/contact_term.hpp"
 #include "palpa/contact/obstacle.hpp"
-#include "palpa/sim3d/contact_term.hpp"
+#include "palpa/contact/penalty_contact.hpp"
 #include "palpa/solve/system.hpp"
 #include "palpa/tet/system.hpp"
 
@@ -58,9 +60,13 @@ class CoupledSystem final : public System {
   // body: the body, with `term` among its vertex terms; support: the support's
   // static system (base fixed, nothing else attached); obstacle: the support's
   // boundary surface, whose vertex j is vertex surface[j] of the support's tet
-  // mesh, and the obstacle of `term`. All must outlive this system.
+  // mesh, and the obstacle of `term`. All must outlive this system. The
+  // reverse pass takes the term's stiffness; set_stiffness() changes both.
   CoupledSystem(body::CoreSystem& body, tet::StaticSystem& support, contact::Obstacle& obstacle,
-                std::vector<int> surface, const sim3d::RigidContactTerm& term);
+                std::vector<int> surface, body::ContactTerm& term);
+
+  // k of each pass [N/m] (the forward term's and the reverse pass's).
+  void set_stiffness(double k);
 
   Eigen::Index num_body_dofs() const noexcept { return body_->num_dofs(); }
   Eigen::Index num_support_dofs() const noexcept { return support_->num_dofs(); }
@@ -70,10 +76,10 @@ class CoupledSystem final : public System {
   // moved there.
   Eigen::MatrixX3d surface_positions(const Eigen::VectorXd& y) const;
   void place_obstacle(const Eigen::VectorXd& y) const;
-  // The reverse contacts (support surface vertices in the body's skin)
-  // committed at the last prepare(), and the forces they put on the body's
-  // vertices at y (3×N) [N].
-  const contact::ContactSet& reverse_contacts() const noexcept { return reverse_; }
+  // The reverse pass (support surface vertices in the body's skin) with the
+  // contacts committed at the last prepare(), and the forces they put on the
+  // body's vertices at y (3×N) [N].
+  const contact::PenaltyContact& reverse_contacts() const noexcept { return reverse_; }
   Eigen::Matrix3Xd reverse_body_forces(const Eigen::VectorXd& y) const;
   // The nodal contact forces of both passes at y (committed features) on the
   // body's vertices (3×N) and the support's surface vertices (3×#surface)
@@ -100,19 +106,14 @@ class CoupledSystem final : public System {
 
  private:
   double evaluate(const Eigen::VectorXd& y, Eigen::VectorXd* g) const;
-  // One contact of either pass: its point and feature vertices (slot 0, 1…m)
-  // as vertices of the body (on_body) or of the support's surface.
-  struct Pair {
-    contact::FeatureGeometry feature;
-    Eigen::Vector3d point;
-    double k = 0.0;
-    std::array<int, 4> vertex{};
-    bool forward = true;  // body vertex on a support feature
-    bool on_body(int slot) const { return forward == (slot == 0); }
-  };
-  std::vector<Pair> pairs(const Eigen::VectorXd& y) const;
-  // Whether a reverse contact's body feature lies on the skin.
-  bool on_skin(const contact::Contact& c) const;
+  // The support's deformed surface (3×#surface) and the body's deformed
+  // boundary (3×#boundary, its vertex i is body vertex body_vertex_[i]) at y.
+  Eigen::Matrix3Xd support_points(const Eigen::VectorXd& y) const;
+  Eigen::Matrix3Xd boundary_points(const Eigen::VectorXd& p) const;
+  // The columns of a body-vertex field (3×N) at the boundary's vertices, and
+  // a boundary field added back to them.
+  Eigen::Matrix3Xd gather_boundary(const Eigen::Matrix3Xd& body) const;
+  void scatter_boundary(const Eigen::Matrix3Xd& boundary, Eigen::Matrix3Xd& body) const;
   // The support DOF of vertex `v`, component c, or −1 if fixed.
   int support_dof(int v, int c) const { return full_to_free_[static_cast<std::size_t>(3 * v + c)]; }
 
@@ -120,15 +121,13 @@ class CoupledSystem final : public System {
   tet::StaticSystem* support_;
   contact::Obstacle* obstacle_;
   std::vector<int> surface_;
-  const sim3d::RigidContactTerm* term_;
+  body::ContactTerm* term_;
   // The body's whole boundary as an obstacle (its vertex i is body vertex
-  // body_vertex_[i]), moved with the body; the committed reverse contacts
-  // and their springs' factors.
+  // body_vertex_[i]), moved with the body, and the reverse pass against it
+  // (features on the core's shells excluded).
   std::unique_ptr<contact::Obstacle> body_surface_;
   std::vector<int> body_vertex_;
-  std::vector<char> attached_;          // per body vertex
-  contact::ContactSet reverse_;
-  std::vector<double> reverse_scale_;   // per support surface vertex
+  contact::PenaltyContact reverse_;
   std::vector<int> full_to_free_;         // support full DOF -> free index or −1
   std::vector<int> body_full_to_free_;    // body full DOF -> CoreSystem DOF or −1
   // Scratch kept between Hessians so the sub-patterns are built once (calls

@@ -18,6 +18,8 @@
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/tetrahedralize.hpp"
 #include "palpa/rest/coupled.hpp"
+#include "palpa/solve/adjoint.hpp"
+#include "palpa/solve/equilibrium.hpp"
 #include "palpa/tet/mesh.hpp"
 
 namespace palpa::rest {
@@ -114,9 +116,12 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
     }
     k = contact::stiffness_for_penetration(load, std::max(10.0, 0.1 * static_cast<double>(surface_.size())),
                                            options_.target_penetration);
+    contact::StiffnessPolicy policy;
+    policy.target = options_.target_penetration;
+    stiffness_.emplace(policy);
   }
   // Two passes on a deformable support share the spring law: each at k/2.
-  term_ = std::make_unique<sim3d::RigidContactTerm>(*support_, mesh.V, surface_faces_, k / contact_passes());
+  term_ = std::make_unique<body::ContactTerm>(*support_, mesh.V, surface_faces_, k / contact_passes());
   mean_area_ = term_->mean_area();
   system_->add_term(term_.get());
   if (support_model_) {
@@ -128,12 +133,11 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
   NewtonOptions opt;
   opt.line_search = options_.line_search;
   opt.max_iterations = options_.max_iterations;
-  const double tol = options_.force_tolerance > 0.0
-                         ? options_.force_tolerance
-                         : 1e-6 * std::max(load, 1e-6) / static_cast<double>(surface_.size());
-  opt.gradient_abs_tol = tol;
-  opt.gradient_rel_tol = 0.0;
-  opt.gradient_accept_tol = 100.0 * tol;
+  ToleranceModel tolerance;
+  tolerance.tolerance = options_.force_tolerance > 0.0
+                            ? options_.force_tolerance
+                            : 1e-6 * std::max(load, 1e-6) / static_cast<double>(surface_.size());
+  tolerance.apply(opt);
   newton_ = std::make_unique<NewtonSolver>(opt);
   x_ = Eigen::VectorXd::Zero(system_->num_dofs());
 }
@@ -221,6 +225,14 @@ void RestSimulation::contact_hessian_product(const Eigen::Matrix3Xd& v_body, con
   coupled_->contact_hessian_product(coupled_dofs(), v_body, v_support, body, support);
 }
 
+void RestSimulation::set_pass_stiffness(double k) {
+  if (coupled_) {
+    coupled_->set_stiffness(k);
+  } else {
+    term_->set_stiffness(k);
+  }
+}
+
 bool RestSimulation::support_vertex_fixed(int j) const { return support_fixed_.at(static_cast<std::size_t>(j)) != 0; }
 
 RestResult RestSimulation::solve() {
@@ -234,7 +246,8 @@ RestResult RestSimulation::solve() {
   constexpr double kAreaTolerance = 0.01;
   constexpr int kMaxAreaUpdates = 3;
   int area_updates = 0;
-  for (;;) {
+  double ratio = 0.0;
+  const auto solve_once = [&] {
     NewtonResult res;
     if (coupled_) {
       Eigen::VectorXd y(x_.size() + support_x_.size());
@@ -252,33 +265,34 @@ RestResult RestSimulation::solve() {
     if (!res.converged()) {
       throw Error(ErrorKind::Solver,
                   fmt::format("the resting equilibrium did not converge{}: {}",
-                              term_->contacts().empty() ? " (the body has not reached the support)" : "",
+                              term_->potential().empty() ? " (the body has not reached the support)" : "",
                               res.message));
     }
-    if (term_->contacts().empty()) {
+    if (term_->potential().empty()) {
       throw Error(ErrorKind::Solver, "the body is in equilibrium without touching the support: nothing presses it on");
     }
-    const double ratio = term_->contacts().max_depth() / options_.target_penetration;
+    ratio = term_->potential().max_depth() / options_.target_penetration;
     spdlog::info("rest: solve {}: {} Newton iterations, {} contacts, k = {:.4g} N/m, deepest penetration {} ({:.2f}× the target)",
-                 r.solves, res.iterations, term_->contacts().size(), contact_stiffness(),
-                 format_quantity(term_->contacts().max_depth(), Dimension::Length), ratio);
-    const bool k_ok = !automatic_ || (ratio > 0.85 && ratio < 1.15);
-    if (r.solves == kMaxSolves) {
-      if (!k_ok) {
-        r.message = fmt::format("the penetration is {:.2f}× the target after {} solves", ratio, kMaxSolves);
-      }
-      break;
-    }
-    // The last solve always runs with the spring areas it ends with.
+                 r.solves, res.iterations, term_->potential().size(), contact_stiffness(),
+                 format_quantity(term_->potential().max_depth(), Dimension::Length), ratio);
+  };
+  // The last solve always runs with the spring areas it ends with.
+  const auto adjust = [&](int, bool last) {
+    const double depth = term_->potential().max_depth();
+    const bool k_ok = !automatic_ || stiffness_->accepts(depth);
+    if (last) return k_ok ? Resolve::None : Resolve::Stiffness;
     const bool areas_changed =
         options_.update_areas && area_updates < kMaxAreaUpdates && term_->update_areas(kAreaTolerance) > 0.0;
     if (areas_changed) ++area_updates;
-    if (k_ok && !areas_changed) break;
     if (!k_ok) {
-      term_->set_stiffness(term_->stiffness() * std::clamp(ratio, 0.1, 10.0));
+      set_pass_stiffness(stiffness_->next(term_->stiffness(), depth));
       area_updates = 0;
+      return Resolve::Stiffness;
     }
-  }
+    return areas_changed ? Resolve::Areas : Resolve::None;
+  };
+  const EquilibriumLoopResult loop = run_equilibrium_loop(kMaxSolves, solve_once, adjust);
+  if (loop.capped()) r.message = fmt::format("the penetration is {:.2f}× the target after {} solves", ratio, kMaxSolves);
 
   const Eigen::VectorXd p = system_->positions(x_);
   r.core_translation = system_->core_translation(x_);
@@ -298,9 +312,9 @@ RestResult RestSimulation::solve() {
     if (core.locked[static_cast<std::size_t>(a)]) imbalance[a] = 0.0;
   }
   r.balance_error = r.load.norm() > 0.0 ? imbalance.norm() / r.load.norm() : imbalance.norm();
-  r.max_penetration = term_->contacts().max_depth();
+  r.max_penetration = term_->potential().max_depth();
   r.stiffness = contact_stiffness();
-  r.contacts = static_cast<int>(term_->contacts().size());
+  r.contacts = static_cast<int>(term_->potential().size());
   r.body_pressure = term_->pressures(p);
   r.min_det_f = model_->min_jacobian(system_->full_displacement(x_));
   if (support_model_) {
@@ -383,7 +397,7 @@ void RestSimulation::restore(const RestState& s) {
   }
   support_x_ = s.support;
   term_->set_areas(s.spring_areas);
-  term_->set_stiffness(s.stiffness);
+  set_pass_stiffness(s.stiffness);
   system_->set_committed(s.core);
   x_ = s.x;
 }
@@ -405,43 +419,34 @@ void RestSimulation::set_support_vertices(const Eigen::MatrixX3d& V) {
   support_area_ = geometry::vertex_areas(support_rest_, support_->triangles());
 }
 
-bool RestSimulation::shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support,
-                                      Eigen::MatrixX3d& out, std::string& failure) {
+AdjointStatus RestSimulation::shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support,
+                                               Eigen::MatrixX3d& out) {
   if (!coupled_) {
     // Y_support = X: the direct part, and the equilibrium's response through
     // the contacts' mixed blocks H_pq (K z = Pᵀ d_body, then −Σ H_qpᵀ P z).
-    const FactorStatus st = newton_->factor_hessian(*system_, x_);
-    if (st != FactorStatus::Ok) {
-      failure = fmt::format("the equilibrium's Hessian could not be factored for the adjoint ({})", to_string(st));
-      return false;
-    }
-    const Eigen::VectorXd z = newton_->factorization().solve(system_->pull_back(x_, d_body));
+    Eigen::VectorXd z;
+    const AdjointStatus st = solve_adjoint(*newton_, *system_, x_, system_->pull_back(x_, d_body), z);
+    if (!st.ok()) return st;
     const Eigen::VectorXd w = system_->push_forward(x_, z);
     const Eigen::VectorXd Y = system_->positions(x_);
-    out = d_support;
-    for (const contact::Contact& c : term_->contacts().contacts()) {
-      const contact::FeatureGeometry g = contact::feature_geometry(*support_, c.closest);
-      const contact::Matrix12d H = contact::penalty_hessian_full(Y.segment<3>(3 * c.point), g,
-                                                                 term_->contacts().stiffness_of(c, term_->stiffness()));
-      const Eigen::Vector3d wc = w.segment<3>(3 * c.point);
-      for (int i = 0; i < g.m; ++i) {
-        out.row(c.closest.vertices[static_cast<std::size_t>(i)]) -= (H.block<3, 3>(3 * (i + 1), 0) * wc).transpose();
-      }
-    }
-    return true;
+    const contact::Points points = Eigen::Map<const Eigen::Matrix3Xd>(Y.data(), 3, Y.size() / 3);
+    const Eigen::Matrix3Xd none(3, 0);
+    Eigen::Matrix3Xd on_points = Eigen::Matrix3Xd::Zero(3, points.cols());
+    Eigen::Matrix3Xd on_support = Eigen::Matrix3Xd::Zero(3, support_rest_.rows());
+    term_->potential().add_hessian_product(*support_, points, Eigen::Map<const Eigen::Matrix3Xd>(w.data(), 3, w.size() / 3),
+                                           none, on_points, on_support);
+    out = d_support - on_support.transpose();
+    return st;
   }
   // Deformable (7.21–7.23): f sees the deformed positions y only; X enters
   // the equilibrium through the support's elastic forces, so
   // df/dX = −(∂g/∂X)ᵀ z with K z = ∂f/∂y.
   const Eigen::VectorXd y = coupled_dofs();
-  const FactorStatus st = newton_->factor_hessian(*coupled_, y);
-  if (st != FactorStatus::Ok) {
-    failure = fmt::format("the equilibrium's Hessian could not be factored for the adjoint ({})", to_string(st));
-    return false;
-  }
   Eigen::VectorXd rhs(y.size());
   rhs << system_->pull_back(x_, d_body), coupled_->support_free_part(d_support);
-  const Eigen::VectorXd z = newton_->factorization().solve(rhs);
+  Eigen::VectorXd z;
+  const AdjointStatus st = solve_adjoint(*newton_, *coupled_, y, rhs, z);
+  if (!st.ok()) return st;
   // z over the support's full DOFs (0 on its base).
   Eigen::VectorXd zs = Eigen::VectorXd::Zero(support_model_->num_dofs());
   const std::vector<int>& free = support_system_->free_dofs();
@@ -449,7 +454,7 @@ bool RestSimulation::shape_derivative(const Eigen::VectorXd& d_body, const Eigen
   const Eigen::MatrixX3d G =
       support_model_->rest_gradient_product(support_system_->full_displacement(support_x_), zs);
   out = -G.topRows(support_rest_.rows());
-  return true;
+  return st;
 }
 
 UnstructuredGrid RestSimulation::body_grid(const RestResult& r) const {

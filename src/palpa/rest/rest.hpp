@@ -25,10 +25,12 @@
 #include <string>
 #include <vector>
 
+#include "palpa/body/contact_term.hpp"
 #include "palpa/body/core_system.hpp"
 #include "palpa/contact/obstacle.hpp"
+#include "palpa/contact/stiffness.hpp"
 #include "palpa/io/vtu.hpp"
-#include "palpa/sim3d/contact_term.hpp"
+#include "palpa/solve/adjoint.hpp"
 #include "palpa/solve/newton.hpp"
 #include "palpa/tet/model.hpp"
 #include "palpa/tet/system.hpp"
@@ -73,7 +75,7 @@ struct RestOptions {
   int max_iterations = 300;
   double force_tolerance = 0.0;      // [N]; 0: 1e-6 of the load over the surface vertices
   double regularization = 1e4;       // α [1/s²] before landing
-  // Spring areas follow the contact between solves (sim3d/contact_term.hpp).
+  // Spring areas follow the contact between solves (contact/spring_areas.hpp).
   // Off: they stay as they are, so the equilibrium is one smooth function of
   // the support's shape (shape optimization).
   bool update_areas = true;
@@ -176,7 +178,7 @@ class RestSimulation {
   void contact_hessian_product(const Eigen::Matrix3Xd& v_body, const Eigen::Matrix3Xd& v_support,
                                Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const;
   const Eigen::VectorXd& dofs() const noexcept { return x_; }
-  const sim3d::RigidContactTerm& contact_term() const noexcept { return *term_; }
+  const body::ContactTerm& contact_term() const noexcept { return *term_; }
   // The contact's pressure law: a depth δ means a pressure 2kδ/Ā, k this
   // stiffness [N/m]. On a deformable support the support's vertices press
   // on the body's skin too (two passes, rest/coupled.hpp), each pass with
@@ -202,11 +204,10 @@ class RestSimulation {
   // function f(Y_body, Y_support) of the body's vertex positions (3N) and the
   // support's surface positions (#V×3) at the equilibrium, given its partial
   // derivatives d_body and d_support there: the adjoint (thesis 7.17–7.23),
-  // one factorization of the equilibrium's Hessian and one back-solve.
-  // Returns false (with the reason in `failure`) when the Hessian cannot be
-  // factored.
-  bool shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support, Eigen::MatrixX3d& out,
-                        std::string& failure);
+  // one factorization of the equilibrium's Hessian and one back-solve. A
+  // Hessian that cannot be factored is a returned status (out untouched).
+  AdjointStatus shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support,
+                                 Eigen::MatrixX3d& out);
   // Keeps k and the spring areas as they are in later solves (no automatic
   // correction, no area updates): the equilibrium becomes one smooth function
   // of the support's shape.
@@ -232,13 +233,15 @@ class RestSimulation {
 
  private:
   void build_deformable_support();
+  // k of each contact pass [N/m] (both passes on a deformable support).
+  void set_pass_stiffness(double k);
 
   RestBody body_;
   RestOptions options_;
   std::unique_ptr<tet::ElasticModel> model_;
   std::unique_ptr<body::CoreSystem> system_;
   std::unique_ptr<contact::Obstacle> support_;
-  std::unique_ptr<sim3d::RigidContactTerm> term_;
+  std::unique_ptr<body::ContactTerm> term_;
   std::unique_ptr<NewtonSolver> newton_;
   std::vector<int> surface_;          // body boundary vertices not attached to the core
   Eigen::MatrixX3i surface_faces_;    // boundary faces without attached corners
@@ -248,6 +251,8 @@ class RestSimulation {
   double mean_area_ = 0.0;            // mean skin vertex area Ā [m²]
   Eigen::VectorXd x_;
   bool automatic_ = true;
+  // The automatic stiffness rule (set when automatic_).
+  std::optional<contact::StiffnessController> stiffness_;
   // The support at rest, and a deformable support's tets, system and DOFs.
   Eigen::MatrixX3d support_rest_;
   std::unique_ptr<tet::ElasticModel> support_model_;

@@ -8,7 +8,6 @@
 #include <fstream>
 #include <sstream>
 
-#include "palpa/contact/contact.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
@@ -16,6 +15,7 @@
 #include "palpa/geometry/boundary.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/io/csv.hpp"
+#include "palpa/solve/equilibrium.hpp"
 #include "palpa/tet/mesh.hpp"
 
 namespace palpa::sim3d {
@@ -97,23 +97,30 @@ Simulation::Simulation(const Scene& scene) : scene_(&scene) {
   }
   tolerance_ = scene.solver.force_tolerance > 0.0 ? scene.solver.force_tolerance : 1e-8 * young * h * h;
   automatic_stiffness_ = !(scene.contact.stiffness > 0.0);
-  target_penetration_ = scene.contact.max_penetration > 0.0 ? scene.contact.max_penetration : 0.02 * h;
+  // Only ever raised: any depth up to the target is accepted, and a
+  // correction aims 10% beyond the proportional rule so that the re-solve
+  // lands below it.
+  contact::StiffnessPolicy policy;
+  policy.target = scene.contact.max_penetration > 0.0 ? scene.contact.max_penetration : 0.02 * h;
+  policy.low = 0.0;
+  policy.high = 1.0;
+  policy.overshoot = 1.1;
+  stiffness_ = contact::StiffnessController(policy);
   double mean_area = 0.0;
   for (int v : boundary.vertices) mean_area += boundary_area_[v];
   mean_area /= std::max<double>(1.0, static_cast<double>(boundary.vertices.size()));
   // Automatic start: a vertex under a pressure of E0/10 sits at the target depth.
-  const double k0 = automatic_stiffness_ ? 0.1 * young * mean_area / (2.0 * target_penetration_) : scene.contact.stiffness;
+  const double k0 = automatic_stiffness_ ? contact::stiffness_for_pressure(0.1 * young, mean_area, policy.target)
+                                         : scene.contact.stiffness;
   for (const auto& o : obstacles_) {
-    terms_.push_back(std::make_unique<RigidContactTerm>(*o, model_->mesh().V, boundary.faces, k0));
+    terms_.push_back(std::make_unique<body::ContactTerm>(*o, model_->mesh().V, boundary.faces, k0));
     system_->add_term(terms_.back().get());
   }
 
   NewtonOptions opt;
   opt.line_search = scene.solver.line_search;
   opt.max_iterations = scene.solver.max_iterations;
-  opt.gradient_abs_tol = tolerance_;
-  opt.gradient_rel_tol = 0.0;
-  opt.gradient_accept_tol = 100.0 * tolerance_;
+  ToleranceModel{tolerance_}.apply(opt);
   newton_ = std::make_unique<NewtonSolver>(opt);
   x_ = Eigen::VectorXd::Zero(system_->num_dofs());
   pose(0);
@@ -162,7 +169,7 @@ int Simulation::solve_static(StepRecord& r) {
 int Simulation::solve_dynamic(StepRecord& r) {
   const DynamicsSpec& d = scene_->dynamics;
   tet::BackwardEulerSystem dyn(*system_, d.time_step, {d.mass_damping, d.stiffness_damping});
-  const double settle = d.settle > 0.0 ? d.settle : 1e-3 * target_penetration_;
+  const double settle = d.settle > 0.0 ? d.settle : 1e-3 * target_penetration();
   Eigen::VectorXd v = Eigen::VectorXd::Zero(x_.size());
   for (int k = 0; k < d.max_steps; ++k) {
     dyn.begin_step(x_, v);
@@ -199,50 +206,51 @@ StepRecord Simulation::solve_step(int s) {
   r.step = s;
   pose(s);
   constexpr int kMaxCorrections = 12;
-  for (int attempt = 0;; ++attempt) {
+  const auto solve_once = [&] {
     if (scene_->dynamics.enabled) {
       solve_dynamic(r);
     } else {
       solve_static(r);
       ++r.solves;
     }
-    // Spring areas follow the contact set; re-solve while they change (the
-    // last solve always runs with the areas it ends with).
-    if (attempt + 1 < kMaxCorrections) {
+  };
+  // Spring areas follow the contact set; re-solve while they change (the
+  // last solve always runs with the areas it ends with). Then k is raised
+  // where the penetration exceeds the target.
+  const auto adjust = [&](int, bool last) {
+    if (!last) {
       bool areas_changed = false;
       for (auto& t : terms_) areas_changed = t->update_areas() > 0.0 || areas_changed;
-      if (areas_changed) continue;
+      if (areas_changed) return Resolve::Areas;
     }
-    if (!automatic_stiffness_) break;
+    if (!automatic_stiffness_) return Resolve::None;
     bool raised = false;
     for (auto& t : terms_) {
-      const double depth = t->contacts().max_depth();
-      if (depth > target_penetration_) {
-        // 10% beyond the proportional rule, so the re-solve lands below the target.
-        t->set_stiffness(1.1 * contact::corrected_stiffness(t->stiffness(), depth, target_penetration_));
-        raised = true;
-      }
+      const double depth = t->potential().max_depth();
+      if (stiffness_.accepts(depth)) continue;
+      if (!last) t->set_stiffness(stiffness_.next(t->stiffness(), depth));
+      raised = true;
     }
-    if (!raised) break;
-    if (attempt + 1 == kMaxCorrections) {
-      throw Error(ErrorKind::Solver,
-                  fmt::format("step {}: the penetration stays above the target {:.3g} mm after {} stiffness "
-                              "corrections; give contact.stiffness or a larger contact.max_penetration",
-                              s, target_penetration_ * 1e3, kMaxCorrections));
-    }
+    return raised ? Resolve::Stiffness : Resolve::None;
+  };
+  if (run_equilibrium_loop(kMaxCorrections, solve_once, adjust).capped()) {
+    throw Error(ErrorKind::Solver,
+                fmt::format("step {}: the penetration stays above the target {:.3g} mm after {} stiffness "
+                            "corrections; give contact.stiffness or a larger contact.max_penetration",
+                            s, target_penetration() * 1e3, kMaxCorrections));
   }
   const Eigen::VectorXd p = system_->positions(system_->full_displacement(x_));
   for (std::size_t i = 0; i < terms_.size(); ++i) {
     const ObstacleSpec& spec = scene_->obstacles[i];
-    const RigidContactTerm& t = *terms_[i];
+    const body::ContactTerm& t = *terms_[i];
     ObstacleResult o;
     o.depth = spec.has_path ? spec.depth * static_cast<double>(s) / scene_->steps : 0.0;
     const contact::Wrench w = t.obstacle_wrench(p, obstacles_[i]->pose().t);
     o.force = w.force;
     o.torque = w.torque;
     o.indentation_force = spec.has_path ? -w.force.dot(spec.direction) : w.force.norm();
-    o.contacts = static_cast<int>(t.contacts().size());
-    o.max_penetration = t.contacts().max_depth();
+    o.contacts = static_cast<int>(t.potential().size());
+    o.max_penetration = t.potential().max_depth();
     o.stiffness = t.stiffness();
     r.obstacles.push_back(o);
     r.detection_seconds += t.detection_seconds();

@@ -6,8 +6,8 @@
 // Each step: pose every obstacle, then solve from the previous step's state
 // (Newton, CHOLMOD with the symbolic analysis reused). With an automatic
 // contact stiffness (a target maximum penetration), a step whose deepest
-// penetration exceeds the target is solved again with k raised by
-// contact::corrected_stiffness (the stiffness only grows, so later steps start
+// penetration exceeds the target is solved again with k raised by the
+// contact::StiffnessController (the stiffness only grows, so later steps start
 // from a k that already suits them).
 //
 // Force tolerance (automatic): 1e-8·E0·h² [N], E0 the largest small-strain
@@ -29,11 +29,12 @@
 #include <string>
 #include <vector>
 
+#include "palpa/body/contact_term.hpp"
 #include "palpa/contact/obstacle.hpp"
+#include "palpa/contact/stiffness.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/core/progress.hpp"
 #include "palpa/io/vtu.hpp"
-#include "palpa/sim3d/contact_term.hpp"
 #include "palpa/sim3d/local.hpp"
 #include "palpa/sim3d/scene.hpp"
 #include "palpa/solve/newton.hpp"
@@ -79,9 +80,9 @@ class Simulation {
   const ActiveRegion* region() const noexcept { return region_.get(); }
   std::size_t num_obstacles() const noexcept { return obstacles_.size(); }
   const contact::Obstacle& obstacle(std::size_t i) const { return *obstacles_[i]; }
-  const RigidContactTerm& contact_term(std::size_t i) const { return *terms_[i]; }
+  const body::ContactTerm& contact_term(std::size_t i) const { return *terms_[i]; }
   double force_tolerance() const noexcept { return tolerance_; }
-  double target_penetration() const noexcept { return target_penetration_; }
+  double target_penetration() const noexcept { return stiffness_.policy().target; }
 
   // Poses the obstacles for step s (0 = start) and solves from the current
   // state. Throws palpa::Error (Solver) if Newton fails, naming the step and
@@ -110,12 +111,13 @@ class Simulation {
   std::unique_ptr<tet::ElasticModel> model_;
   std::unique_ptr<tet::StaticSystem> system_;
   std::vector<std::unique_ptr<contact::Obstacle>> obstacles_;
-  std::vector<std::unique_ptr<RigidContactTerm>> terms_;
+  std::vector<std::unique_ptr<body::ContactTerm>> terms_;
   std::unique_ptr<NewtonSolver> newton_;
   Eigen::VectorXd x_;
   Eigen::VectorXd boundary_area_;  // per simulated vertex [m²]
   double tolerance_ = 0.0;
-  double target_penetration_ = 0.0;
+  // Raises k where a step's penetration exceeds the target (automatic only).
+  contact::StiffnessController stiffness_{contact::StiffnessPolicy{}};
   bool automatic_stiffness_ = false;
 };
 

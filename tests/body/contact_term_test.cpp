@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-// The rigid-contact term inside a tet system: gradient and Hessian against
+// The contact term inside a tet system: gradient and Hessian against
 // finite differences with the anchors on a face interior, an edge interior and
 // a vertex of the obstacle (Appendix A's three cases), and the forces balance.
 #include <gtest/gtest.h>
@@ -11,10 +11,10 @@
 #include "common/test_support.hpp"
 #include "palpa/geometry/boundary.hpp"
 #include "palpa/material/models.hpp"
-#include "palpa/sim3d/contact_term.hpp"
+#include "palpa/body/contact_term.hpp"
 #include "palpa/tet/mesh.hpp"
 
-namespace palpa::sim3d {
+namespace palpa::body {
 namespace {
 
 using palpa::test::derivatives_match;
@@ -71,7 +71,7 @@ TEST_P(ContactTermRegions, SystemDerivativesMatchFiniteDifferences) {
   const tet::ElasticModel model(box.mesh, {tet::BodyMaterial{std::make_shared<material::NeoHookean>(5e3, 0.3), 1000.0}});
   contact::Obstacle obstacle(notched_cube(), "notch");
   obstacle.set_pose({Eigen::Matrix3d::Identity(), -c.corner});  // obstacle frame origin at −corner
-  RigidContactTerm term(obstacle, box.mesh.V, geometry::boundary_of(box.mesh).faces, 2e3);
+  ContactTerm term(obstacle, box.mesh.V, geometry::boundary_of(box.mesh).faces, 2e3);
   tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0));
   sys.add_term(&term);
   sys.set_gravity(Eigen::Vector3d(0.0, 0.0, -9.81));
@@ -81,8 +81,8 @@ TEST_P(ContactTermRegions, SystemDerivativesMatchFiniteDifferences) {
   Eigen::VectorXd x(sys.num_dofs());
   for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = du(rng);
   sys.prepare(x);
-  ASSERT_EQ(term.contacts().size(), 8u) << c.name;
-  for (const contact::Contact& k : term.contacts().contacts()) EXPECT_EQ(k.closest.feature, c.feature) << c.name;
+  ASSERT_EQ(term.potential().size(), 8u) << c.name;
+  for (const contact::Contact& k : term.potential().contacts()) EXPECT_EQ(k.closest.feature, c.feature) << c.name;
 
   Eigen::VectorXd g;
   const double e = sys.energy_gradient(x, g);
@@ -115,4 +115,4 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace
-}  // namespace palpa::sim3d
+}  // namespace palpa::body

@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+#include "palpa/body/contact_term.hpp"
+
+#include <chrono>
+
+namespace palpa::body {
+
+namespace {
+
+contact::Points as_points(const Eigen::VectorXd& x) {
+  return Eigen::Map<const Eigen::Matrix3Xd>(x.data(), 3, x.size() / 3);
+}
+
+class Timer {
+ public:
+  Timer(std::atomic<std::int64_t>& ns, std::atomic<std::int64_t>& count)
+      : ns_(ns), count_(count), start_(std::chrono::steady_clock::now()) {}
+  ~Timer() {
+    ns_ += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start_).count();
+    ++count_;
+  }
+  Timer(const Timer&) = delete;
+  Timer& operator=(const Timer&) = delete;
+
+ private:
+  std::atomic<std::int64_t>& ns_;
+  std::atomic<std::int64_t>& count_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+ContactTerm::ContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX3d& rest, Eigen::MatrixX3i faces,
+                         double k)
+    : obstacle_(&obstacle),
+      areas_(rest, std::move(faces), obstacle.name()),
+      potential_(areas_.surface(), k, obstacle.name()) {
+  potential_.set_scale(areas_.scale());
+}
+
+double ContactTerm::energy(const Eigen::VectorXd& x) const {
+  const Timer t(detection_ns_, detections_);
+  return potential_.detected_energy(*obstacle_, as_points(x));
+}
+
+double ContactTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
+  if (potential_.empty()) return 0.0;
+  Eigen::Map<Eigen::Matrix3Xd> grad(g.data(), 3, g.size() / 3);
+  potential_.add_gradient(*obstacle_, as_points(x), grad);
+  return potential_.energy(*obstacle_, as_points(x));
+}
+
+void ContactTerm::add_hessian(const Eigen::VectorXd&, bool, std::vector<std::pair<int, Eigen::Matrix3d>>& blocks) const {
+  // 2k P⊥ is the true Hessian of the committed energy in p (positive
+  // semi-definite), so both modes use it.
+  potential_.for_each_point_hessian(*obstacle_, [&](int point, const Eigen::Matrix3d& block) {
+    blocks.emplace_back(point, block);
+  });
+}
+
+void ContactTerm::prepare(const Eigen::VectorXd& x) {
+  const Timer t(detection_ns_, detections_);
+  potential_.commit(*obstacle_, as_points(x));
+}
+
+double ContactTerm::update_areas(double min_change) {
+  const double change = areas_.update(potential_.contacts(), min_change);
+  if (change > 0.0) potential_.set_scale(areas_.scale());
+  return change;
+}
+
+void ContactTerm::set_areas(const std::vector<double>& areas) {
+  areas_.set(areas);
+  potential_.set_scale(areas_.scale());
+}
+
+Eigen::Matrix3Xd ContactTerm::vertex_forces(const Eigen::VectorXd& x) const {
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.size() / 3);
+  Eigen::Matrix3Xd none(3, 0);
+  potential_.add_forces(*obstacle_, as_points(x), f, none);
+  return f;
+}
+
+Eigen::VectorXd ContactTerm::pressures(const Eigen::VectorXd& x) const {
+  const Eigen::Matrix3Xd f = vertex_forces(x);
+  const std::vector<double>& area = areas_.areas();
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(f.cols());
+  for (Eigen::Index v = 0; v < f.cols(); ++v) {
+    if (area[static_cast<std::size_t>(v)] > 0.0) p[v] = f.col(v).norm() / area[static_cast<std::size_t>(v)];
+  }
+  return p;
+}
+
+contact::Wrench ContactTerm::obstacle_wrench(const Eigen::VectorXd& x, const Eigen::Vector3d& about) const {
+  return potential_.obstacle_wrench(*obstacle_, as_points(x), about);
+}
+
+}  // namespace palpa::body

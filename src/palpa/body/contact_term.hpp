@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+#pragma once
+// Penalty contact of a tet body's skin vertices with one obstacle (thesis
+// §7.3.4–7.3.5, Appendix A), as a vertex term of the tet systems: the forward
+// pass of contact::PenaltyContact with springs scaled by contact::SpringAreas.
+// The obstacle is the rigid indenter or support, or a deformable support's
+// boundary surface (rest/coupled.hpp moves it).
+//
+// energy(x) detects afresh at x (a line-search trial sees its own contacts);
+// prepare(x) commits the contact set of an accepted iterate; the gradient and
+// Hessian use the committed features with sliding anchors (exact derivatives
+// of the committed energy). Collision-detection time is accumulated for the
+// benchmarks and the summary.
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "palpa/contact/obstacle.hpp"
+#include "palpa/contact/penalty_contact.hpp"
+#include "palpa/contact/spring_areas.hpp"
+#include "palpa/tet/system.hpp"
+
+namespace palpa::body {
+
+class ContactTerm final : public tet::VertexTerm {
+ public:
+  // obstacle: must outlive the term; its pose may change between solves.
+  // rest: the body's rest positions (#V×3) [m]; faces: its skin triangles
+  // (rows of rest, outward), whose vertices are the ones that can touch.
+  // k [N/m]: the spring of a vertex of mean skin area (contact/spring_areas.hpp).
+  ContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX3d& rest, Eigen::MatrixX3i faces, double k);
+
+  double stiffness() const noexcept { return potential_.stiffness(); }
+  void set_stiffness(double k) { potential_.set_stiffness(k); }
+  const contact::Obstacle& obstacle() const noexcept { return *obstacle_; }
+  const std::vector<int>& surface() const noexcept { return areas_.surface(); }
+  // The committed contacts and the potential they make.
+  const contact::PenaltyContact& potential() const noexcept { return potential_; }
+
+  double energy(const Eigen::VectorXd& x) const override;
+  double add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
+  void add_hessian(const Eigen::VectorXd& x, bool true_hessian,
+                   std::vector<std::pair<int, Eigen::Matrix3d>>& blocks) const override;
+  void prepare(const Eigen::VectorXd& x) override;
+  bool active() const override { return !potential_.empty(); }
+
+  // The spring-area law (contact/spring_areas.hpp) over the committed contacts.
+  double update_areas(double min_change = 0.0);
+  void set_areas(const std::vector<double>& areas);
+  double mean_area() const noexcept { return areas_.mean_area(); }
+  const std::vector<double>& spring_area() const noexcept { return areas_.areas(); }
+
+  // Contact force on every body vertex at positions x (3N) [N] (3×N).
+  Eigen::Matrix3Xd vertex_forces(const Eigen::VectorXd& x) const;
+  // Contact pressure per body vertex at x [Pa]: |f_i| over its spring area
+  // (2kδ_i/Ā), 0 off contact.
+  Eigen::VectorXd pressures(const Eigen::VectorXd& x) const;
+  // The wrench on the obstacle about `about` [m].
+  contact::Wrench obstacle_wrench(const Eigen::VectorXd& x, const Eigen::Vector3d& about) const;
+
+  // Seconds spent in collision detection since construction (or reset).
+  double detection_seconds() const noexcept { return static_cast<double>(detection_ns_.load()) * 1e-9; }
+  std::int64_t detections() const noexcept { return detections_.load(); }
+  void reset_timers() noexcept {
+    detection_ns_ = 0;
+    detections_ = 0;
+  }
+
+ private:
+  const contact::Obstacle* obstacle_;
+  contact::SpringAreas areas_;
+  contact::PenaltyContact potential_;
+  mutable std::atomic<std::int64_t> detection_ns_{0};
+  mutable std::atomic<std::int64_t> detections_{0};
+};
+
+}  // namespace palpa::body
