@@ -82,7 +82,7 @@ TEST_P(ContactTermRegions, SystemDerivativesMatchFiniteDifferences) {
   for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = du(rng);
   sys.prepare(x);
   ASSERT_EQ(term.potential().size(), 8u) << c.name;
-  for (const contact::Contact& k : term.potential().contacts()) EXPECT_EQ(k.closest.feature, c.feature) << c.name;
+  for (const contact::SampleContact& k : term.potential().contacts()) EXPECT_EQ(k.closest.feature, c.feature) << c.name;
 
   Eigen::VectorXd g;
   const double e = sys.energy_gradient(x, g);

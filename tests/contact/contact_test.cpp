@@ -88,13 +88,13 @@ TEST(ContactDetection, ReusesItsStorage) {
 
 TEST(ContactDetection, DetectedEnergyEqualsCommittedEnergyAtThePreparedPoint) {
   Scene s;
-  PenaltyContact set(s.which, kPenalty, "torus");
+  PenaltyContact set(vertex_samples(s.which), kPenalty, "torus");
   set.commit(s.obstacle, s.points);
   const double detected = set.detected_energy(s.obstacle, s.points);
   EXPECT_GT(detected, 0.0);
   EXPECT_NEAR(set.energy(s.obstacle, s.points), detected, 1e-12 * detected);
   double sum = 0.0;
-  for (const Contact& c : set.contacts())
+  for (const SampleContact& c : set.contacts())
     sum += kPenalty * c.closest.distance * c.closest.distance;
   EXPECT_NEAR(sum, detected, 1e-12 * detected);
   EXPECT_GT(set.max_depth(), 0.0);
@@ -103,7 +103,7 @@ TEST(ContactDetection, DetectedEnergyEqualsCommittedEnergyAtThePreparedPoint) {
 
 TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePreparedPoint) {
   Scene s(400);
-  PenaltyContact set(s.which, kPenalty, "torus");
+  PenaltyContact set(vertex_samples(s.which), kPenalty, "torus");
   set.commit(s.obstacle, s.points);
   ASSERT_GT(set.size(), 5U);
   // Evaluate at moved points: the anchors slide on the committed features.
@@ -117,8 +117,8 @@ TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePrepar
   };
   // Only the contact points' coordinates matter: check those.
   std::vector<Eigen::Index> dofs;
-  for (const Contact& c : set.contacts()) {
-    for (int k = 0; k < 3; ++k) dofs.push_back(3 * c.point + k);
+  for (const SampleContact& c : set.contacts()) {
+    for (int k = 0; k < 3; ++k) dofs.push_back(3 * s.which[static_cast<std::size_t>(c.sample)] + k);
   }
   const auto restrict = [&](const Eigen::VectorXd& full) {
     Eigen::VectorXd r(static_cast<Eigen::Index>(dofs.size()));
@@ -142,8 +142,10 @@ TEST(ContactCommitted, GradientAndHessianMatchFiniteDifferencesAwayFromThePrepar
   EXPECT_TRUE(derivatives_match(gradient(r), fd_gradient(energy, r, 1e-6), 1e-7));
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(r.size(), r.size());
   Eigen::Index c = 0;
-  set.for_each_point_hessian(s.obstacle, [&](int point, const Eigen::Matrix3d& block) {
-    EXPECT_EQ(point, set.contacts()[static_cast<std::size_t>(c)].point);
+  set.for_each_surface_hessian(s.obstacle, [&](int a, int b, const Eigen::Matrix3d& block) {
+    const int point = s.which[static_cast<std::size_t>(set.contacts()[static_cast<std::size_t>(c)].sample)];
+    EXPECT_EQ(a, point);
+    EXPECT_EQ(b, point);
     H.block<3, 3>(3 * c, 3 * c) = block;
     ++c;
   });
@@ -156,7 +158,7 @@ struct SphereScene {
   SurfaceMesh sphere = test::sphere_mesh(0.03, 1);
   Obstacle obstacle{sphere, "sphere"};
   Eigen::Matrix3Xd points{3, 3};
-  PenaltyContact contact{{0, 1, 2}, kPenalty, "sphere"};
+  PenaltyContact contact{vertex_samples(std::vector<int>{0, 1, 2}), kPenalty, "sphere"};
 
   SphereScene() {
     points << 0.025, -0.01, 0.0,  //
@@ -235,28 +237,28 @@ TEST(ContactCommitted, ExcludedFeaturesAreNoContacts) {
   const Obstacle box(test::cube_mesh(0.01), "box");
   Eigen::Matrix3Xd points(3, 2);
   points << 0.002, -0.002, 0.003, -0.003, 0.0098, 0.0097;
-  PenaltyContact all({0, 1}, kPenalty, "box");
+  PenaltyContact all(vertex_samples(std::vector<int>{0, 1}), kPenalty, "box");
   all.commit(box, points);
   ASSERT_EQ(all.size(), 2U);
   std::vector<char> excluded(static_cast<std::size_t>(box.vertices().rows()), 0);
   for (int i = 0; i < feature_size(all.contacts()[0].closest.feature); ++i) {
     excluded[static_cast<std::size_t>(all.contacts()[0].closest.vertices[static_cast<std::size_t>(i)])] = 1;
   }
-  PenaltyContact some({0, 1}, kPenalty, "box");
+  PenaltyContact some(vertex_samples(std::vector<int>{0, 1}), kPenalty, "box");
   some.set_excluded(excluded);
   some.commit(box, points);
   const bool shared = std::any_of(all.contacts()[1].closest.vertices.begin(),
                                   all.contacts()[1].closest.vertices.end(),
                                   [&](int v) { return v >= 0 && excluded[static_cast<std::size_t>(v)] != 0; });
   ASSERT_EQ(some.size(), shared ? 0U : 1U);
-  if (!shared) EXPECT_EQ(some.contacts()[0].point, 1);
+  if (!shared) EXPECT_EQ(some.contacts()[0].sample, 1);
   EXPECT_NEAR(some.detected_energy(box, points), some.energy(box, points), 1e-12 * all.energy(box, points));
   EXPECT_LT(some.detected_energy(box, points), all.detected_energy(box, points));
 }
 
 TEST(ContactForces, BalanceForceAndTorque) {
   Scene s;
-  PenaltyContact set(s.which, kPenalty, "torus");
+  PenaltyContact set(vertex_samples(s.which), kPenalty, "torus");
   set.commit(s.obstacle, s.points);
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, s.points.cols());
   Eigen::Matrix3Xd on_obstacle = Eigen::Matrix3Xd::Zero(3, s.obstacle.vertices().rows());
@@ -284,8 +286,9 @@ TEST(ContactForces, BalanceForceAndTorque) {
   EXPECT_LT((-gq.rowwise().sum() - w.force).norm(), 1e-12 * w.force.norm());
   EXPECT_LT((vertex_torque - w.torque).norm(), 1e-10 * w.torque.norm());
   // Forces push out: each points from the point to its anchor.
-  for (const Contact& c : set.contacts()) {
-    EXPECT_GT(f.col(c.point).dot(c.closest.point - s.points.col(c.point)), 0.0);
+  for (const SampleContact& c : set.contacts()) {
+    const int point = s.which[static_cast<std::size_t>(c.sample)];
+    EXPECT_GT(f.col(point).dot(c.closest.point - s.points.col(point)), 0.0);
   }
 }
 
@@ -294,7 +297,7 @@ TEST(ContactForces, PressureOnAFlatFace) {
   const Obstacle box(test::cube_mesh(0.01), "box");
   Eigen::Matrix3Xd points(3, 2);
   points << 0.001, 0.5, 0.002, 0.5, 0.0098, 0.5;  // the second is far outside
-  PenaltyContact set({0, 1}, kPenalty, "box");
+  PenaltyContact set(vertex_samples(std::vector<int>{0, 1}), kPenalty, "box");
   set.commit(box, points);
   ASSERT_EQ(set.size(), 1U);
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 2), none(3, 0);
@@ -303,7 +306,7 @@ TEST(ContactForces, PressureOnAFlatFace) {
   EXPECT_LT(f.col(0).head<2>().norm(), 1e-12 * f(2, 0));
   EXPECT_EQ(f.col(1).norm(), 0.0);
   // Per-point spring factors scale the force.
-  PenaltyContact scaled({0, 1}, kPenalty, "box");
+  PenaltyContact scaled(vertex_samples(std::vector<int>{0, 1}), kPenalty, "box");
   scaled.set_scale({0.5, 3.0});
   scaled.commit(box, points);
   Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, 2);

@@ -22,7 +22,7 @@ namespace {
 class LoadedPoints : public System {
  public:
   LoadedPoints(const Obstacle& obstacle, Eigen::Matrix3Xd rest, double s, double F, double k)
-      : obstacle_(obstacle), rest_(std::move(rest)), s_(s), F_(F), committed_(all(rest_.cols()), k, "box") {}
+      : obstacle_(obstacle), rest_(std::move(rest)), s_(s), F_(F), committed_(vertex_samples(all(rest_.cols())), k, "box") {}
   Eigen::Index num_dofs() const override { return rest_.size(); }
 
   double energy(const Eigen::VectorXd& x) const override {
@@ -41,7 +41,7 @@ class LoadedPoints : public System {
     // Lower triangles of the 3×3 diagonal blocks: a fixed pattern.
     std::vector<Eigen::Matrix3d> block(static_cast<std::size_t>(rest_.cols()),
                                        s_ * Eigen::Matrix3d::Identity());
-    committed_.for_each_point_hessian(obstacle_, [&](int point, const Eigen::Matrix3d& b) {
+    committed_.for_each_surface_hessian(obstacle_, [&](int point, int, const Eigen::Matrix3d& b) {
       block[static_cast<std::size_t>(point)] += b;
     });
     std::vector<Eigen::Triplet<double>> t;

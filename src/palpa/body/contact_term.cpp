@@ -34,8 +34,16 @@ ContactTerm::ContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX
                          double k)
     : obstacle_(&obstacle),
       areas_(rest, std::move(faces), obstacle.name()),
-      potential_(areas_.surface(), k, obstacle.name()) {
-  potential_.set_scale(areas_.scale());
+      potential_(contact::vertex_samples(areas_.surface()), k, obstacle.name()) {
+  rescale();
+}
+
+void ContactTerm::rescale() {
+  // Sample s sits on skin vertex surface()[s].
+  const std::vector<int>& surface = areas_.surface();
+  std::vector<double> scale(surface.size());
+  for (std::size_t s = 0; s < surface.size(); ++s) scale[s] = areas_.scale()[static_cast<std::size_t>(surface[s])];
+  potential_.set_scale(std::move(scale));
 }
 
 double ContactTerm::energy(const Eigen::VectorXd& x) const {
@@ -53,8 +61,8 @@ double ContactTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) c
 void ContactTerm::add_hessian(const Eigen::VectorXd&, bool, std::vector<std::pair<int, Eigen::Matrix3d>>& blocks) const {
   // 2k P⊥ is the true Hessian of the committed energy in p (positive
   // semi-definite), so both modes use it.
-  potential_.for_each_point_hessian(*obstacle_, [&](int point, const Eigen::Matrix3d& block) {
-    blocks.emplace_back(point, block);
+  potential_.for_each_surface_hessian(*obstacle_, [&](int a, int, const Eigen::Matrix3d& block) {
+    blocks.emplace_back(a, block);  // vertex samples: a = b
   });
 }
 
@@ -64,14 +72,17 @@ void ContactTerm::prepare(const Eigen::VectorXd& x) {
 }
 
 double ContactTerm::update_areas(double min_change) {
-  const double change = areas_.update(potential_.contacts(), min_change);
-  if (change > 0.0) potential_.set_scale(areas_.scale());
+  std::vector<int> touching;
+  touching.reserve(potential_.size());
+  for (const contact::SampleContact& c : potential_.contacts()) touching.push_back(areas_.surface()[static_cast<std::size_t>(c.sample)]);
+  const double change = areas_.update(touching, min_change);
+  if (change > 0.0) rescale();
   return change;
 }
 
 void ContactTerm::set_areas(const std::vector<double>& areas) {
   areas_.set(areas);
-  potential_.set_scale(areas_.scale());
+  rescale();
 }
 
 Eigen::Matrix3Xd ContactTerm::vertex_forces(const Eigen::VectorXd& x) const {

@@ -35,7 +35,8 @@ class ContactTerm final : public tet::VertexTerm {
   void set_stiffness(double k) { potential_.set_stiffness(k); }
   const contact::Obstacle& obstacle() const noexcept { return *obstacle_; }
   const std::vector<int>& surface() const noexcept { return areas_.surface(); }
-  // The committed contacts and the potential they make.
+  // The committed contacts and the potential they make; sample s sits on
+  // skin vertex surface()[s].
   const contact::PenaltyContact& potential() const noexcept { return potential_; }
 
   double energy(const Eigen::VectorXd& x) const override;
@@ -68,6 +69,9 @@ class ContactTerm final : public tet::VertexTerm {
   }
 
  private:
+  // The samples' spring factors from the spring areas.
+  void rescale();
+
   const contact::Obstacle* obstacle_;
   contact::SpringAreas areas_;
   contact::PenaltyContact potential_;

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <Eigen/Geometry>
@@ -17,24 +18,89 @@ namespace palpa::contact {
 
 namespace {
 
-// Points per task of the parallel loops: a closest-point query costs ~1 µs.
-constexpr std::size_t kDetectionGrain = 256;
+// Samples per task of the parallel loops: a closest-point query costs ~1 µs.
+constexpr std::size_t kSampleGrain = 256;
 
 }  // namespace
 
-PenaltyContact::PenaltyContact(std::vector<int> candidates, double k, std::string name)
-    : name_(std::move(name)), candidates_(std::move(candidates)) {
+ContactSamples vertex_samples(std::span<const int> vertices) {
+  ContactSamples s;
+  s.vertices.reserve(vertices.size());
+  for (int v : vertices) s.vertices.push_back({v, -1, -1});
+  s.weights.assign(vertices.size(), Eigen::Vector3d(1.0, 0.0, 0.0));
+  s.scale.assign(vertices.size(), 1.0);
+  return s;
+}
+
+TriangleRule subdivision_rule(int n) {
+  if (n < 1) throw Error(ErrorKind::Input, fmt::format("a triangle rule needs n ≥ 1 subdivisions, got {}", n));
+  TriangleRule r;
+  const double h = 1.0 / n, w = 1.0 / (static_cast<double>(n) * n);
+  // Sub-triangles in barycentric steps (i, j) of the first two coordinates:
+  // "up" triangles (i, j), (i+1, j), (i, j+1) and "down" ones (i+1, j),
+  // (i, j+1), (i+1, j+1); their centroids.
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; i + j < n; ++j) {
+      const double a = (i + 1.0 / 3.0) * h, b = (j + 1.0 / 3.0) * h;
+      r.barycentric.emplace_back(a, b, 1.0 - a - b);
+      r.weight.push_back(w);
+      if (i + j + 1 < n) {
+        const double c = (i + 2.0 / 3.0) * h, d = (j + 2.0 / 3.0) * h;
+        r.barycentric.emplace_back(c, d, 1.0 - c - d);
+        r.weight.push_back(w);
+      }
+    }
+  }
+  return r;
+}
+
+ContactSamples surface_samples(const Eigen::MatrixX3d& rest, const Eigen::MatrixX3i& faces, const TriangleRule& rule) {
+  ContactSamples s;
+  const std::size_t n = static_cast<std::size_t>(faces.rows()) * rule.weight.size();
+  s.vertices.reserve(n);
+  s.weights.reserve(n);
+  s.scale.reserve(n);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Eigen::Vector3d a = rest.row(faces(f, 0)), b = rest.row(faces(f, 1)), c = rest.row(faces(f, 2));
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    if (!(area > 0.0)) {
+      throw Error(ErrorKind::Input, fmt::format("surface triangle {} (vertices {}, {}, {}) has no area", f, faces(f, 0),
+                                                faces(f, 1), faces(f, 2)));
+    }
+    for (std::size_t q = 0; q < rule.weight.size(); ++q) {
+      s.vertices.push_back({faces(f, 0), faces(f, 1), faces(f, 2)});
+      s.weights.push_back(rule.barycentric[q]);
+      s.scale.push_back(0.5 * rule.weight[q] * area);
+    }
+  }
+  return s;
+}
+
+Eigen::Matrix3d Stencil::block(const Matrix12d& H, int a, int b) const {
+  const auto index = [&](int slot) { return on_surface(slot) ? 0 : slot - n + 1; };
+  const auto factor = [&](int slot) { return on_surface(slot) ? weight[slot] : 1.0; };
+  const Eigen::Matrix3d h = H.block<3, 3>(3 * index(a), 3 * index(b));
+  if (n == 1) return h;  // a vertex sample: N = 1
+  return factor(a) * factor(b) * h;
+}
+
+PenaltyContact::PenaltyContact(ContactSamples samples, double k, std::string name)
+    : name_(std::move(name)), samples_(std::move(samples)) {
+  assert(samples_.weights.size() == samples_.size() && samples_.scale.size() == samples_.size());
   set_stiffness(k);
 }
 
 void PenaltyContact::set_stiffness(double k) {
   if (!std::isfinite(k) || !(k > 0.0)) {
-    throw Error(ErrorKind::Input, fmt::format("{}: contact stiffness must be > 0 N/m, got {}", name_, k));
+    throw Error(ErrorKind::Input, fmt::format("{}: contact stiffness must be > 0, got {}", name_, k));
   }
   k_ = k;
 }
 
-void PenaltyContact::set_scale(std::vector<double> scale) { scale_ = std::move(scale); }
+void PenaltyContact::set_scale(std::vector<double> scale) {
+  assert(scale.size() == samples_.size());
+  samples_.scale = std::move(scale);
+}
 
 void PenaltyContact::set_excluded(std::vector<char> excluded_obstacle_vertices) {
   excluded_ = std::move(excluded_obstacle_vertices);
@@ -48,13 +114,23 @@ bool PenaltyContact::excluded(const ClosestPoint& c) const {
   return false;
 }
 
-double PenaltyContact::stiffness_of(const Contact& c) const {
-  return scale_.empty() ? k_ : k_ * scale_[static_cast<std::size_t>(c.point)];
+Eigen::Vector3d PenaltyContact::position(int sample, Points points) const {
+  const std::size_t s = static_cast<std::size_t>(sample);
+  const std::array<int, 3>& v = samples_.vertices[s];
+  if (v[1] < 0) return points.col(v[0]);  // a vertex sample: exactly the vertex
+  const Eigen::Vector3d& N = samples_.weights[s];
+  Eigen::Vector3d x = N[0] * points.col(v[0]) + N[1] * points.col(v[1]);
+  if (v[2] >= 0) x += N[2] * points.col(v[2]);
+  return x;
 }
 
-Stencil PenaltyContact::stencil_of(const Contact& c) const {
+Stencil PenaltyContact::stencil_of(const SampleContact& c) const {
   Stencil s;
-  s.point = c.point;
+  const std::size_t i = static_cast<std::size_t>(c.sample);
+  s.sample = c.sample;
+  s.n = samples_.count(i);
+  s.surface_vertex = samples_.vertices[i];
+  s.weight = samples_.weights[i];
   s.m = feature_size(c.closest.feature);
   s.obstacle_vertex = c.closest.vertices;
   return s;
@@ -62,14 +138,12 @@ Stencil PenaltyContact::stencil_of(const Contact& c) const {
 
 double PenaltyContact::detected_energy(const Obstacle& obstacle, Points points) const {
   return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, candidates_.size(), kDetectionGrain), 0.0,
+      tbb::blocked_range<std::size_t>(0, samples_.size(), kSampleGrain), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double sum) {
         ClosestPoint c;
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          const int point = candidates_[i];
-          if (!obstacle.penetration(points.col(point), c) || excluded(c)) continue;
-          const double k = scale_.empty() ? k_ : k_ * scale_[static_cast<std::size_t>(point)];
-          sum += k * c.distance * c.distance;
+        for (std::size_t s = r.begin(); s != r.end(); ++s) {
+          if (!obstacle.penetration(position(static_cast<int>(s), points), c) || excluded(c)) continue;
+          sum += k_ * samples_.scale[s] * c.distance * c.distance;
         }
         return sum;
       },
@@ -77,40 +151,64 @@ double PenaltyContact::detected_energy(const Obstacle& obstacle, Points points) 
 }
 
 void PenaltyContact::commit(const Obstacle& obstacle, Points points) {
-  detection_.detect(obstacle, points, candidates_);
+  slot_.resize(samples_.size());
+  hit_.resize(samples_.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples_.size(), kSampleGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t s = r.begin(); s != r.end(); ++s) {
+                        hit_[s] = obstacle.penetration(position(static_cast<int>(s), points), slot_[s]) &&
+                                          !excluded(slot_[s])
+                                      ? 1
+                                      : 0;
+                      }
+                    });
   contacts_.clear();
-  for (const Contact& c : detection_.contacts()) {
-    if (!excluded(c.closest)) contacts_.push_back(c);
+  for (std::size_t s = 0; s < samples_.size(); ++s) {
+    if (hit_[s] != 0) contacts_.push_back({static_cast<int>(s), slot_[s]});
   }
 }
 
 double PenaltyContact::max_depth() const {
   double m = 0.0;
-  for (const Contact& c : contacts_) m = std::max(m, c.closest.distance);
+  for (const SampleContact& c : contacts_) m = std::max(m, c.closest.distance);
   return m;
 }
 
 double PenaltyContact::energy(const Obstacle& obstacle, Points points) const {
   double e = 0.0;
-  for (const Contact& c : contacts_) {
-    e += penalty_energy(points.col(c.point), feature_geometry(obstacle, c.closest), stiffness_of(c));
+  for (const SampleContact& c : contacts_) {
+    e += penalty_energy(position(c.sample, points), feature_geometry(obstacle, c.closest), stiffness_of(c));
   }
   return e;
 }
 
+namespace {
+
+// g_v += N_i·g over the sample's surface vertices.
+void scatter(const Stencil& st, const Eigen::Vector3d& g, Eigen::Ref<Eigen::Matrix3Xd> out) {
+  if (st.n == 1) {
+    out.col(st.surface_vertex[0]) += g;
+    return;
+  }
+  for (int i = 0; i < st.n; ++i) out.col(st.surface_vertex[static_cast<std::size_t>(i)]) += st.weight[i] * g;
+}
+
+}  // namespace
+
 void PenaltyContact::add_gradient(const Obstacle& obstacle, Points points, Eigen::Ref<Eigen::Matrix3Xd> grad) const {
   assert(grad.cols() == points.cols());
-  for (const Contact& c : contacts_) {
-    grad.col(c.point) += penalty_gradient(points.col(c.point), feature_geometry(obstacle, c.closest), stiffness_of(c));
+  for (const SampleContact& c : contacts_) {
+    scatter(stencil_of(c), penalty_gradient(position(c.sample, points), feature_geometry(obstacle, c.closest), stiffness_of(c)),
+            grad);
   }
 }
 
 void PenaltyContact::add_obstacle_gradient(const Obstacle& obstacle, Points points,
                                            Eigen::Ref<Eigen::Matrix3Xd> grad) const {
   assert(grad.cols() == obstacle.vertices().rows());
-  for (const Contact& c : contacts_) {
+  for (const SampleContact& c : contacts_) {
     const FeatureGeometry g = feature_geometry(obstacle, c.closest);
-    const Vector12d full = penalty_gradient_full(points.col(c.point), g, stiffness_of(c));
+    const Vector12d full = penalty_gradient_full(position(c.sample, points), g, stiffness_of(c));
     for (int i = 0; i < g.m; ++i) grad.col(c.closest.vertices[static_cast<std::size_t>(i)]) += full.segment<3>(3 * (i + 1));
   }
 }
@@ -119,14 +217,15 @@ void PenaltyContact::add_forces(const Obstacle& obstacle, Points points, Eigen::
                                 Eigen::Ref<Eigen::Matrix3Xd> on_obstacle) const {
   assert(on_points.cols() == points.cols());
   assert(on_obstacle.cols() == 0 || on_obstacle.cols() == obstacle.vertices().rows());
-  for (const Contact& c : contacts_) {
+  for (const SampleContact& c : contacts_) {
     const FeatureGeometry g = feature_geometry(obstacle, c.closest);
+    const Stencil st = stencil_of(c);
     if (on_obstacle.cols() == 0) {
-      on_points.col(c.point) -= penalty_gradient(points.col(c.point), g, stiffness_of(c));
+      scatter(st, -penalty_gradient(position(c.sample, points), g, stiffness_of(c)), on_points);
       continue;
     }
-    const Vector12d full = penalty_gradient_full(points.col(c.point), g, stiffness_of(c));
-    on_points.col(c.point) -= full.head<3>();
+    const Vector12d full = penalty_gradient_full(position(c.sample, points), g, stiffness_of(c));
+    scatter(st, -full.head<3>(), on_points);
     for (int i = 0; i < g.m; ++i) {
       on_obstacle.col(c.closest.vertices[static_cast<std::size_t>(i)]) -= full.segment<3>(3 * (i + 1));
     }
@@ -135,8 +234,8 @@ void PenaltyContact::add_forces(const Obstacle& obstacle, Points points, Eigen::
 
 Wrench PenaltyContact::obstacle_wrench(const Obstacle& obstacle, Points points, const Eigen::Vector3d& about) const {
   Wrench w;
-  for (const Contact& c : contacts_) {
-    const Eigen::Vector3d p = points.col(c.point);
+  for (const SampleContact& c : contacts_) {
+    const Eigen::Vector3d p = position(c.sample, points);
     const Eigen::Vector3d a = sliding_anchor(p, feature_geometry(obstacle, c.closest)).point;
     const Eigen::Vector3d reaction = 2.0 * stiffness_of(c) * (p - a);  // −f
     w.force += reaction;
@@ -152,12 +251,12 @@ void PenaltyContact::add_hessian_product(const Obstacle& obstacle, Points points
   const bool has_v = v_obstacle.cols() > 0, has_out = out_obstacle.cols() > 0;
   for_each_stencil_hessian(obstacle, points, [&](const Stencil& s, const Matrix12d& H) {
     Vector12d v = Vector12d::Zero();
-    v.head<3>() = v_points.col(s.point);
+    v.head<3>() = position(s.sample, v_points);  // Σ N_i v_i: the same linear map
     if (has_v) {
       for (int i = 0; i < s.m; ++i) v.segment<3>(3 * (i + 1)) = v_obstacle.col(s.obstacle_vertex[static_cast<std::size_t>(i)]);
     }
     const Vector12d Hv = H * v;
-    out_points.col(s.point) += Hv.head<3>();
+    scatter(s, Hv.head<3>(), out_points);
     if (!has_out) return;
     for (int i = 0; i < s.m; ++i) out_obstacle.col(s.obstacle_vertex[static_cast<std::size_t>(i)]) += Hv.segment<3>(3 * (i + 1));
   });

@@ -1,22 +1,26 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // The penalty-contact potential of one pass (thesis §7.3.4–7.3.5, Appendix A):
-// points of one surface (columns of a 3×N position matrix) pressed into a
-// closed obstacle, each penetrating point held by a spring to its sliding
-// anchor on the obstacle's closest feature:
+// sample points of one surface pressed into a closed obstacle, each
+// penetrating sample held by a spring to its sliding anchor on the obstacle's
+// closest feature:
 //
-//   E(p, q) = Σ_c k_c ‖p_c − a_c(p_c, q)‖²,   k_c = k·s_{p_c},
+//   E(x, q) = Σ_s k·c_s ‖x_s − a_s(x_s, q)‖²,   x_s = Σ_i N_si x_{v_si},
 //
-// p the points, q the obstacle's vertices (world), s per-point spring factors
-// (e.g. a vertex's area over the mean, so that a uniform depth δ is a uniform
-// pressure 2kδ/Ā).
+// x the surface's vertices (columns of a 3×N position matrix), q the
+// obstacle's vertices (world), and each sample a fixed point of the surface:
+// a vertex (node-to-surface, N = 1), or a quadrature point of a triangle
+// (surface contact: tractions integrated over the surface, so that the nodal
+// forces are the consistent loads of the pressure field and balance the
+// obstacle's exactly). c_s is the sample's spring factor: 1 (k [N/m]) or its
+// share of the surface's area, ½·w_q·A_t (k [Pa/m] the pressure per depth:
+// a sample at depth δ presses with p = k·δ).
 //
 // Passes. The potential does not know which surface is which: its outputs are
-// on the point side (N columns, the columns of the positions) and on the
-// obstacle side (#V columns, the obstacle's own vertex numbering), and the
-// caller maps both to its unknowns. palpa runs it forward (a body's skin
-// vertices into a rigid or deformable support) and in reverse (a deformable
-// support's surface vertices into the body's boundary).
+// on the surface side (N columns) and on the obstacle side (the obstacle's #V
+// vertices, its own numbering), and the caller maps both to its unknowns.
+// palpa runs it forward (a body's skin into a rigid or deformable support) and
+// in reverse (a deformable support's surface into the body's boundary).
 //
 // Values. detected_energy() detects afresh (a line-search trial sees its own
 // contacts; const, parallel, nothing stored); commit() keeps the contacts of
@@ -26,17 +30,22 @@
 // a two-sided spring to its feature, which is why trials must use
 // detected_energy() (contact.hpp).
 //
-// Derivatives per contact over its stencil z = (p, q_0, …, q_{m−1})
-// (penalty.hpp): the point block 2k P⊥ is positive semi-definite; the whole
-// stencil's Hessian is the true Hessian, indefinite in general (the obstacle
-// gradient and the shape derivative need it).
+// Derivatives. Per contact, the kernel's 12×12 Hessian over (x_s, q_0, q_1,
+// q_2) (penalty.hpp) maps to the stencil's vertices through x_s = Σ N_i x_i:
+// block (a, b) of two surface vertices is N_a N_b H_xx, and so on
+// (Stencil::block). The surface blocks N_a N_b 2k P⊥ form a positive
+// semi-definite matrix; the whole stencil's Hessian is the true Hessian,
+// indefinite in general (the obstacle gradient and the shape derivative need
+// it).
 //
-// Sign conventions: E ≥ 0; ∂E/∂p points into the obstacle; the contact force
-// on a point, f = −∂E/∂p, pushes it out; the obstacle's vertices feel forces
-// summing to −Σ f. Units: [m], k [N/m], E [J], forces [N], Hessians [N/m].
+// Sign conventions: E ≥ 0; ∂E/∂x_s points into the obstacle; the contact force
+// on a sample, f = −∂E/∂x_s, pushes it out and reaches the surface's vertices
+// as N_i f; the obstacle's vertices feel forces summing to −Σ f. Units: [m],
+// k·c_s [N/m], E [J], forces [N], Hessians [N/m].
 
 #include <Eigen/Core>
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -46,83 +55,143 @@
 
 namespace palpa::contact {
 
-// One committed contact as a stencil: the point (a column of the positions)
-// and the feature's obstacle vertices, the first m of `obstacle_vertex`.
+// Where a pass's springs sit on its surface: sample s is the point
+// x_s = Σ_i weights[s][i]·x(vertices[s][i]) over its first count(s) vertices
+// (columns of the positions; the rest −1), with spring factor scale[s].
+struct ContactSamples {
+  std::vector<std::array<int, 3>> vertices;
+  std::vector<Eigen::Vector3d> weights;  // N_s, Σ = 1
+  std::vector<double> scale;             // c_s > 0
+  std::size_t size() const noexcept { return vertices.size(); }
+  int count(std::size_t s) const noexcept { return vertices[s][2] >= 0 ? 3 : vertices[s][1] >= 0 ? 2 : 1; }
+};
+
+// One sample per vertex listed (columns of the positions), c_s = 1.
+ContactSamples vertex_samples(std::span<const int> vertices);
+
+// Points of a reference triangle with weights summing to 1.
+struct TriangleRule {
+  std::vector<Eigen::Vector3d> barycentric;
+  std::vector<double> weight;
+};
+// n² points, one at the centroid of each of the n×n sub-triangles of the
+// uniform subdivision, equal weights 1/n² (n ≥ 1). Exact for linear
+// integrands, so a vertex's share Σ_t Σ_q N_i w_q A_t is its lumped area; and
+// robust where the contact's edge cuts a triangle, where higher-order Gauss
+// rules gain nothing on an integrand with a kink.
+TriangleRule subdivision_rule(int n);
+// The rule's points on every triangle (rows of `faces`, columns of the
+// positions), c_s = ½·w_q·A_t with A_t the triangle's area in `rest`
+// (#V×3 [m]): k is then the pressure per depth [Pa/m]. Samples come face by
+// face, in rule order. Throws palpa::Error (Input) for a degenerate triangle.
+ContactSamples surface_samples(const Eigen::MatrixX3d& rest, const Eigen::MatrixX3i& faces,
+                               const TriangleRule& rule);
+
+// One committed contact: a penetrating sample and the feature it is anchored to.
+struct SampleContact {
+  int sample = -1;
+  ClosestPoint closest;  // at detection: anchor, depth (= distance), feature
+};
+
+// One committed contact as a stencil: its slots are the sample's n surface
+// vertices, then the feature's m obstacle vertices.
 struct Stencil {
-  int point = -1;
+  int sample = -1;
+  int n = 1;
+  std::array<int, 3> surface_vertex{-1, -1, -1};
+  Eigen::Vector3d weight = Eigen::Vector3d::Zero();  // N of the surface slots
   int m = 0;
   std::array<int, 3> obstacle_vertex{-1, -1, -1};
+  int slots() const noexcept { return n + m; }
+  bool on_surface(int slot) const noexcept { return slot < n; }
+  int vertex(int slot) const noexcept {
+    return slot < n ? surface_vertex[static_cast<std::size_t>(slot)] : obstacle_vertex[static_cast<std::size_t>(slot - n)];
+  }
+  // The 3×3 block (slot a, slot b) of the stencil's Hessian, from the
+  // kernel's H over (x_s, q_0, q_1, q_2).
+  Eigen::Matrix3d block(const Matrix12d& H, int a, int b) const;
 };
 
 class PenaltyContact {
  public:
-  // candidates: the columns of the positions that can touch (each ≥ 0). k:
-  // the stiffness [N/m]. name: used in error messages (the obstacle, say).
-  // Throws palpa::Error (Input) naming `name` unless k is finite and > 0.
-  PenaltyContact(std::vector<int> candidates, double k, std::string name);
+  // samples: where the springs sit; k: the stiffness ([N/m] with c_s = 1,
+  // [Pa/m] with area shares). name: used in error messages (the obstacle,
+  // say). Throws palpa::Error (Input) naming `name` unless k is finite and
+  // > 0.
+  PenaltyContact(ContactSamples samples, double k, std::string name);
 
-  const std::vector<int>& candidates() const noexcept { return candidates_; }
+  const ContactSamples& samples() const noexcept { return samples_; }
   double stiffness() const noexcept { return k_; }
   // Throws palpa::Error (Input) naming the pass unless k is finite and > 0.
   void set_stiffness(double k);
-  // Per-column spring factors s (one per column of the positions; empty: 1).
+  // Replaces the samples' spring factors (one per sample, each > 0).
   void set_scale(std::vector<double> scale);
-  const std::vector<double>& scale() const noexcept { return scale_; }
-  // One flag per obstacle vertex: a point whose closest feature has a flagged
-  // vertex is no contact (e.g. the body's core shells in the reverse pass).
-  // Empty: every feature counts.
+  // One flag per obstacle vertex: a sample whose closest feature has a
+  // flagged vertex is no contact (e.g. the body's core shells in the reverse
+  // pass). Empty: every feature counts.
   void set_excluded(std::vector<char> excluded_obstacle_vertices);
 
-  // Σ k_c·depth² over the candidates inside the obstacle, detected afresh at
+  // Σ k·c_s·depth² over the samples inside the obstacle, detected afresh at
   // `points` [J]. Parallel, deterministic, allocation-free, thread-safe.
   double detected_energy(const Obstacle& obstacle, Points points) const;
-  // Detects the candidates inside the obstacle at `points` and keeps them (in
-  // candidate order) as the committed contacts.
+  // Detects the samples inside the obstacle at `points` and keeps them (in
+  // sample order) as the committed contacts. Parallel.
   void commit(const Obstacle& obstacle, Points points);
   void clear() noexcept { contacts_.clear(); }
 
-  const std::vector<Contact>& contacts() const noexcept { return contacts_; }
+  const std::vector<SampleContact>& contacts() const noexcept { return contacts_; }
   std::size_t size() const noexcept { return contacts_.size(); }
   bool empty() const noexcept { return contacts_.empty(); }
   // Largest depth at commit [m] (0 without contacts).
   double max_depth() const;
-  // k_c of a contact [N/m].
-  double stiffness_of(const Contact& c) const;
-  Stencil stencil_of(const Contact& c) const;
+  // k·c_s of a contact [N/m].
+  double stiffness_of(const SampleContact& c) const { return k_ * samples_.scale[static_cast<std::size_t>(c.sample)]; }
+  Stencil stencil_of(const SampleContact& c) const;
+  // The sample's position at `points` [m].
+  Eigen::Vector3d position(int sample, Points points) const;
 
   // With the committed contacts at `points` (any positions, same columns):
   // E [J].
   double energy(const Obstacle& obstacle, Points points) const;
-  // grad.col(point) += ∂E/∂p [N]; grad: 3×N.
+  // grad.col(v) += ∂E/∂x_v [N]; grad: 3×N.
   void add_gradient(const Obstacle& obstacle, Points points, Eigen::Ref<Eigen::Matrix3Xd> grad) const;
   // grad.col(v) += ∂E/∂q_v for every obstacle vertex v [N]; grad: 3×#V.
   void add_obstacle_gradient(const Obstacle& obstacle, Points points, Eigen::Ref<Eigen::Matrix3Xd> grad) const;
-  // Contact forces −∂E/∂p added to on_points (3×N) and −∂E/∂q to on_obstacle
+  // Contact forces −∂E/∂x added to on_points (3×N) and −∂E/∂q to on_obstacle
   // (3×#V, or 0 columns to skip the obstacle side) [N].
   void add_forces(const Obstacle& obstacle, Points points, Eigen::Ref<Eigen::Matrix3Xd> on_points,
                   Eigen::Ref<Eigen::Matrix3Xd> on_obstacle) const;
   // The reaction on the obstacle: force −Σ f, torque Σ (a − about) × (−f)
-  // about `about` [m]; equal and opposite to the wrench of the f on the points.
+  // about `about` [m]; equal and opposite to the wrench of the f on the samples.
   Wrench obstacle_wrench(const Obstacle& obstacle, Points points, const Eigen::Vector3d& about) const;
 
-  // fn(point, ∂²E/∂p²): the point block of every contact, 2k_c P⊥ [N/m],
-  // positive semi-definite (a point may come more than once).
+  // fn(v_a, v_b, ∂²E/∂x_a∂x_b) for every ordered pair of surface vertices of
+  // every contact's sample (both orders, and a = b), N_a N_b 2k c_s P⊥
+  // [N/m]: together positive semi-definite. A pair may come more than once.
   template <class Fn>
-  void for_each_point_hessian(const Obstacle& obstacle, Fn&& fn) const {
-    for (const Contact& c : contacts_) fn(c.point, penalty_hessian(feature_geometry(obstacle, c.closest), stiffness_of(c)));
+  void for_each_surface_hessian(const Obstacle& obstacle, Fn&& fn) const {
+    for (const SampleContact& c : contacts_) {
+      const Stencil st = stencil_of(c);
+      const Eigen::Matrix3d P = penalty_hessian(feature_geometry(obstacle, c.closest), stiffness_of(c));
+      for (int a = 0; a < st.n; ++a) {
+        for (int b = 0; b < st.n; ++b) fn(st.surface_vertex[static_cast<std::size_t>(a)], st.surface_vertex[static_cast<std::size_t>(b)], Eigen::Matrix3d(st.weight[a] * st.weight[b] * P));
+      }
+    }
   }
-  // fn(stencil, H): the true Hessian of every contact over its stencil
-  // z = (p, q_0, …, q_{m−1}) [N/m] (rows and columns past 3(m+1) are zero).
+  // fn(stencil, H): every contact's stencil and the kernel's true Hessian over
+  // (x_s, q_0, …, q_{m−1}) [N/m] (rows and columns past 3(m+1) are zero);
+  // Stencil::block maps it to the stencil's vertices.
   template <class Fn>
   void for_each_stencil_hessian(const Obstacle& obstacle, Points points, Fn&& fn) const {
-    for (const Contact& c : contacts_) {
-      fn(stencil_of(c), penalty_hessian_full(points.col(c.point), feature_geometry(obstacle, c.closest), stiffness_of(c)));
+    for (const SampleContact& c : contacts_) {
+      fn(stencil_of(c), penalty_hessian_full(position(c.sample, points), feature_geometry(obstacle, c.closest),
+                                             stiffness_of(c)));
     }
   }
   // (out_points, out_obstacle) += H (v_points, v_obstacle), H the true Hessian
-  // of E over the points (3×N) and the obstacle's vertices (3×#V) [N].
+  // of E over the surface's vertices (3×N) and the obstacle's (3×#V) [N].
   // v_obstacle and out_obstacle may have 0 columns (a rigid obstacle: only
-  // the point side, or only its response, is wanted).
+  // the surface side, or only the obstacle's response, is wanted).
   void add_hessian_product(const Obstacle& obstacle, Points points, Points v_points, Points v_obstacle,
                            Eigen::Ref<Eigen::Matrix3Xd> out_points, Eigen::Ref<Eigen::Matrix3Xd> out_obstacle) const;
 
@@ -130,12 +199,12 @@ class PenaltyContact {
   bool excluded(const ClosestPoint& c) const;
 
   std::string name_;
-  std::vector<int> candidates_;
+  ContactSamples samples_;
   double k_ = 0.0;
-  std::vector<double> scale_;
   std::vector<char> excluded_;
-  std::vector<Contact> contacts_;
-  ContactSet detection_;  // scratch of commit()
+  std::vector<SampleContact> contacts_;
+  std::vector<ClosestPoint> slot_;  // scratch of commit(): one per sample
+  std::vector<unsigned char> hit_;  // scratch of commit(): inside or not
 };
 
 }  // namespace palpa::contact

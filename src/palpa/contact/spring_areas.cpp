@@ -37,11 +37,11 @@ void SpringAreas::rescale() {
   for (std::size_t v = 0; v < area_.size(); ++v) scale_[v] = area_[v] / mean_area_;
 }
 
-double SpringAreas::update(const std::vector<Contact>& contacts, double min_change) {
+double SpringAreas::update(std::span<const int> touching_vertices, double min_change) {
   // The full skin share off contact; in contact, the share of the triangles
   // wholly in contact (the full share if there is none).
   std::vector<char> touching(area_.size(), 0);
-  for (const Contact& c : contacts) touching[static_cast<std::size_t>(c.point)] = 1;
+  for (int v : touching_vertices) touching[static_cast<std::size_t>(v)] = 1;
   std::vector<double> contact_area(area_.size(), 0.0);
   for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
     const int a = faces_(f, 0), b = faces_(f, 1), c = faces_(f, 2);

@@ -12,10 +12,10 @@
 // that within one Newton solve the energy is one fixed function.
 
 #include <Eigen/Core>
+#include <span>
 #include <string>
 #include <vector>
 
-#include "palpa/contact/contact.hpp"
 
 namespace palpa::contact {
 
@@ -35,12 +35,12 @@ class SpringAreas {
   const std::vector<double>& areas() const noexcept { return area_; }
   const std::vector<double>& scale() const noexcept { return scale_; }
 
-  // Sets the areas from the contacts (their points are body vertices) if they
+  // Sets the areas from the vertices in contact (body vertices) if they
   // change by more than `min_change` (Σ|ΔA_i| over the area in contact);
   // returns that change when applied, else 0. A small threshold stops a rim
   // vertex that touches in one solve and not in the next from cycling the
   // re-solves forever.
-  double update(const std::vector<Contact>& contacts, double min_change = 0.0);
+  double update(std::span<const int> touching_vertices, double min_change = 0.0);
   // Restores areas saved from areas() (one per body vertex, each > 0 on the
   // skin); palpa::Error (Input) otherwise.
   void set(const std::vector<double>& areas);

@@ -160,11 +160,12 @@ Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) c
   };
   std::vector<Depth> body_side, support_side;
 
-  for (const contact::Contact& c : term.potential().contacts()) {
-    Depth d{c.point, contact::feature_geometry(support, c.closest), c.closest.vertices, contact::Vector12d::Zero()};
-    const Eigen::Vector3d p = Y.segment<3>(3 * c.point);
+  for (const contact::SampleContact& c : term.potential().contacts()) {
+    const int v = term.surface()[static_cast<std::size_t>(c.sample)];
+    Depth d{v, contact::feature_geometry(support, c.closest), c.closest.vertices, contact::Vector12d::Zero()};
+    const Eigen::Vector3d p = Y.segment<3>(3 * v);
     const double depth = (p - contact::sliding_anchor(p, d.g).point).norm();
-    s.body_pressure[c.point] = scale * depth;
+    s.body_pressure[v] = scale * depth;
     if (gradient && depth > 0.0) d.d_depth = contact::penalty_gradient_full(p, d.g, 1.0) / (2.0 * depth);
     body_side.push_back(d);
     ++s.body_contacts;

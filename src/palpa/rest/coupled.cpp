@@ -66,7 +66,7 @@ CoupledSystem::CoupledSystem(body::CoreSystem& body, tet::StaticSystem& support,
       obstacle_(&obstacle),
       surface_(std::move(surface)),
       term_(&term),
-      reverse_(first_n(surface_.size()), term.stiffness(), "the body's surface") {
+      reverse_(contact::vertex_samples(first_n(surface_.size())), term.stiffness(), "the body's surface") {
   if (static_cast<Eigen::Index>(surface_.size()) != obstacle.vertices().rows()) {
     throw Error(ErrorKind::Internal, fmt::format("{} surface vertices for an obstacle of {}", surface_.size(),
                                                  obstacle.vertices().rows()));
@@ -96,7 +96,7 @@ CoupledSystem::CoupledSystem(body::CoreSystem& body, tet::StaticSystem& support,
   // Springs of the support's vertices: k·A_j/Ā, areas as built.
   const Eigen::VectorXd area = geometry::vertex_areas(obstacle.vertices(), obstacle.triangles());
   std::vector<double> scale(static_cast<std::size_t>(area.size()));
-  for (Eigen::Index j = 0; j < area.size(); ++j) scale[static_cast<std::size_t>(j)] = area[j] / term.mean_area();
+  for (Eigen::Index j = 0; j < area.size(); ++j) scale[static_cast<std::size_t>(j)] = area[j] / term.mean_area();  // sample j: vertex j
   reverse_.set_scale(std::move(scale));
 }
 
@@ -244,35 +244,37 @@ void CoupledSystem::hessian(const Eigen::VectorXd& y, Eigen::SparseMatrix<double
   // on the support (its lower triangle: a face's corners share a tet), both
   // on the body (likewise; the forward pass's point block is in the body's
   // Hessian already, through its term), or one on each (the coupling C,
-  // support rows, body columns).
-  struct Slot {
-    bool on_body;
-    int vertex;  // body vertex, or support surface vertex
+  // support rows, body columns). `surface_on_body`: whether the stencil's
+  // surface slots are the body's (forward) or the support's (reverse).
+  const auto body_vertex = [&](const contact::Stencil& st, int slot, bool surface_on_body) {
+    return surface_on_body ? st.vertex(slot) : body_vertex_[static_cast<std::size_t>(st.vertex(slot))];
   };
-  const auto dof = [&](const Slot& s, int c) {
-    return s.on_body ? body_full_to_free_[static_cast<std::size_t>(3 * s.vertex + c)]
-                     : support_dof(surface_[static_cast<std::size_t>(s.vertex)], c);
+  const auto dof = [&](bool on_body, int vertex, int c) {
+    return on_body ? body_full_to_free_[static_cast<std::size_t>(3 * vertex + c)]
+                   : support_dof(surface_[static_cast<std::size_t>(vertex)], c);
   };
   std::vector<Eigen::Triplet<double>> cross;
-  const auto add = [&](const std::array<Slot, 4>& slot, int n, const contact::Matrix12d& K, bool forward) {
-    for (int i = 0; i < n; ++i) {
-      const Slot& a = slot[static_cast<std::size_t>(i)];
-      for (int j = 0; j < n; ++j) {
-        const Slot& b = slot[static_cast<std::size_t>(j)];
-        if (a.on_body && !b.on_body) continue;       // the upper triangle
-        if (forward && a.on_body && b.on_body) continue;  // the point block, in the body's Hessian
-        if (!a.on_body && b.on_body) pairs_.emplace(a.vertex, b.vertex);
+  const auto add = [&](const contact::Stencil& st, const contact::Matrix12d& K, bool forward) {
+    for (int i = 0; i < st.slots(); ++i) {
+      const bool a_body = st.on_surface(i) == forward;
+      const int a = a_body ? body_vertex(st, i, forward) : st.vertex(i);
+      for (int j = 0; j < st.slots(); ++j) {
+        const bool b_body = st.on_surface(j) == forward;
+        if (a_body && !b_body) continue;                // the upper triangle
+        if (forward && a_body && b_body) continue;      // the point block, in the body's Hessian
+        const int b = b_body ? body_vertex(st, j, forward) : st.vertex(j);
+        if (!a_body && b_body) pairs_.emplace(a, b);
+        const Eigen::Matrix3d block = st.block(K, i, j);
         for (int c = 0; c < 3; ++c) {
-          const int r = dof(a, c);
+          const int r = dof(a_body, a, c);
           if (r < 0) continue;
           for (int d = 0; d < 3; ++d) {
-            const int s = dof(b, d);
+            const int s = dof(b_body, b, d);
             if (s < 0) continue;
-            const double value = K(3 * i + c, 3 * j + d);
-            if (a.on_body != b.on_body) {
-              cross.emplace_back(r, s, value);
+            if (a_body != b_body) {
+              cross.emplace_back(r, s, block(c, d));
             } else if (s <= r) {
-              (a.on_body ? body_hessian_ : support_hessian_).coeffRef(r, s) += value;
+              (a_body ? body_hessian_ : support_hessian_).coeffRef(r, s) += block(c, d);
             }
           }
         }
@@ -281,22 +283,9 @@ void CoupledSystem::hessian(const Eigen::VectorXd& y, Eigen::SparseMatrix<double
   };
   term_->potential().for_each_stencil_hessian(
       *obstacle_, Eigen::Map<const Eigen::Matrix3Xd>(p.data(), 3, p.size() / 3),
-      [&](const contact::Stencil& st, const contact::Matrix12d& K) {
-        std::array<Slot, 4> slot{};
-        slot[0] = {true, st.point};
-        for (int i = 0; i < st.m; ++i) slot[static_cast<std::size_t>(i + 1)] = {false, st.obstacle_vertex[static_cast<std::size_t>(i)]};
-        add(slot, st.m + 1, K, true);
-      });
+      [&](const contact::Stencil& st, const contact::Matrix12d& K) { add(st, K, true); });
   reverse_.for_each_stencil_hessian(*body_surface_, support_points(y),
-                                    [&](const contact::Stencil& st, const contact::Matrix12d& K) {
-                                      std::array<Slot, 4> slot{};
-                                      slot[0] = {false, st.point};
-                                      for (int i = 0; i < st.m; ++i) {
-                                        slot[static_cast<std::size_t>(i + 1)] = {
-                                            true, body_vertex_[static_cast<std::size_t>(st.obstacle_vertex[static_cast<std::size_t>(i)])]};
-                                      }
-                                      add(slot, st.m + 1, K, false);
-                                    });
+                                    [&](const contact::Stencil& st, const contact::Matrix12d& K) { add(st, K, false); });
   // Every pair seen so far stays in the pattern, as explicit zeros when apart.
   for (const auto& [q, b] : pairs_) {
     const int v = surface_[static_cast<std::size_t>(q)];
