@@ -52,8 +52,8 @@ class Springs final : public tet::VertexTerm {
     }
     return e;
   }
-  void add_hessian(const Eigen::VectorXd&, bool, std::vector<std::pair<int, Eigen::Matrix3d>>& b) const override {
-    for (const auto& [v, p] : springs) b.emplace_back(v, k * Eigen::Matrix3d::Identity());
+  void add_hessian(const Eigen::VectorXd&, bool, std::vector<tet::VertexBlock>& b) const override {
+    for (const auto& [v, p] : springs) b.push_back({v, v, k * Eigen::Matrix3d::Identity()});
   }
 };
 

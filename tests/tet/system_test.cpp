@@ -62,10 +62,10 @@ class Springs final : public VertexTerm {
     }
     return e;
   }
-  void add_hessian(const Eigen::VectorXd& x, bool, std::vector<std::pair<int, Eigen::Matrix3d>>& blocks) const override {
+  void add_hessian(const Eigen::VectorXd& x, bool, std::vector<VertexBlock>& blocks) const override {
     for (const auto& [v, p] : springs) {
       const Eigen::Vector3d d = x.segment<3>(3 * v) - p;
-      blocks.emplace_back(v, k * Eigen::Matrix3d::Identity() + 4e5 * k * (d.squaredNorm() * Eigen::Matrix3d::Identity() + 2.0 * d * d.transpose()));
+      blocks.push_back({v, v, k * Eigen::Matrix3d::Identity() + 4e5 * k * (d.squaredNorm() * Eigen::Matrix3d::Identity() + 2.0 * d * d.transpose())});
     }
   }
 };
@@ -103,6 +103,69 @@ TEST(StaticSystem, GradientAndHessianMatchFiniteDifferences) {
   const Eigen::Index nnz = H.nonZeros();
   sys.hessian(0.5 * x, H);
   EXPECT_EQ(H.nonZeros(), nnz);
+}
+
+// A nonlinear spring between two vertices of one tet: its Hessian couples
+// them (a vertex pair), E = ¼ c (|x_a − x_b|² − L²)².
+class PairSpring final : public VertexTerm {
+ public:
+  int a = 0, b = 0;
+  double c = 1e9, L = 0.0;
+  double energy(const Eigen::VectorXd& x) const override {
+    const double s = (x.segment<3>(3 * a) - x.segment<3>(3 * b)).squaredNorm() - L * L;
+    return 0.25 * c * s * s;
+  }
+  double add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override {
+    const Eigen::Vector3d d = x.segment<3>(3 * a) - x.segment<3>(3 * b);
+    const double s = d.squaredNorm() - L * L;
+    g.segment<3>(3 * a) += c * s * d;
+    g.segment<3>(3 * b) -= c * s * d;
+    return energy(x);
+  }
+  void add_hessian(const Eigen::VectorXd& x, bool, std::vector<VertexBlock>& blocks) const override {
+    const Eigen::Vector3d d = x.segment<3>(3 * a) - x.segment<3>(3 * b);
+    const Eigen::Matrix3d K = c * ((d.squaredNorm() - L * L) * Eigen::Matrix3d::Identity() + 2.0 * d * d.transpose());
+    blocks.push_back({a, a, K});
+    blocks.push_back({b, b, K});
+    blocks.push_back({a, b, -K});
+    blocks.push_back({b, a, -K});
+  }
+  std::vector<std::array<int, 2>> vertex_pairs() const override { return {{a, b}}; }
+};
+
+TEST(StaticSystem, VertexPairBlocksOfATermMatchFiniteDifferences) {
+  const ElasticModel model = block_model(Eigen::Vector3i(2, 2, 2), Eigen::Vector3d(0.02, 0.02, 0.01));
+  BoxMesh box = make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.02, 0.02, 0.01), Eigen::Vector3i(2, 2, 2));
+  StaticSystem sys(model, fix_vertices(model.num_vertices(), box.vertex_sets.at("bottom"), {true, true, true}));
+  PairSpring spring;
+  spring.a = model.mesh().T(5, 1);
+  spring.b = model.mesh().T(5, 3);
+  spring.L = 0.5 * (model.mesh().V.row(spring.a) - model.mesh().V.row(spring.b)).norm();
+  sys.add_term(&spring);
+  sys.set_true_hessian(true);
+  auto rng = palpa::test::make_rng(4);
+  std::uniform_real_distribution<double> du(-5e-4, 5e-4);
+  Eigen::VectorXd x(sys.num_dofs());
+  for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = du(rng);
+  Eigen::SparseMatrix<double> H;
+  sys.hessian(x, H);
+  const Eigen::MatrixXd dense = Eigen::MatrixXd(Eigen::SparseMatrix<double>(H.selfadjointView<Eigen::Lower>()));
+  const auto grad = [&](const Eigen::VectorXd& v) {
+    Eigen::VectorXd gv;
+    sys.gradient(v, gv);
+    return gv;
+  };
+  EXPECT_TRUE(derivatives_match(dense, fd_jacobian(grad, x, 1e-7), 1e-6));
+  // A pair of free vertices that shares no tet has no place in the pattern:
+  // two opposite top corners.
+  PairSpring far;
+  for (Eigen::Index v = 0; v < model.num_vertices(); ++v) {
+    const Eigen::RowVector3d p = model.mesh().V.row(v);
+    if (p.isApprox(Eigen::RowVector3d(0.0, 0.0, 0.01))) far.a = static_cast<int>(v);
+    if (p.isApprox(Eigen::RowVector3d(0.02, 0.02, 0.01))) far.b = static_cast<int>(v);
+  }
+  ASSERT_NE(far.a, far.b);
+  EXPECT_TRUE(palpa::test::throws_error([&] { sys.add_term(&far); }, ErrorKind::Internal, {"share no tet"}));
 }
 
 TEST(StaticSystem, PatchTestReproducesAHomogeneousDeformationExactly) {

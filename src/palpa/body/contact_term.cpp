@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/body/contact_term.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 namespace palpa::body {
@@ -30,15 +31,31 @@ class Timer {
 
 }  // namespace
 
+namespace {
+
+contact::ContactSamples samples_of(ContactSampling sampling, const Eigen::MatrixX3d& rest,
+                                   const contact::SpringAreas& areas, int subdivisions) {
+  if (sampling == ContactSampling::Vertices) return contact::vertex_samples(areas.surface());
+  return contact::surface_samples(rest, areas.faces(), contact::subdivision_rule(subdivisions));
+}
+
+}  // namespace
+
 ContactTerm::ContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX3d& rest, Eigen::MatrixX3i faces,
-                         double k)
+                         double k, ContactSampling sampling, int subdivisions)
     : obstacle_(&obstacle),
+      sampling_(sampling),
       areas_(rest, std::move(faces), obstacle.name()),
-      potential_(contact::vertex_samples(areas_.surface()), k, obstacle.name()) {
+      potential_(samples_of(sampling, rest, areas_, subdivisions), k, obstacle.name()) {
   rescale();
 }
 
 void ContactTerm::rescale() {
+  if (sampling_ == ContactSampling::Surface) {
+    pressure_area_ = areas_.skin_areas();
+    return;
+  }
+  pressure_area_ = Eigen::Map<const Eigen::VectorXd>(areas_.areas().data(), static_cast<Eigen::Index>(areas_.areas().size()));
   // Sample s sits on skin vertex surface()[s].
   const std::vector<int>& surface = areas_.surface();
   std::vector<double> scale(surface.size());
@@ -58,12 +75,27 @@ double ContactTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) c
   return potential_.energy(*obstacle_, as_points(x));
 }
 
-void ContactTerm::add_hessian(const Eigen::VectorXd&, bool, std::vector<std::pair<int, Eigen::Matrix3d>>& blocks) const {
-  // 2k P⊥ is the true Hessian of the committed energy in p (positive
-  // semi-definite), so both modes use it.
-  potential_.for_each_surface_hessian(*obstacle_, [&](int a, int, const Eigen::Matrix3d& block) {
-    blocks.emplace_back(a, block);  // vertex samples: a = b
+void ContactTerm::add_hessian(const Eigen::VectorXd&, bool, std::vector<tet::VertexBlock>& blocks) const {
+  // N_a N_b 2k P⊥ is the true Hessian of the committed energy over the skin
+  // (positive semi-definite), so both modes use it.
+  potential_.for_each_surface_hessian(*obstacle_, [&](int a, int b, const Eigen::Matrix3d& block) {
+    blocks.push_back({a, b, block});
   });
+}
+
+std::vector<std::array<int, 2>> ContactTerm::vertex_pairs() const {
+  if (sampling_ == ContactSampling::Vertices) return {};
+  std::vector<std::array<int, 2>> pairs;
+  const Eigen::MatrixX3i& F = areas_.faces();
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = F(f, c), b = F(f, (c + 1) % 3);
+      pairs.push_back({std::min(a, b), std::max(a, b)});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
 }
 
 void ContactTerm::prepare(const Eigen::VectorXd& x) {
@@ -72,6 +104,7 @@ void ContactTerm::prepare(const Eigen::VectorXd& x) {
 }
 
 double ContactTerm::update_areas(double min_change) {
+  if (sampling_ == ContactSampling::Surface) return 0.0;
   std::vector<int> touching;
   touching.reserve(potential_.size());
   for (const contact::SampleContact& c : potential_.contacts()) touching.push_back(areas_.surface()[static_cast<std::size_t>(c.sample)]);
@@ -94,10 +127,9 @@ Eigen::Matrix3Xd ContactTerm::vertex_forces(const Eigen::VectorXd& x) const {
 
 Eigen::VectorXd ContactTerm::pressures(const Eigen::VectorXd& x) const {
   const Eigen::Matrix3Xd f = vertex_forces(x);
-  const std::vector<double>& area = areas_.areas();
   Eigen::VectorXd p = Eigen::VectorXd::Zero(f.cols());
   for (Eigen::Index v = 0; v < f.cols(); ++v) {
-    if (area[static_cast<std::size_t>(v)] > 0.0) p[v] = f.col(v).norm() / area[static_cast<std::size_t>(v)];
+    if (pressure_area_[v] > 0.0) p[v] = f.col(v).norm() / pressure_area_[v];
   }
   return p;
 }

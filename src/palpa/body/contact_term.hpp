@@ -1,8 +1,15 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
-// Penalty contact of a tet body's skin vertices with one obstacle (thesis
-// §7.3.4–7.3.5, Appendix A), as a vertex term of the tet systems: the forward
-// pass of contact::PenaltyContact with springs scaled by contact::SpringAreas.
+// Penalty contact of a tet body's skin with one obstacle (thesis §7.3.4–7.3.5,
+// Appendix A), as a vertex term of the tet systems: the forward pass of
+// contact::PenaltyContact, sampled on the skin in one of two ways:
+//  * Vertices: node-to-surface, each skin vertex a spring k·A_i/Ā with
+//    A_i from contact::SpringAreas (k [N/m]; the thesis's model).
+//  * Surface: the rule's points on every skin triangle, each spring its share
+//    of the triangle's rest area (k the pressure per depth [Pa/m]): the
+//    tractions integrated over the skin, so the nodal forces are the
+//    consistent loads of the pressure field and the Hessian couples a
+//    triangle's corners (vertex_pairs()).
 // The obstacle is the rigid indenter or support, or a deformable support's
 // boundary surface (rest/coupled.hpp moves it).
 //
@@ -12,6 +19,7 @@
 // of the committed energy). Collision-detection time is accumulated for the
 // benchmarks and the summary.
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <vector>
@@ -23,13 +31,20 @@
 
 namespace palpa::body {
 
+enum class ContactSampling { Vertices, Surface };
+
 class ContactTerm final : public tet::VertexTerm {
  public:
   // obstacle: must outlive the term; its pose may change between solves.
   // rest: the body's rest positions (#V×3) [m]; faces: its skin triangles
   // (rows of rest, outward), whose vertices are the ones that can touch.
-  // k [N/m]: the spring of a vertex of mean skin area (contact/spring_areas.hpp).
-  ContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX3d& rest, Eigen::MatrixX3i faces, double k);
+  // k: the spring of a vertex of mean skin area [N/m] (Vertices), or the
+  // pressure per depth [Pa/m] (Surface, with `subdivisions`² points per
+  // triangle, contact::subdivision_rule).
+  ContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX3d& rest, Eigen::MatrixX3i faces, double k,
+              ContactSampling sampling = ContactSampling::Vertices, int subdivisions = 2);
+
+  ContactSampling sampling() const noexcept { return sampling_; }
 
   double stiffness() const noexcept { return potential_.stiffness(); }
   void set_stiffness(double k) { potential_.set_stiffness(k); }
@@ -41,12 +56,13 @@ class ContactTerm final : public tet::VertexTerm {
 
   double energy(const Eigen::VectorXd& x) const override;
   double add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
-  void add_hessian(const Eigen::VectorXd& x, bool true_hessian,
-                   std::vector<std::pair<int, Eigen::Matrix3d>>& blocks) const override;
+  void add_hessian(const Eigen::VectorXd& x, bool true_hessian, std::vector<tet::VertexBlock>& blocks) const override;
+  std::vector<std::array<int, 2>> vertex_pairs() const override;
   void prepare(const Eigen::VectorXd& x) override;
   bool active() const override { return !potential_.empty(); }
 
-  // The spring-area law (contact/spring_areas.hpp) over the committed contacts.
+  // The spring-area law (contact/spring_areas.hpp) over the committed
+  // contacts; Surface sampling has no spring areas (0: nothing changed).
   double update_areas(double min_change = 0.0);
   void set_areas(const std::vector<double>& areas);
   double mean_area() const noexcept { return areas_.mean_area(); }
@@ -54,9 +70,12 @@ class ContactTerm final : public tet::VertexTerm {
 
   // Contact force on every body vertex at positions x (3N) [N] (3×N).
   Eigen::Matrix3Xd vertex_forces(const Eigen::VectorXd& x) const;
-  // Contact pressure per body vertex at x [Pa]: |f_i| over its spring area
-  // (2kδ_i/Ā), 0 off contact.
+  // Contact pressure per body vertex at x [Pa], 0 off contact: |f_i| over its
+  // spring area (Vertices: 2kδ_i/Ā), or over its share of the skin (Surface:
+  // the tractions' nodal average, so that Σ p_i A_i = Σ |f_i|).
   Eigen::VectorXd pressures(const Eigen::VectorXd& x) const;
+  // The area each vertex's pressure is over [m²] (see pressures()).
+  const Eigen::VectorXd& pressure_areas() const noexcept { return pressure_area_; }
   // The wrench on the obstacle about `about` [m].
   contact::Wrench obstacle_wrench(const Eigen::VectorXd& x, const Eigen::Vector3d& about) const;
 
@@ -73,7 +92,9 @@ class ContactTerm final : public tet::VertexTerm {
   void rescale();
 
   const contact::Obstacle* obstacle_;
+  ContactSampling sampling_;
   contact::SpringAreas areas_;
+  Eigen::VectorXd pressure_area_;  // per body vertex [m²]
   contact::PenaltyContact potential_;
   mutable std::atomic<std::int64_t> detection_ns_{0};
   mutable std::atomic<std::int64_t> detections_{0};

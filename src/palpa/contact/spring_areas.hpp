@@ -34,6 +34,9 @@ class SpringAreas {
   // Per body vertex: its spring area A_i [m²] and its spring factor A_i/Ā.
   const std::vector<double>& areas() const noexcept { return area_; }
   const std::vector<double>& scale() const noexcept { return scale_; }
+  // Per body vertex: its full share of the skin (a third of its skin
+  // triangles' rest areas; 0 off the skin) [m²].
+  const Eigen::VectorXd& skin_areas() const noexcept { return skin_area_; }
 
   // Sets the areas from the vertices in contact (body vertices) if they
   // change by more than `min_change` (Σ|ΔA_i| over the area in contact);

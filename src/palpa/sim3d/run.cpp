@@ -110,10 +110,14 @@ Simulation::Simulation(const Scene& scene) : scene_(&scene) {
   for (int v : boundary.vertices) mean_area += boundary_area_[v];
   mean_area /= std::max<double>(1.0, static_cast<double>(boundary.vertices.size()));
   // Automatic start: a vertex under a pressure of E0/10 sits at the target depth.
-  const double k0 = automatic_stiffness_ ? contact::stiffness_for_pressure(0.1 * young, mean_area, policy.target)
-                                         : scene.contact.stiffness;
+  // (Surface sampling: k is that pressure per depth.)
+  const bool surface = scene.contact.sampling == body::ContactSampling::Surface;
+  const double k0 = !automatic_stiffness_ ? scene.contact.stiffness
+                    : surface             ? 0.1 * young / policy.target
+                                          : contact::stiffness_for_pressure(0.1 * young, mean_area, policy.target);
   for (const auto& o : obstacles_) {
-    terms_.push_back(std::make_unique<body::ContactTerm>(*o, model_->mesh().V, boundary.faces, k0));
+    terms_.push_back(std::make_unique<body::ContactTerm>(*o, model_->mesh().V, boundary.faces, k0,
+                                                         scene.contact.sampling, scene.contact.subdivisions));
     system_->add_term(terms_.back().get());
   }
 

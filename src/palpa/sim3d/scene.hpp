@@ -52,6 +52,7 @@
 #include <string>
 #include <vector>
 
+#include "palpa/body/contact_term.hpp"
 #include "palpa/geometry/mesh.hpp"
 #include "palpa/solve/newton.hpp"
 #include "palpa/tet/model.hpp"
@@ -77,6 +78,10 @@ struct FixedSpec {
 struct ContactSpec {
   double stiffness = 0.0;          // k [N/m]; 0: automatic from max_penetration
   double max_penetration = 0.0;    // target [m]; 0: 1% of the mean surface edge
+  // Where the springs sit (body/contact_term.hpp): the boundary's vertices,
+  // or subdivisions² points on each boundary triangle.
+  body::ContactSampling sampling = body::ContactSampling::Vertices;
+  int subdivisions = 2;
 };
 
 struct SolverSpec {

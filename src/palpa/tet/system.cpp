@@ -2,6 +2,7 @@
 #include "palpa/tet/system.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -13,6 +14,15 @@ namespace palpa::tet {
 VertexTerm::~VertexTerm() = default;
 void VertexTerm::prepare(const Eigen::VectorXd&) {}
 bool VertexTerm::active() const { return false; }
+std::vector<std::array<int, 2>> VertexTerm::vertex_pairs() const { return {}; }
+
+namespace {
+
+std::uint64_t pair_key(int a, int b) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+}  // namespace
 
 StaticSystem::StaticSystem(const ElasticModel& model, std::vector<char> fixed)
     : model_(&model), fixed_(std::move(fixed)) {
@@ -155,10 +165,39 @@ double StaticSystem::energy_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& 
   return evaluate(x, &g);
 }
 
-void StaticSystem::add_vertex_block(int v, const Eigen::Matrix3d& b, double* values) const {
-  const auto& s = vertex_slots_[static_cast<std::size_t>(v)];
+void StaticSystem::add_term(VertexTerm* term) {
+  const std::vector<std::array<int, 2>> pairs = term->vertex_pairs();
+  for (const auto& [a, b] : pairs) {
+    for (const auto& [r, c] : {std::array<int, 2>{a, b}, std::array<int, 2>{b, a}}) {
+      std::array<int, 9> s{};
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+          const int fi = full_to_free_[static_cast<std::size_t>(3 * r + i)];
+          const int fj = full_to_free_[static_cast<std::size_t>(3 * c + j)];
+          int& slot = s[static_cast<std::size_t>(3 * j + i)];
+          slot = fi >= 0 && fj >= 0 && fi >= fj ? lower_slot(pattern_, fi, fj) : -1;
+          if (fi >= 0 && fj >= 0 && fi >= fj && slot < 0) {
+            throw Error(ErrorKind::Internal, fmt::format("a vertex term couples vertices {} and {}, which share no tet", a, b));
+          }
+        }
+      }
+      pair_slots_[pair_key(r, c)] = s;
+    }
+  }
+  terms_.push_back(term);
+}
+
+void StaticSystem::add_vertex_block(const VertexBlock& b, double* values) const {
+  const std::array<int, 9>* s = nullptr;
+  if (b.row == b.col) {
+    s = &vertex_slots_[static_cast<std::size_t>(b.row)];
+  } else {
+    const auto it = pair_slots_.find(pair_key(b.row, b.col));
+    assert(it != pair_slots_.end());
+    s = &it->second;
+  }
   for (int k = 0; k < 9; ++k) {
-    if (s[static_cast<std::size_t>(k)] >= 0) values[s[static_cast<std::size_t>(k)]] += b.data()[k];
+    if ((*s)[static_cast<std::size_t>(k)] >= 0) values[(*s)[static_cast<std::size_t>(k)]] += b.block.data()[k];
   }
 }
 
@@ -187,9 +226,9 @@ void StaticSystem::stiffness(const Eigen::VectorXd& x, bool true_hessian, Eigen:
   }
   if (!terms_.empty()) {
     const Eigen::VectorXd p = positions(u);
-    std::vector<std::pair<int, Eigen::Matrix3d>> vb;
+    std::vector<VertexBlock> vb;
     for (const VertexTerm* t : terms_) t->add_hessian(p, true_hessian, vb);
-    for (const auto& [v, b] : vb) add_vertex_block(v, b, values);
+    for (const VertexBlock& b : vb) add_vertex_block(b, values);
   }
 }
 

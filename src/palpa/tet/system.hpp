@@ -10,9 +10,10 @@
 // terms (e.g. penalty contact with rigid obstacles, written by other modules).
 //
 // Vertex terms. A VertexTerm is an energy of deformed vertex positions whose
-// Hessian has only 3×3 blocks on single vertices (a rigid obstacle couples no
-// two vertices of the body), so it fits the elastic Hessian's pattern and the
-// pattern never changes. Terms do their own collision detection at every call
+// Hessian has 3×3 blocks on single vertices and on the vertex pairs it names
+// up front (vertex_pairs(): e.g. the corners of a skin triangle whose
+// contact traction is integrated over it), each pair sharing a tet, so that
+// it fits the elastic Hessian's pattern and the pattern never changes. Terms do their own collision detection at every call
 // (so energy at a line-search trial sees the contacts of that trial); prepare()
 // lets them commit what they found at an accepted iterate (for reporting and
 // for active()).
@@ -30,12 +31,21 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "palpa/solve/system.hpp"
 #include "palpa/tet/model.hpp"
 
 namespace palpa::tet {
+
+// ∂²E/∂x_row∂x_col [N/m], a 3×3 block of a vertex term's Hessian.
+struct VertexBlock {
+  int row = -1;
+  int col = -1;
+  Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+};
 
 class VertexTerm {
  public:
@@ -44,9 +54,13 @@ class VertexTerm {
   virtual double energy(const Eigen::VectorXd& x) const = 0;
   // E, and adds ∂E/∂x into g (3N).
   virtual double add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const = 0;
-  // Adds (vertex, 3×3 block) pairs of ∂²E/∂x² at x into `blocks`.
-  virtual void add_hessian(const Eigen::VectorXd& x, bool true_hessian,
-                           std::vector<std::pair<int, Eigen::Matrix3d>>& blocks) const = 0;
+  // Adds the 3×3 blocks of ∂²E/∂x² at x into `blocks`: (v, v) blocks, and
+  // (a, b) blocks of pairs among vertex_pairs(), each pair in both orders
+  // (the system keeps the lower triangle).
+  virtual void add_hessian(const Eigen::VectorXd& x, bool true_hessian, std::vector<VertexBlock>& blocks) const = 0;
+  // The pairs of distinct vertices whose blocks add_hessian() may add, each
+  // once in either order. Default: none.
+  virtual std::vector<std::array<int, 2>> vertex_pairs() const;
   // Commits the state at an accepted iterate x. Default: nothing.
   virtual void prepare(const Eigen::VectorXd& x);
   // Whether the committed state has any contact (switches off the K + αM
@@ -76,8 +90,9 @@ class StaticSystem : public System {
   void set_gravity(const Eigen::Vector3d& gravity) { gravity_gradient_ = model_->gravity_gradient(gravity); }
   // External nodal forces f (3N) [N]: energy −f·u.
   void set_external_forces(const Eigen::VectorXd& f);
-  // Non-owning; the term must outlive the system.
-  void add_term(VertexTerm* term) { terms_.push_back(term); }
+  // Non-owning; the term must outlive the system. Throws palpa::Error
+  // (Internal) if one of its vertex_pairs() shares no tet.
+  void add_term(VertexTerm* term);
   void set_regularization(double alpha) noexcept { alpha_ = alpha; }  // [1/s²]
   void set_true_hessian(bool on) noexcept { true_hessian_ = on; }
   bool regularizing() const;
@@ -111,7 +126,7 @@ class StaticSystem : public System {
 
  private:
   double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* g) const;
-  void add_vertex_block(int v, const Eigen::Matrix3d& b, double* values) const;
+  void add_vertex_block(const VertexBlock& b, double* values) const;
 
   const ElasticModel* model_;
   std::vector<char> fixed_;
@@ -126,6 +141,9 @@ class StaticSystem : public System {
   Eigen::SparseMatrix<double> pattern_;
   std::vector<std::array<int, 144>> element_slots_;
   std::vector<std::array<int, 9>> vertex_slots_;
+  // Slots of the (a, b) blocks of the terms' vertex pairs, both orders
+  // (entry 3j + i is row i, column j; −1 where upper or fixed).
+  std::unordered_map<std::uint64_t, std::array<int, 9>> pair_slots_;
 };
 
 // One backward-Euler step of a StaticSystem (see above).
