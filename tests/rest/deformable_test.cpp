@@ -126,7 +126,8 @@ TEST(DeformableSupport, FoamSlabUnderABlockCompressesByPressureTimesThicknessOve
   ASSERT_GE(middle, 4);
   mean /= middle;
   EXPECT_NEAR(mean, expected, 0.05 * expected);
-  EXPECT_GT(r.support_max_displacement, expected);
+  // Under a flat rigid block the slab sinks alike everywhere beneath it.
+  EXPECT_NEAR(r.support_max_displacement, expected, 0.2 * expected);
   EXPECT_GT(r.support_min_det_f, 0.9);
   // The contact pressure under the middle is still about the mean pressure.
   EXPECT_GT(r.max_penetration, 0.85 * 3e-4);

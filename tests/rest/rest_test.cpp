@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // A soft block hanging from a rigid core (its top face) falls onto a flat
 // support: the contact force carries the weight, the pressure under the block
-// is ρgH, the penetration lands at the target, locked core DOFs stay put, a
+// is ρgH on both sides and both pressure maps carry the weight, the
+// penetration lands at the target, locked core DOFs stay put, a
 // torque on the core is balanced by the contact moment; bad setups refused.
 #include <gtest/gtest.h>
 
@@ -81,6 +82,13 @@ TEST(Rest, BlockOnASlabCarriesItsWeightWithPressureRhoGH) {
     }
   }
   EXPECT_GE(under, 9);
+  // Both maps carry the load: Σ p·A on each side is the weight, and the
+  // nodal forces on the two sides are equal and opposite.
+  EXPECT_NEAR(r.body_map_force, weight, 0.01 * weight);
+  EXPECT_NEAR(r.support_map_force, weight, 0.01 * weight);
+  const RestSimulation::ContactPressures cp = sim.contact_pressures();
+  EXPECT_LT((cp.body_force.rowwise().sum() + cp.support_force.rowwise().sum()).norm(), 1e-6 * weight);
+  EXPECT_NEAR(cp.body_force.rowwise().sum().z(), weight, 0.005 * weight);
   // The automatic stiffness put the deepest penetration at the 0.3 mm target.
   EXPECT_GT(r.max_penetration, 0.85 * 3e-4);
   EXPECT_LT(r.max_penetration, 1.15 * 3e-4);

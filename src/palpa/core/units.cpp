@@ -86,6 +86,10 @@ constexpr std::array kUnits = {
     Unit{"1/kPa", Dimension::Compliance, 1e-3},
     Unit{"1/MPa", Dimension::Compliance, 1e-6},
     Unit{"1/GPa", Dimension::Compliance, 1e-9},
+    Unit{"Pa/m", Dimension::PressurePerLength, 1.0},
+    Unit{"kPa/mm", Dimension::PressurePerLength, 1e6},
+    Unit{"MPa/m", Dimension::PressurePerLength, 1e6},
+    Unit{"GPa/m", Dimension::PressurePerLength, 1e9},
 };
 
 struct DisplayUnits {
@@ -108,6 +112,7 @@ constexpr std::array kDisplay = {
     DisplayUnits{Dimension::Torque, {"N*m", "N*mm", "", ""}},
     DisplayUnits{Dimension::Acceleration, {"m/s^2", "", "", ""}},
     DisplayUnits{Dimension::Compliance, {"1/Pa", "1/kPa", "1/MPa", ""}},
+    DisplayUnits{Dimension::PressurePerLength, {"GPa/m", "MPa/m", "Pa/m", ""}},
 };
 
 }  // namespace
@@ -129,6 +134,7 @@ std::string_view dimension_name(Dimension d) noexcept {
     case Dimension::Torque: return "torque";
     case Dimension::Acceleration: return "acceleration";
     case Dimension::Compliance: return "compliance (inverse pressure)";
+    case Dimension::PressurePerLength: return "pressure per length";
   }
   return "quantity";
 }
@@ -150,6 +156,7 @@ std::string_view si_unit(Dimension d) noexcept {
     case Dimension::Torque: return "N*m";
     case Dimension::Acceleration: return "m/s^2";
     case Dimension::Compliance: return "1/Pa";
+    case Dimension::PressurePerLength: return "Pa/m";
   }
   return "";
 }
@@ -171,6 +178,7 @@ std::string dimension_example(Dimension d) {
     case Dimension::Torque: return "a torque with its unit, such as 2 N*m";
     case Dimension::Acceleration: return "an acceleration with its unit, such as 9.81 m/s^2";
     case Dimension::Compliance: return "a compliance with its unit, such as 2e-6 1/Pa or 0.002 1/kPa";
+    case Dimension::PressurePerLength: return "a pressure per depth with its unit, such as 50 MPa/m or 50 kPa/mm";
   }
   return "a quantity with its unit";
 }

@@ -29,6 +29,7 @@ enum class Dimension {
   Torque,         // N m
   Acceleration,   // m/s^2
   Compliance,     // 1/Pa (volumetric compliance D1 of Abaqus-style models)
+  PressurePerLength,  // Pa/m (surface contact stiffness: pressure per depth)
 };
 
 // "length", "pressure", ... for messages.

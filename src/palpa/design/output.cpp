@@ -39,6 +39,8 @@ Json evaluation_json(const Evaluation& e, double gamma) {
           {"peak_smoothed_pressure_Pa",
            {{"body", e.score.body_smoothed.maxCoeff()}, {"support", e.score.support_smoothed.maxCoeff()}}},
           {"contacts", {{"body_vertices", e.score.body_contacts}, {"support_vertices", e.score.support_contacts}}},
+          {"pressure_map_force_N",
+           {{"body", e.rest.body_map_force}, {"support", e.rest.support_map_force}, {"load", e.rest.load.norm()}}},
           {"max_penetration_m", e.rest.max_penetration},
           {"contact_force_N", vec(e.rest.contact_force)},
           {"load_N", vec(e.rest.load)},

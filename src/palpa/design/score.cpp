@@ -70,13 +70,13 @@ void ErgonomicScore::sum(const rest::RestSimulation& sim, const Eigen::VectorXd&
   const int e = options_.exponent;
   s.body_smoothed = body_smoothing_ * s.body_pressure;
   s.support_smoothed = support_smoothing_ * s.support_pressure;
-  const std::vector<double>& spring = sim.contact_term().spring_area();
+  const Eigen::VectorXd& area = sim.contact_term().pressure_areas();
   wb = Eigen::VectorXd::Zero(s.body_pressure.size());
   ws = Eigen::VectorXd::Zero(s.support_pressure.size());
   for (int v : sim.surface_vertices()) {
     const double pb = s.body_smoothed[v];
     if (pb <= 0.0) continue;
-    const double sa = spring[static_cast<std::size_t>(v)];
+    const double sa = area[v];
     s.zeta_body += sa * power(pb, e);
     wb[v] = e * sa * power(pb, e - 1);
   }
@@ -89,8 +89,9 @@ void ErgonomicScore::sum(const rest::RestSimulation& sim, const Eigen::VectorXd&
   s.zeta = s.zeta_body + s.zeta_support;
 }
 
-Score ErgonomicScore::evaluate_deformable(const rest::RestSimulation& sim, bool gradient) const {
-  // p_i = ‖f_i‖/A_i with f the nodal forces of both passes, so
+Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) const {
+  // p_i = ‖f_i‖/A_i with f the nodal contact forces (both passes on a
+  // deformable support), so
   // ∂p_i/∂y = −f̂_iᵀ H_c(i, ·)/A_i (f = −∂E_c/∂y) and ∂ζ/∂y = −H_c v with
   // v_i = (∂ζ/∂p_i / A_i) f̂_i: one product with the contact Hessian.
   const rest::RestSimulation::ContactPressures cp = sim.contact_pressures();
@@ -102,7 +103,7 @@ Score ErgonomicScore::evaluate_deformable(const rest::RestSimulation& sim, bool 
   s.support_pressure = cp.support;
   s.body_contacts = static_cast<int>((cp.body.array() > 0.0).count());
   s.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
-  const std::vector<double>& spring = sim.contact_term().spring_area();
+  const Eigen::VectorXd& body_area = sim.contact_term().pressure_areas();
   const Eigen::MatrixX3d& X = sim.support_rest_vertices();
   const Eigen::MatrixX3i& F = sim.support().triangles();
   const Eigen::VectorXd support_area = geometry::vertex_areas(X, F);
@@ -115,7 +116,7 @@ Score ErgonomicScore::evaluate_deformable(const rest::RestSimulation& sim, bool 
   Eigen::Matrix3Xd vb = Eigen::Matrix3Xd::Zero(3, nb), vs = Eigen::Matrix3Xd::Zero(3, ns);
   for (int v : sim.surface_vertices()) {
     const double f = cp.body_force.col(v).norm();
-    if (f > 0.0 && gb[v] != 0.0) vb.col(v) = gb[v] / (spring[static_cast<std::size_t>(v)] * f) * cp.body_force.col(v);
+    if (f > 0.0 && gb[v] != 0.0) vb.col(v) = gb[v] / (body_area[v] * f) * cp.body_force.col(v);
   }
   // ζ_s = Σ A_j p̄_j^e with p_j = ‖f_j‖/A_j: the area enters twice.
   Eigen::VectorXd area_weight = Eigen::VectorXd::Zero(ns);
@@ -136,86 +137,6 @@ Score ErgonomicScore::evaluate_deformable(const rest::RestSimulation& sim, bool 
   return s;
 }
 
-Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) const {
-  if (sim.deformable_support()) return evaluate_deformable(sim, gradient);
-  const body::ContactTerm& term = sim.contact_term();
-  const contact::Obstacle& support = sim.support();
-  const double k = sim.contact_stiffness();
-  const double abar = term.mean_area();
-  const double scale = 2.0 * k / abar;  // pressure per depth [Pa/m]
-  const Eigen::VectorXd Y = sim.system().positions(sim.dofs());
-  const Eigen::Index nb = sim.model().num_vertices();
-  const Eigen::Index ns = support.vertices().rows();
-
-  Score s;
-  s.body_pressure = Eigen::VectorXd::Zero(nb);
-  s.support_pressure = Eigen::VectorXd::Zero(ns);
-
-  // Depth gradients ∂δ/∂z of every contact, kept for the chain rule.
-  struct Depth {
-    int point;                      // body vertex (body side) or support vertex (support side)
-    contact::FeatureGeometry g;
-    std::array<int, 3> vertices;    // feature vertices
-    contact::Vector12d d_depth;     // ∂δ/∂(p, q_0, q_1, q_2)
-  };
-  std::vector<Depth> body_side, support_side;
-
-  for (const contact::SampleContact& c : term.potential().contacts()) {
-    const int v = term.surface()[static_cast<std::size_t>(c.sample)];
-    Depth d{v, contact::feature_geometry(support, c.closest), c.closest.vertices, contact::Vector12d::Zero()};
-    const Eigen::Vector3d p = Y.segment<3>(3 * v);
-    const double depth = (p - contact::sliding_anchor(p, d.g).point).norm();
-    s.body_pressure[v] = scale * depth;
-    if (gradient && depth > 0.0) d.d_depth = contact::penalty_gradient_full(p, d.g, 1.0) / (2.0 * depth);
-    body_side.push_back(d);
-    ++s.body_contacts;
-  }
-  for (const rest::ReverseContact& c : sim.reverse_contacts()) {
-    Depth d{c.support_vertex, {}, c.closest.vertices, contact::Vector12d::Zero()};
-    d.g.m = contact::feature_size(c.closest.feature);
-    for (int i = 0; i < d.g.m; ++i) d.g.q[static_cast<std::size_t>(i)] = Y.segment<3>(3 * c.closest.vertices[static_cast<std::size_t>(i)]);
-    const Eigen::Vector3d x = support.world_vertex(c.support_vertex);
-    const double depth = (x - contact::sliding_anchor(x, d.g).point).norm();
-    s.support_pressure[c.support_vertex] = scale * depth;
-    if (gradient && depth > 0.0) d.d_depth = contact::penalty_gradient_full(x, d.g, 1.0) / (2.0 * depth);
-    support_side.push_back(d);
-    ++s.support_contacts;
-  }
-
-  const Eigen::VectorXd support_area = geometry::vertex_areas(sim.support_rest_vertices(), support.triangles());
-  Eigen::VectorXd wb, ws;  // ∂ζ/∂p̄
-  sum(sim, support_area, s, wb, ws);
-  Eigen::VectorXd area_weight = Eigen::VectorXd::Zero(ns);  // ∂ζ/∂s (support)
-  for (Eigen::Index v = 0; v < ns; ++v) {
-    if (s.support_smoothed[v] > 0.0) area_weight[v] = power(s.support_smoothed[v], options_.exponent);
-  }
-  if (!gradient) return s;
-
-  // ∂ζ/∂p = Sᵀ ∂ζ/∂p̄, then through the depths.
-  const Eigen::VectorXd gb = body_smoothing_.transpose() * wb;
-  const Eigen::VectorXd gs = support_smoothing_.transpose() * ws;
-  s.d_body = Eigen::VectorXd::Zero(3 * nb);
-  s.d_support = Eigen::MatrixX3d::Zero(ns, 3);
-  for (const Depth& d : body_side) {
-    const double w = gb[d.point] * scale;
-    if (w == 0.0) continue;
-    s.d_body.segment<3>(3 * d.point) += w * d.d_depth.head<3>();
-    for (int i = 0; i < d.g.m; ++i) {
-      s.d_support.row(d.vertices[static_cast<std::size_t>(i)]) += w * d.d_depth.segment<3>(3 * (i + 1)).transpose();
-    }
-  }
-  for (const Depth& d : support_side) {
-    const double w = gs[d.point] * scale;
-    if (w == 0.0) continue;
-    s.d_support.row(d.point) += w * d.d_depth.head<3>().transpose();
-    for (int i = 0; i < d.g.m; ++i) {
-      s.d_body.segment<3>(3 * d.vertices[static_cast<std::size_t>(i)]) += w * d.d_depth.segment<3>(3 * (i + 1));
-    }
-  }
-  s.d_support_area = Eigen::MatrixX3d::Zero(ns, 3);
-  add_area_gradient(sim.support_rest_vertices(), support.triangles(), area_weight, s.d_support_area);
-  return s;
-}
 
 Smoothness::Smoothness(const Eigen::MatrixX3i& F, Eigen::Index n, std::vector<int> design, int iterations,
                        double lambda, double mu)

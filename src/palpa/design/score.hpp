@@ -6,12 +6,13 @@
 // Ergonomic score (7.11–7.12):
 //   ζ = Σ_i s_i p̄_i^e  over the body's skin vertices and the support's vertices,
 // p the contact pressures of the equilibrium on both sides (bidirectional,
-// Fig. 7.4): on the body p_i = 2kδ_i/Ā, δ_i its depth in the support; on the
-// support p_v = 2kδ_v/Ā, δ_v the depth of support vertex v in the deformed
-// body (rest/rest.hpp). s_i: the body vertex's spring area (its share of the
-// skin in contact), the support vertex's area (a third of its triangles, a
-// function of the support's shape). p̄ = S p, one Laplacian smoothing step on
-// each surface's own mesh:
+// Fig. 7.4), both from one set of nodal contact forces (both passes on a
+// deformable support, rest/coupled.hpp): p_i = ‖f_i‖/s_i, s_i the vertex's
+// area (the body's ContactTerm::pressure_areas(); the support vertex's rest
+// area, a third of its triangles, a function of the support's shape). So
+// what the body feels and what the support sees carry the same load, and a
+// support vertex cannot lower ζ by missing the skin. p̄ = S p, one Laplacian
+// smoothing step on each surface's own mesh:
 //   p̄_i = (1 − λ) p_i + λ · mean_{j ∈ N(i)} p_j,   λ = ½,
 // i.e. (I + λL) p with the umbrella L = W − I (W: the mean of the
 // neighbours), the sign that smooths: a lone spike is spread over its ring,
@@ -21,15 +22,11 @@
 // Partial derivatives (for the adjoint, design/optimizer.hpp): with the
 // contact set, each contact's feature and the spring areas held, ζ is a
 // smooth function of the body's vertex positions Y and the support's
-// vertices X. The depth of a point p against a feature q (sliding anchor,
-// contact/penalty.hpp) has ∂δ/∂z = ∂(δ²)/∂z / (2δ), z = (p, q_0, q_1, q_2);
-// areas differentiate as ∂A/∂a = ½ n̂ × (c − b) for triangle (a, b, c).
-//
-// A deformable support (§7.4.3) presses back on the body's skin (two contact
-// passes, rest/coupled.hpp), so depths no longer give the pressures: there
-// p_i = ‖f_i‖/s_i, f_i the nodal force of both passes on vertex i (a
-// support vertex's s_i its rest area), and ∂ζ/∂y = −H_c v with H_c the
-// contact energy's Hessian and v_i = (∂ζ/∂p_i / s_i) f_i/‖f_i‖.
+// vertices (where they are, and at rest through their areas). Since
+// f = −∂E_c/∂y, ∂p_i/∂y = −f̂_iᵀ H_c(i, ·)/s_i and ∂ζ/∂y = −H_c v with H_c
+// the contact energy's Hessian and v_i = (∂ζ/∂p_i / s_i) f̂_i: one product
+// with the contact Hessian. Areas differentiate as ∂A/∂a = ½ n̂ × (c − b)
+// for triangle (a, b, c).
 //
 // Smoothness (7.14): ψ(X) = Σ_{v ∈ D} ‖X_v − (T X)_v‖², T = ((I + μL)(I + λL))^m
 // Taubin smoothing (λ = 0.5, μ = −0.53) on the support's mesh, D the design
@@ -59,7 +56,7 @@ struct Score {
   int body_contacts = 0;
   int support_contacts = 0;
   // With gradients: ∂ζ/∂Y (3N, the body's vertex positions), ∂ζ/∂Y_s (the
-  // support's vertex positions where they are, #V×3: through the depths) and
+  // support's vertex positions where they are, #V×3: through the forces) and
   // ∂ζ/∂X (the support's rest positions, #V×3: through its vertex areas).
   // For a rigid support Y_s = X and the explicit gradient is their sum.
   Eigen::VectorXd d_body;
@@ -78,9 +75,6 @@ class ErgonomicScore {
   Score evaluate(const rest::RestSimulation& sim, bool gradient) const;
 
  private:
-  // A deformable support: pressures are the nodal forces of both contact
-  // passes over the vertices' areas (rest::RestSimulation::contact_pressures).
-  Score evaluate_deformable(const rest::RestSimulation& sim, bool gradient) const;
   // Smooths s's pressures and sums ζ; wb, ws: ∂ζ/∂p̄ on the body and the
   // support (support_area: the support's vertex areas).
   void sum(const rest::RestSimulation& sim, const Eigen::VectorXd& support_area, Score& s, Eigen::VectorXd& wb,

@@ -59,14 +59,32 @@ void stack_lower(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix
 
 }  // namespace
 
+namespace {
+
+// The reverse pass's samples: the support's surface sampled as the term
+// samples the skin.
+contact::ContactSamples reverse_samples(const contact::Obstacle& support, const body::ContactTerm& term,
+                                        int subdivisions) {
+  if (term.sampling() == body::ContactSampling::Surface) {
+    return contact::surface_samples(support.vertices(), support.triangles(), contact::subdivision_rule(subdivisions));
+  }
+  contact::ContactSamples s = contact::vertex_samples(first_n(static_cast<std::size_t>(support.vertices().rows())));
+  // Springs k·A_j/Ā, areas as built (sample j: vertex j).
+  const Eigen::VectorXd area = geometry::vertex_areas(support.vertices(), support.triangles());
+  for (Eigen::Index j = 0; j < area.size(); ++j) s.scale[static_cast<std::size_t>(j)] = area[j] / term.mean_area();
+  return s;
+}
+
+}  // namespace
+
 CoupledSystem::CoupledSystem(body::CoreSystem& body, tet::StaticSystem& support, contact::Obstacle& obstacle,
-                             std::vector<int> surface, body::ContactTerm& term)
+                             std::vector<int> surface, body::ContactTerm& term, int subdivisions)
     : body_(&body),
       support_(&support),
       obstacle_(&obstacle),
       surface_(std::move(surface)),
       term_(&term),
-      reverse_(contact::vertex_samples(first_n(surface_.size())), term.stiffness(), "the body's surface") {
+      reverse_(reverse_samples(obstacle, term, subdivisions), term.stiffness(), "the body's surface") {
   if (static_cast<Eigen::Index>(surface_.size()) != obstacle.vertices().rows()) {
     throw Error(ErrorKind::Internal, fmt::format("{} surface vertices for an obstacle of {}", surface_.size(),
                                                  obstacle.vertices().rows()));
@@ -93,11 +111,6 @@ CoupledSystem::CoupledSystem(body::CoreSystem& body, tet::StaticSystem& support,
   std::vector<char> excluded(body_vertex_.size(), 0);
   for (std::size_t i = 0; i < body_vertex_.size(); ++i) excluded[i] = attached[static_cast<std::size_t>(body_vertex_[i])];
   reverse_.set_excluded(std::move(excluded));
-  // Springs of the support's vertices: k·A_j/Ā, areas as built.
-  const Eigen::VectorXd area = geometry::vertex_areas(obstacle.vertices(), obstacle.triangles());
-  std::vector<double> scale(static_cast<std::size_t>(area.size()));
-  for (Eigen::Index j = 0; j < area.size(); ++j) scale[static_cast<std::size_t>(j)] = area[j] / term.mean_area();  // sample j: vertex j
-  reverse_.set_scale(std::move(scale));
 }
 
 void CoupledSystem::set_stiffness(double k) {

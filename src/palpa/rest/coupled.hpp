@@ -15,12 +15,13 @@
 // So calls must not run concurrently on one object (Newton's line searches
 // evaluate their trials one after the other).
 //
-// Two passes. The body's skin vertices press on the support's triangles, and
-// — for a deformable support — the support's surface vertices press on the
-// body's skin triangles as well, with springs k·A_j/Ā (A_j the support
-// vertex's area when the system is built, Ā the body's mean skin vertex area,
-// so the same depth means the same pressure 2kδ/Ā on both sides). A soft
-// support otherwise bulges up between the body's vertices, through its skin.
+// Two passes. The body's skin presses on the support's triangles, and — for
+// a deformable support — the support's surface presses on the body's skin
+// triangles as well, sampled alike (surface points with their area shares;
+// or vertices with springs k·A_j/Ā, A_j the support vertex's area when the
+// system is built, Ā the body's mean skin vertex area), so that the same
+// depth means the same pressure on both sides. A soft support otherwise
+// bulges up between the body's samples, through its skin.
 // Contacts whose closest body feature touches the core are left out (a
 // support vertex that deep is a failed simulation, not a contact).
 //
@@ -62,8 +63,10 @@ class CoupledSystem final : public System {
   // boundary surface, whose vertex j is vertex surface[j] of the support's tet
   // mesh, and the obstacle of `term`. All must outlive this system. The
   // reverse pass takes the term's stiffness; set_stiffness() changes both.
+  // The reverse pass samples the support's surface as the term samples the
+  // skin (its vertices, or `subdivisions`² points per triangle).
   CoupledSystem(body::CoreSystem& body, tet::StaticSystem& support, contact::Obstacle& obstacle,
-                std::vector<int> surface, body::ContactTerm& term);
+                std::vector<int> surface, body::ContactTerm& term, int subdivisions = 2);
 
   // k of each pass [N/m] (the forward term's and the reverse pass's).
   void set_stiffness(double k);

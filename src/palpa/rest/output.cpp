@@ -97,6 +97,7 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
 
   const double deg = 180.0 / 3.14159265358979323846;
   const Eigen::AngleAxisd aa(r.core_rotation);
+  const bool surface = sim.contact_term().sampling() == body::ContactSampling::Surface;
   Json s = {{"palpa_rest", 1},
             {"scene", scene.file.string()},
             {"body", {{"source", scene.body_source},
@@ -116,8 +117,13 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
             {"contact_torque_Nm", vec(r.contact_torque)},
             {"balance_error", r.balance_error},
             {"max_penetration_m", r.max_penetration},
-            {"stiffness_N_per_m", r.stiffness},
-            {"contacts", {{"body_vertices", r.contacts}, {"support_vertices", r.support_contacts}}},
+            {surface ? "stiffness_Pa_per_m" : "stiffness_N_per_m", r.stiffness},
+            {"contact_sampling", surface ? "surface" : "vertices"},
+            {"contacts", {{"body_vertices", (r.body_pressure.array() > 0.0).count()},
+                          {"support_vertices", r.support_contacts},
+                          {"springs", r.contacts}}},
+            {"pressure_map_force_N",
+             {{"body", r.body_map_force}, {"support", r.support_map_force}, {"load", r.load.norm()}}},
             {"peak_pressure_Pa", {{"body", r.body_pressure.maxCoeff()}, {"support", r.support_pressure.maxCoeff()}}},
             {"newton_iterations", r.newton_iterations},
             {"solves", r.solves},

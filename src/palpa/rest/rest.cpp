@@ -119,15 +119,21 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
     contact::StiffnessPolicy policy;
     policy.target = options_.target_penetration;
     stiffness_.emplace(policy);
+    // Surface sampling: k is the pressure per depth, 2k/Ā for that vertex
+    // spring k of mean skin area Ā.
+    if (options_.sampling == body::ContactSampling::Surface) {
+      k *= 2.0 / (body_area_.sum() / static_cast<double>(surface_.size()));
+    }
   }
   // Two passes on a deformable support share the spring law: each at k/2.
-  term_ = std::make_unique<body::ContactTerm>(*support_, mesh.V, surface_faces_, k / contact_passes());
-  mean_area_ = term_->mean_area();
+  term_ = std::make_unique<body::ContactTerm>(*support_, mesh.V, surface_faces_, k / contact_passes(), options_.sampling,
+                                              options_.subdivisions);
   system_->add_term(term_.get());
   if (support_model_) {
     std::vector<int> surface(static_cast<std::size_t>(support_rest_.rows()));
     for (std::size_t j = 0; j < surface.size(); ++j) surface[j] = static_cast<int>(j);
-    coupled_ = std::make_unique<CoupledSystem>(*system_, *support_system_, *support_, std::move(surface), *term_);
+    coupled_ = std::make_unique<CoupledSystem>(*system_, *support_system_, *support_, std::move(surface), *term_,
+                                               options_.subdivisions);
   }
 
   NewtonOptions opt;
@@ -206,13 +212,22 @@ Eigen::VectorXd RestSimulation::coupled_dofs() const {
 }
 
 RestSimulation::ContactPressures RestSimulation::contact_pressures() const {
-  if (!coupled_) throw Error(ErrorKind::Internal, "contact pressures of both passes need a deformable support");
   ContactPressures out;
-  coupled_->contact_forces(coupled_dofs(), out.body_force, out.support_force);
+  if (coupled_) {
+    coupled_->contact_forces(coupled_dofs(), out.body_force, out.support_force);
+  } else {
+    const Eigen::VectorXd Y = system_->positions(x_);
+    out.body_force = Eigen::Matrix3Xd::Zero(3, Y.size() / 3);
+    out.support_force = Eigen::Matrix3Xd::Zero(3, support_->vertices().rows());
+    term_->potential().add_forces(*support_, Eigen::Map<const Eigen::Matrix3Xd>(Y.data(), 3, Y.size() / 3),
+                                  out.body_force, out.support_force);
+  }
   out.body = Eigen::VectorXd::Zero(out.body_force.cols());
   out.support = Eigen::VectorXd::Zero(out.support_force.cols());
-  const std::vector<double>& spring = term_->spring_area();
-  for (int v : surface_) out.body[v] = out.body_force.col(v).norm() / spring[static_cast<std::size_t>(v)];
+  const Eigen::VectorXd& area = term_->pressure_areas();
+  for (int v : surface_) {
+    if (area[v] > 0.0) out.body[v] = out.body_force.col(v).norm() / area[v];
+  }
   for (Eigen::Index j = 0; j < out.support.size(); ++j) {
     if (support_area_[j] > 0.0) out.support[j] = out.support_force.col(j).norm() / support_area_[j];
   }
@@ -221,8 +236,15 @@ RestSimulation::ContactPressures RestSimulation::contact_pressures() const {
 
 void RestSimulation::contact_hessian_product(const Eigen::Matrix3Xd& v_body, const Eigen::Matrix3Xd& v_support,
                                              Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const {
-  if (!coupled_) throw Error(ErrorKind::Internal, "the contact Hessian of both passes needs a deformable support");
-  coupled_->contact_hessian_product(coupled_dofs(), v_body, v_support, body, support);
+  if (coupled_) {
+    coupled_->contact_hessian_product(coupled_dofs(), v_body, v_support, body, support);
+    return;
+  }
+  const Eigen::VectorXd Y = system_->positions(x_);
+  body = Eigen::Matrix3Xd::Zero(3, v_body.cols());
+  support = Eigen::Matrix3Xd::Zero(3, v_support.cols());
+  term_->potential().add_hessian_product(*support_, Eigen::Map<const Eigen::Matrix3Xd>(Y.data(), 3, Y.size() / 3),
+                                         v_body, v_support, body, support);
 }
 
 void RestSimulation::set_pass_stiffness(double k) {
@@ -315,7 +337,6 @@ RestResult RestSimulation::solve() {
   r.max_penetration = term_->potential().max_depth();
   r.stiffness = contact_stiffness();
   r.contacts = static_cast<int>(term_->potential().size());
-  r.body_pressure = term_->pressures(p);
   r.min_det_f = model_->min_jacobian(system_->full_displacement(x_));
   if (support_model_) {
     const Eigen::VectorXd u = support_system_->full_displacement(support_x_);
@@ -327,54 +348,17 @@ RestResult RestSimulation::solve() {
     }
   }
 
-  // The support's side: its vertices against the deformed body. A support
-  // vertex at depth δ carries the pressure of a body vertex at that depth,
-  // 2kδ/Ā (the body's springs are k·A/Ā), so both sides show the same
-  // pressure field.
-  if (coupled_) {
-    // Two passes: a vertex's pressure is the force of both on it over its
-    // area (the body's spring area, the support's vertex area at rest).
-    const ContactPressures cp = contact_pressures();
-    r.body_pressure = cp.body;
-    r.support_pressure = cp.support;
-    r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
-  } else {
-    r.support_pressure = Eigen::VectorXd::Zero(support_->vertices().rows());
-    for (const ReverseContact& rc : reverse_contacts()) {
-      r.support_pressure[rc.support_vertex] = 2.0 * r.stiffness * rc.closest.distance / mean_area_;
-      ++r.support_contacts;
-    }
-  }
+  // Both sides from one set of nodal forces: each vertex's force over its
+  // area (the body's skin share, the support's vertex area at rest).
+  const ContactPressures cp = contact_pressures();
+  r.body_pressure = cp.body;
+  r.support_pressure = cp.support;
+  r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
+  r.body_map_force = (cp.body.array() * term_->pressure_areas().array()).sum();
+  r.support_map_force = (cp.support.array() * support_area_.array()).sum();
   r.detection_seconds = term_->detection_seconds();
   r.seconds = seconds_since(t0);
   return r;
-}
-
-std::vector<ReverseContact> RestSimulation::reverse_contacts() const {
-  // The deformed boundary (skin and core shells bound the layer) as an
-  // obstacle, its vertices renumbered.
-  const Eigen::VectorXd p = system_->positions(x_);
-  const Eigen::MatrixX3d positions =
-      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
-  const geometry::Submesh deformed = geometry::submesh(positions, boundary_faces_);
-  contact::ObstacleOptions oo;
-  oo.check_self_intersections = false;
-  const contact::Obstacle body_surface(deformed.mesh, "the deformed body surface", oo);
-  std::vector<ReverseContact> out;
-  for (Eigen::Index v = 0; v < support_->vertices().rows(); ++v) {
-    ReverseContact c;
-    if (!body_surface.penetration(support_->world_vertex(static_cast<int>(v)), c.closest) || !c.closest.inside) continue;
-    double area = 0.0;
-    for (int k = 0; k < contact::feature_size(c.closest.feature); ++k) {
-      int& b = c.closest.vertices[static_cast<std::size_t>(k)];
-      b = deformed.to_old[static_cast<std::size_t>(b)];
-      area += c.closest.weights[k] * body_area_[b];
-    }
-    if (!(area > 0.0)) continue;  // against the core shell: not a skin contact
-    c.support_vertex = static_cast<int>(v);
-    out.push_back(c);
-  }
-  return out;
 }
 
 RestState RestSimulation::state() const {

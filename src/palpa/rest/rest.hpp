@@ -70,14 +70,24 @@ struct RestOptions {
   bool core_centre_given = false;  // else c0 = the mean of the attached vertices
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};
   double target_penetration = 3e-4;  // [m]
-  double stiffness = 0.0;            // k [N/m]; > 0 fixes it (no automatic rule)
+  // k > 0 fixes it (no automatic rule): [Pa/m] with Surface sampling, [N/m]
+  // with Vertices (RestResult::stiffness gives it back in the same unit).
+  double stiffness = 0.0;
   LineSearchKind line_search = LineSearchKind::BacktrackingThenBrent;
   int max_iterations = 300;
   double force_tolerance = 0.0;      // [N]; 0: 1e-6 of the load over the surface vertices
   double regularization = 1e4;       // α [1/s²] before landing
-  // Spring areas follow the contact between solves (contact/spring_areas.hpp).
-  // Off: they stay as they are, so the equilibrium is one smooth function of
-  // the support's shape (shape optimization).
+  // Where the contact springs sit on the skin (body/contact_term.hpp):
+  // Surface integrates the tractions over the skin's triangles
+  // (`subdivisions`² points each), so the nodal forces are the consistent
+  // loads of the pressure field and both maps carry the load; Vertices is
+  // the node-to-surface contact of the thesis.
+  body::ContactSampling sampling = body::ContactSampling::Surface;
+  int subdivisions = 2;
+  // Vertices: spring areas follow the contact between solves
+  // (contact/spring_areas.hpp). Off: they stay as they are, so the
+  // equilibrium is one smooth function of the support's shape (shape
+  // optimization).
   bool update_areas = true;
   std::string support_name = "support";
   // Set: the support deforms (see DeformableSupport); else it is rigid.
@@ -93,9 +103,9 @@ struct RestResult {
   double balance_error = 0.0;        // |contact + load| / |load| (free directions only)
   double max_penetration = 0.0;      // [m]
   double stiffness = 0.0;            // k [N/m]
-  int contacts = 0;
-  int support_contacts = 0;
-  int reverse_contacts = 0;          // deformable: support vertices held out of the body's skin
+  int contacts = 0;                  // springs in contact (skin samples)
+  int support_contacts = 0;          // support vertices with a pressure
+  int reverse_contacts = 0;          // deformable: support-surface samples held out of the skin
   int newton_iterations = 0;
   int solves = 0;
   double seconds = 0.0;
@@ -105,17 +115,15 @@ struct RestResult {
   double support_max_displacement = 0.0;  // deformable support [m]
   double support_min_det_f = 1.0;         // deformable support
   Eigen::Vector3d support_base_force = Eigen::Vector3d::Zero();  // deformable: the ground on its base [N]
-  Eigen::VectorXd body_pressure;     // per body vertex [Pa] (0 off contact)
-  Eigen::VectorXd support_pressure;  // per support vertex [Pa]
+  // Per vertex, 0 off contact: the nodal contact force over the vertex's
+  // area (the body's skin share, the support's vertex area at rest) [Pa].
+  Eigen::VectorXd body_pressure;     // per body vertex
+  Eigen::VectorXd support_pressure;  // per support vertex
+  // Σ p_i A_i of each map [N]: the magnitudes of the nodal contact forces
+  // summed; equal to the load where the forces are parallel to it.
+  double body_map_force = 0.0;
+  double support_map_force = 0.0;
   std::string message;
-};
-
-// A support vertex inside the deformed body (the reverse query): its closest
-// point on the body's boundary, whose `vertices` are rows of the body's tet
-// mesh.
-struct ReverseContact {
-  int support_vertex = -1;
-  contact::ClosestPoint closest;
 };
 
 // Everything a solve starts from: with the same body and support it restores
@@ -164,27 +172,30 @@ class RestSimulation {
   Eigen::Matrix3Xd body_contact_forces() const;
   // Body and support DOFs together (deformable support).
   Eigen::VectorXd coupled_dofs() const;
-  // Deformable support: the nodal contact forces of both passes on the
-  // body's vertices (3×N) and the support's surface vertices [N], and the
-  // pressures they make, force over area (the body's spring areas, the
-  // support's vertex areas at rest) [Pa]. palpa::Error (Internal) if rigid.
+  // The nodal contact forces (both passes on a deformable support) on the
+  // body's vertices (3×N) and the support's surface vertices [N], equal and
+  // opposite in sum, and the pressures they make, force over area (the
+  // body's ContactTerm::pressure_areas(), the support's vertex areas at
+  // rest) [Pa].
   struct ContactPressures {
     Eigen::Matrix3Xd body_force, support_force;
     Eigen::VectorXd body, support;
   };
   ContactPressures contact_pressures() const;
-  // H_c v, H_c the Hessian of the contact energy (both passes) over the
-  // vertex positions of the body (3×N) and the support's surface.
+  // H_c v, H_c the Hessian of the contact energy (both passes on a
+  // deformable support) over the vertex positions of the body (3×N) and the
+  // support's surface.
   void contact_hessian_product(const Eigen::Matrix3Xd& v_body, const Eigen::Matrix3Xd& v_support,
                                Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const;
   const Eigen::VectorXd& dofs() const noexcept { return x_; }
   const body::ContactTerm& contact_term() const noexcept { return *term_; }
-  // The contact's pressure law: a depth δ means a pressure 2kδ/Ā, k this
-  // stiffness [N/m]. On a deformable support the support's vertices press
-  // on the body's skin too (two passes, rest/coupled.hpp), each pass with
-  // half of k, so that where both surfaces sink into each other alike the
-  // pressure is still 2kδ/Ā; its pressures are the nodal forces of both
-  // passes over the vertices' areas (contact_pressures()).
+  // The contact's pressure law: a depth δ means a pressure kδ (Surface
+  // sampling, k [Pa/m]) or 2kδ/Ā (Vertices, k [N/m], Ā the mean skin
+  // vertex area). On a deformable support the support's surface presses on
+  // the body's skin too (two passes, rest/coupled.hpp), each pass with half
+  // of k, so that where both surfaces sink into each other alike the
+  // pressure is the same; its pressures are the nodal forces of both passes
+  // over the vertices' areas (contact_pressures()).
   double contact_passes() const noexcept { return options_.deformable_support ? 2.0 : 1.0; }
   double contact_stiffness() const noexcept { return term_->stiffness() * contact_passes(); }
   NewtonSolver& newton() noexcept { return *newton_; }
@@ -215,9 +226,6 @@ class RestSimulation {
     automatic_ = false;
     options_.update_areas = false;
   }
-  // The support's vertices inside the deformed body at the current state,
-  // against its skin (not its core shells).
-  std::vector<ReverseContact> reverse_contacts() const;
   const Eigen::MatrixX3i& surface_faces() const noexcept { return surface_faces_; }  // outer skin, tet-mesh rows
 
   // The deformed body (tets, point data displacement_m, contact_force_N,
@@ -248,7 +256,6 @@ class RestSimulation {
   Eigen::MatrixX3i boundary_faces_;   // the whole boundary (skin and core shells)
   Eigen::VectorXd body_area_;         // per vertex [m²]
   Eigen::VectorXd support_area_;      // per support vertex [m²]
-  double mean_area_ = 0.0;            // mean skin vertex area Ā [m²]
   Eigen::VectorXd x_;
   bool automatic_ = true;
   // The automatic stiffness rule (set when automatic_).

@@ -355,8 +355,13 @@ RestScene read_rest_scene(const fs::path& path, const std::string& version_key,
                                     "at least one of x, y, z, rx, ry, rz");
   }
   if (const auto c = root.find("contact")) {
-    c->expect_only({"stiffness", "max_penetration"});
-    if (const auto k = c->find("stiffness")) o.stiffness = read_positive(*k, Dimension::Stiffness);
+    c->expect_only({"stiffness", "max_penetration", "sampling", "subdivisions"});
+    if (const auto sm = c->find("sampling")) o.sampling = sim3d::read_contact_sampling(*sm);
+    if (const auto n = c->find("subdivisions")) o.subdivisions = sim3d::read_count(*n, 1, 8);
+    if (const auto k = c->find("stiffness")) {
+      o.stiffness = read_positive(*k, o.sampling == body::ContactSampling::Surface ? Dimension::PressurePerLength
+                                                                                    : Dimension::Stiffness);
+    }
     if (const auto p = c->find("max_penetration")) o.target_penetration = read_positive(*p, Dimension::Length);
   }
   if (const auto sv = root.find("solver")) {

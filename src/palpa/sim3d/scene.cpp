@@ -240,18 +240,13 @@ Scene read_scene(const fs::path& path) {
 
   if (const auto c = root.find("contact")) {
     c->expect_only({"stiffness", "max_penetration", "sampling", "subdivisions"});
-    if (const auto sm = c->find("sampling")) {
-      const std::string v = sm->as_string();
-      if (v == "vertices") {
-        s.contact.sampling = body::ContactSampling::Vertices;
-      } else if (v == "surface") {
-        s.contact.sampling = body::ContactSampling::Surface;
-      } else {
-        sm->fail(fmt::format("unknown contact sampling \"{}\"", v), "\"vertices\" or \"surface\"");
-      }
-    }
+    if (const auto sm = c->find("sampling")) s.contact.sampling = read_contact_sampling(*sm);
     if (const auto n = c->find("subdivisions")) s.contact.subdivisions = read_count(*n, 1, 8);
-    if (const auto k = c->find("stiffness")) s.contact.stiffness = read_positive(*k, Dimension::Stiffness);
+    if (const auto k = c->find("stiffness")) {
+      s.contact.stiffness = read_positive(*k, s.contact.sampling == body::ContactSampling::Surface
+                                                  ? Dimension::PressurePerLength
+                                                  : Dimension::Stiffness);
+    }
     if (const auto p = c->find("max_penetration")) s.contact.max_penetration = read_positive(*p, Dimension::Length);
     if (s.contact.stiffness > 0.0 && s.contact.max_penetration > 0.0) {
       c->fail("both \"stiffness\" and \"max_penetration\" given", "one of them");

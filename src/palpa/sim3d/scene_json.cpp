@@ -50,4 +50,11 @@ int read_count(const JsonView& v, int lo, int hi) {
   return static_cast<int>(n);
 }
 
+body::ContactSampling read_contact_sampling(const JsonView& v) {
+  const std::string s = v.as_string();
+  if (s == "vertices") return body::ContactSampling::Vertices;
+  if (s == "surface") return body::ContactSampling::Surface;
+  v.fail(fmt::format("unknown contact sampling '{}'", s), "\"vertices\" or \"surface\"");
+}
+
 }  // namespace palpa::sim3d

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <filesystem>
 
+#include "palpa/body/contact_term.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/solve/newton.hpp"
 
@@ -26,5 +27,7 @@ std::filesystem::path resolve_scene_path(const std::filesystem::path& scene_file
 LineSearchKind read_line_search(const JsonView& v);
 // A whole number in [lo, hi].
 int read_count(const JsonView& v, int lo, int hi);
+// "vertices" | "surface" (body/contact_term.hpp).
+body::ContactSampling read_contact_sampling(const JsonView& v);
 
 }  // namespace palpa::sim3d
