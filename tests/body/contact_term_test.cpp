@@ -8,6 +8,7 @@
 #include <random>
 
 #include "common/finite_difference.hpp"
+#include "common/system_derivatives.hpp"
 #include "common/test_support.hpp"
 #include "palpa/geometry/boundary.hpp"
 #include "palpa/material/models.hpp"
@@ -17,9 +18,10 @@
 namespace palpa::body {
 namespace {
 
+using palpa::test::dense_hessian;
 using palpa::test::derivatives_match;
+using palpa::test::fd_hessian;
 using palpa::test::fd_gradient;
-using palpa::test::fd_jacobian;
 
 constexpr double kA = 0.01;  // the notch's size [m]
 
@@ -89,15 +91,7 @@ TEST_P(ContactTermRegions, SystemDerivativesMatchFiniteDifferences) {
   EXPECT_NEAR(e, sys.energy(x), 1e-12 * std::abs(e));
   EXPECT_TRUE(derivatives_match(g, fd_gradient([&](const Eigen::VectorXd& v) { return sys.energy(v); }, x, 1e-7), 1e-7))
       << c.name;
-  Eigen::SparseMatrix<double> H;
-  sys.hessian(x, H);
-  const Eigen::MatrixXd dense = Eigen::MatrixXd(Eigen::SparseMatrix<double>(H.selfadjointView<Eigen::Lower>()));
-  const auto grad = [&](const Eigen::VectorXd& v) {
-    Eigen::VectorXd gv;
-    sys.gradient(v, gv);
-    return gv;
-  };
-  EXPECT_TRUE(derivatives_match(dense, fd_jacobian(grad, x, 1e-7), 1e-6)) << c.name;
+  EXPECT_TRUE(derivatives_match(dense_hessian(sys, x), fd_hessian(sys, x, 1e-7), 1e-6)) << c.name;
 
   // Forces: the body's contact forces and the obstacle's reaction cancel.
   const Eigen::VectorXd p = sys.positions(sys.full_displacement(x));

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "common/finite_difference.hpp"
+#include "common/system_derivatives.hpp"
 #include "common/test_support.hpp"
 #include "palpa/geometry/boundary.hpp"
 #include "palpa/material/kinematics.hpp"
@@ -20,9 +21,10 @@
 namespace palpa::tet {
 namespace {
 
+using palpa::test::dense_hessian;
 using palpa::test::derivatives_match;
+using palpa::test::fd_hessian;
 using palpa::test::fd_gradient;
-using palpa::test::fd_jacobian;
 
 constexpr double kE = 10e3;   // [Pa]
 constexpr double kNu = 0.4;
@@ -90,16 +92,10 @@ TEST(StaticSystem, GradientAndHessianMatchFiniteDifferences) {
   const double e = sys.energy_gradient(x, g);
   EXPECT_DOUBLE_EQ(e, sys.energy(x));
   EXPECT_TRUE(derivatives_match(g, fd_gradient([&](const Eigen::VectorXd& v) { return sys.energy(v); }, x, 1e-6), 1e-7));
+  EXPECT_TRUE(derivatives_match(dense_hessian(sys, x), fd_hessian(sys, x, 1e-6), 1e-6));
+  // The pattern stays: a second call writes the same structure.
   Eigen::SparseMatrix<double> H;
   sys.hessian(x, H);
-  const Eigen::MatrixXd dense = Eigen::MatrixXd(Eigen::SparseMatrix<double>(H.selfadjointView<Eigen::Lower>()));
-  const auto grad = [&](const Eigen::VectorXd& v) {
-    Eigen::VectorXd gv;
-    sys.gradient(v, gv);
-    return gv;
-  };
-  EXPECT_TRUE(derivatives_match(dense, fd_jacobian(grad, x, 1e-6), 1e-6));
-  // The pattern stays: a second call writes the same structure.
   const Eigen::Index nnz = H.nonZeros();
   sys.hessian(0.5 * x, H);
   EXPECT_EQ(H.nonZeros(), nnz);
@@ -147,15 +143,7 @@ TEST(StaticSystem, VertexPairBlocksOfATermMatchFiniteDifferences) {
   std::uniform_real_distribution<double> du(-5e-4, 5e-4);
   Eigen::VectorXd x(sys.num_dofs());
   for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = du(rng);
-  Eigen::SparseMatrix<double> H;
-  sys.hessian(x, H);
-  const Eigen::MatrixXd dense = Eigen::MatrixXd(Eigen::SparseMatrix<double>(H.selfadjointView<Eigen::Lower>()));
-  const auto grad = [&](const Eigen::VectorXd& v) {
-    Eigen::VectorXd gv;
-    sys.gradient(v, gv);
-    return gv;
-  };
-  EXPECT_TRUE(derivatives_match(dense, fd_jacobian(grad, x, 1e-7), 1e-6));
+  EXPECT_TRUE(derivatives_match(dense_hessian(sys, x), fd_hessian(sys, x, 1e-7), 1e-6));
   // A pair of free vertices that shares no tet has no place in the pattern:
   // two opposite top corners.
   PairSpring far;
