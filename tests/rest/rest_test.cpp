@@ -89,6 +89,17 @@ TEST(Rest, BlockOnASlabCarriesItsWeightWithPressureRhoGH) {
   const RestSimulation::ContactPressures cp = sim.contact_pressures();
   EXPECT_LT((cp.body_force.rowwise().sum() + cp.support_force.rowwise().sum()).norm(), 1e-6 * weight);
   EXPECT_NEAR(cp.body_force.rowwise().sum().z(), weight, 0.005 * weight);
+  // What a mat would read on each side: the weight, centred under the
+  // block, the peak pressure index between the mean and the peak.
+  for (const report::PressureMetrics& m : {r.body_metrics, r.support_metrics}) {
+    EXPECT_NEAR(m.force, weight, 0.01 * weight);
+    EXPECT_LT(m.centre.head<2>().norm(), 0.01 * kW);
+    EXPECT_GE(m.peak_pressure_index, m.mean);
+    EXPECT_LE(m.peak_pressure_index, m.peak);
+    EXPECT_LE(m.p95, m.peak);
+    EXPECT_GT(m.dispersion_index, 0.0);
+    EXPECT_LE(m.dispersion_index, 1.0);
+  }
   // The automatic stiffness put the deepest penetration at the 0.3 mm target.
   EXPECT_GT(r.max_penetration, 0.85 * 3e-4);
   EXPECT_LT(r.max_penetration, 1.15 * 3e-4);

@@ -41,6 +41,8 @@ Json evaluation_json(const Evaluation& e, double gamma) {
           {"contacts", {{"body_vertices", e.score.body_contacts}, {"support_vertices", e.score.support_contacts}}},
           {"pressure_map_force_N",
            {{"body", e.rest.body_map_force}, {"support", e.rest.support_map_force}, {"load", e.rest.load.norm()}}},
+          {"pressure_map",
+           {{"body", report::to_json(e.rest.body_metrics)}, {"support", report::to_json(e.rest.support_metrics)}}},
           {"max_penetration_m", e.rest.max_penetration},
           {"contact_force_N", vec(e.rest.contact_force)},
           {"load_N", vec(e.rest.load)},

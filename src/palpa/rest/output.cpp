@@ -124,6 +124,7 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
                           {"springs", r.contacts}}},
             {"pressure_map_force_N",
              {{"body", r.body_map_force}, {"support", r.support_map_force}, {"load", r.load.norm()}}},
+            {"pressure_map", {{"body", report::to_json(r.body_metrics)}, {"support", report::to_json(r.support_metrics)}}},
             {"peak_pressure_Pa", {{"body", r.body_pressure.maxCoeff()}, {"support", r.support_pressure.maxCoeff()}}},
             {"newton_iterations", r.newton_iterations},
             {"solves", r.solves},

@@ -30,6 +30,7 @@
 #include "palpa/contact/obstacle.hpp"
 #include "palpa/contact/stiffness.hpp"
 #include "palpa/io/vtu.hpp"
+#include "palpa/report/pressure_metrics.hpp"
 #include "palpa/solve/adjoint.hpp"
 #include "palpa/solve/newton.hpp"
 #include "palpa/tet/model.hpp"
@@ -123,6 +124,11 @@ struct RestResult {
   // summed; equal to the load where the forces are parallel to it.
   double body_map_force = 0.0;
   double support_map_force = 0.0;
+  // What a pressure-mapping mat would read on each side
+  // (report/pressure_metrics.hpp): the body's map on its deformed skin, the
+  // support's where its vertices are.
+  report::PressureMetrics body_metrics;
+  report::PressureMetrics support_metrics;
   std::string message;
 };
 
