@@ -2,15 +2,17 @@
 #pragma once
 // A body resting on a support (thesis §7.3): the soft layer on its rigid core
 // (body/core_system.hpp) under gravity and an external wrench, pressed onto a
-// closed support surface by penalty contact with sliding anchors, solved for
-// static equilibrium; then the contact pressures on the body and — by the
-// reverse query, the support's vertices against the deformed body surface —
-// on the support (bidirectional, Fig. 7.4).
+// closed support surface by penalty contact with sliding anchors (by default
+// integrated over the skin's triangles, RestOptions::sampling), solved for
+// static equilibrium; then the contact pressures on both sides
+// (bidirectional, Fig. 7.4) from one set of nodal contact forces, each
+// vertex's force over its area, so that each map integrates to the contact
+// force.
 //
 // The support is rigid and fixed, or deformable (§7.4.3,
 // RestOptions::deformable_support): then its inside is meshed with tets, its
 // base held, and body, support and a two-pass contact are solved together
-// (rest/coupled.hpp); pressures are nodal contact forces over vertex areas.
+// (rest/coupled.hpp).
 //
 // The body starts slightly above the support and falls onto it: while nothing
 // touches, the Newton system is K + αM (§7.3.4). With an automatic penalty
