@@ -11,6 +11,7 @@
 #include <random>
 
 #include "common/finite_difference.hpp"
+#include "common/square_grid.hpp"
 #include "common/test_support.hpp"
 #include "contact/shapes.hpp"
 #include "palpa/contact/penalty_contact.hpp"
@@ -22,24 +23,8 @@ namespace {
 using test::derivatives_match;
 using test::fd_jacobian;
 
-// A flat n×n grid of squares (two triangles each) of side `size` at height z,
-// centred on the z axis, wound upward.
-SurfaceMesh sheet(int n, double size, double z) {
-  SurfaceMesh m;
-  m.V.resize((n + 1) * (n + 1), 3);
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) m.V.row(j * (n + 1) + i) << size * (i / double(n) - 0.5), size * (j / double(n) - 0.5), z;
-  }
-  m.F.resize(2 * n * n, 3);
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
-      m.F.row(2 * (j * n + i)) << a, b, d;
-      m.F.row(2 * (j * n + i) + 1) << a, d, c;
-    }
-  }
-  return m;
-}
+// A flat n×n grid of side `size` at height z, centred on the z axis.
+SurfaceMesh sheet(int n, double size, double z) { return test::square_grid(n, size, Eigen::Vector3d(0.0, 0.0, z)); }
 
 TEST(SubdivisionRule, EqualWeightsInsideTheTriangleExactForLinearFunctions) {
   for (int n = 1; n <= 4; ++n) {

@@ -12,8 +12,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/square_grid.hpp"
 #include "common/test_support.hpp"
-#include "palpa/geometry/surface_operators.hpp"
 
 namespace palpa::report {
 namespace {
@@ -24,22 +24,7 @@ constexpr double kP0 = 20e3;   // [Pa]
 constexpr int kN = 100;        // cells per side
 
 // A flat (kN × kN)-cell grid of side kN·kH centred on (0.01, −0.02, 0.3).
-SurfaceMesh grid() {
-  SurfaceMesh m;
-  m.V.resize((kN + 1) * (kN + 1), 3);
-  for (int j = 0; j <= kN; ++j) {
-    for (int i = 0; i <= kN; ++i) m.V.row(j * (kN + 1) + i) << 0.01 + (i - kN / 2) * kH, -0.02 + (j - kN / 2) * kH, 0.3;
-  }
-  m.F.resize(2 * kN * kN, 3);
-  for (int j = 0; j < kN; ++j) {
-    for (int i = 0; i < kN; ++i) {
-      const int a = j * (kN + 1) + i, b = a + 1, c = a + kN + 1, d = c + 1;
-      m.F.row(2 * (j * kN + i)) << a, b, d;
-      m.F.row(2 * (j * kN + i) + 1) << a, d, c;
-    }
-  }
-  return m;
-}
+SurfaceMesh grid() { return test::square_grid(kN, kN * kH, Eigen::Vector3d(0.01, -0.02, 0.3)); }
 
 Eigen::VectorXd radial(const SurfaceMesh& m, double (*profile)(double)) {
   Eigen::VectorXd p(m.V.rows());
