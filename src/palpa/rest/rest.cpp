@@ -354,11 +354,13 @@ RestResult RestSimulation::solve() {
   r.body_pressure = cp.body;
   r.support_pressure = cp.support;
   r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
-  r.body_map_force = (cp.body.array() * term_->pressure_areas().array()).sum();
+  // Integrated as a user would: over the skin's vertex areas (with Vertices
+  // sampling its pressures are over spring areas, so this exceeds the load).
+  r.body_map_force = (cp.body.array() * body_area_.array()).sum();
   r.support_map_force = (cp.support.array() * support_area_.array()).sum();
   const Eigen::MatrixX3d body_points =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
-  r.body_metrics = report::pressure_metrics(body_points, term_->pressure_areas(), cp.body);
+  r.body_metrics = report::pressure_metrics(body_points, body_area_, cp.body);
   Eigen::MatrixX3d support_points(support_->vertices().rows(), 3);
   for (Eigen::Index j = 0; j < support_points.rows(); ++j) support_points.row(j) = support_->world_vertex(static_cast<int>(j)).transpose();
   r.support_metrics = report::pressure_metrics(support_points, support_area_, cp.support);

@@ -122,8 +122,9 @@ struct RestResult {
   // area (the body's skin share, the support's vertex area at rest) [Pa].
   Eigen::VectorXd body_pressure;     // per body vertex
   Eigen::VectorXd support_pressure;  // per support vertex
-  // Σ p_i A_i of each map [N]: the magnitudes of the nodal contact forces
-  // summed; equal to the load where the forces are parallel to it.
+  // Σ p_i A_i of each map over its vertex areas [N]: with Surface sampling
+  // the magnitudes of the nodal contact forces summed, equal to the load
+  // where the forces are parallel to it.
   double body_map_force = 0.0;
   double support_map_force = 0.0;
   // What a pressure-mapping mat would read on each side
