@@ -6,8 +6,6 @@
 #include <cmath>
 #include <fmt/format.h>
 
-#include "palpa/contact/contact.hpp"
-#include "palpa/contact/penalty.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/geometry/umbrella.hpp"
