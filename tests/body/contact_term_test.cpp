@@ -101,6 +101,46 @@ TEST_P(ContactTermRegions, SystemDerivativesMatchFiniteDifferences) {
   EXPECT_GT(w.force.norm(), 0.0);
 }
 
+TEST(ContactTermSurface, SystemDerivativesMatchFiniteDifferencesAndForcesBalance) {
+  // The same 1 mm cube with its springs on 2 × 2 points of every skin
+  // triangle (k a pressure per depth), its upper part inside the obstacle
+  // above the notch's ceiling, so that its side triangles touch in part; the
+  // Hessian couples each triangle's corners.
+  const tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(1e-3),
+                                              Eigen::Vector3i(2, 2, 2));
+  const tet::ElasticModel model(box.mesh, {tet::BodyMaterial{std::make_shared<material::NeoHookean>(5e3, 0.3), 1000.0}});
+  contact::Obstacle obstacle(notched_cube(), "notch");
+  obstacle.set_pose({Eigen::Matrix3d::Identity(), -Eigen::Vector3d(0.3 * kA, 0.4 * kA, kA - 4e-4)});
+  ContactTerm term(obstacle, box.mesh.V, geometry::boundary_of(box.mesh).faces, 4e6, ContactSampling::Surface, 2);
+  EXPECT_FALSE(term.vertex_pairs().empty());
+  tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0));
+  sys.add_term(&term);
+  sys.set_gravity(Eigen::Vector3d(0.0, 0.0, -9.81));
+  sys.set_true_hessian(true);
+  auto rng = palpa::test::make_rng(22);
+  std::uniform_real_distribution<double> du(-5e-5, 5e-5);
+  Eigen::VectorXd x(sys.num_dofs());
+  for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = du(rng);
+  sys.prepare(x);
+  ASSERT_GT(term.potential().size(), 8u);
+  ASSERT_LT(term.potential().size(), term.potential().samples().size());
+  Eigen::VectorXd g;
+  const double e = sys.energy_gradient(x, g);
+  EXPECT_NEAR(e, sys.energy(x), 1e-12 * std::abs(e));
+  EXPECT_TRUE(derivatives_match(g, fd_gradient([&](const Eigen::VectorXd& v) { return sys.energy(v); }, x, 1e-7), 1e-7));
+  EXPECT_TRUE(derivatives_match(dense_hessian(sys, x), fd_hessian(sys, x, 1e-7), 1e-6));
+  // The skin's nodal forces and the obstacle's reaction cancel, and each
+  // vertex's pressure is its force over its share of the skin.
+  const Eigen::VectorXd p = sys.positions(sys.full_displacement(x));
+  const Eigen::Matrix3Xd f = term.vertex_forces(p);
+  const contact::Wrench w = term.obstacle_wrench(p, Eigen::Vector3d::Zero());
+  EXPECT_GT(w.force.norm(), 0.0);
+  EXPECT_LE((f.rowwise().sum() + w.force).norm(), 1e-12 * w.force.norm());
+  const Eigen::VectorXd pressure = term.pressures(p);
+  EXPECT_NEAR((pressure.array() * term.pressure_areas().array()).sum(), f.colwise().norm().sum(),
+              1e-12 * f.colwise().norm().sum());
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Voronoi, ContactTermRegions,
     ::testing::Values(Case{"face", Eigen::Vector3d(0.3 * kA, 0.4 * kA, kA + 3e-4), contact::Feature::Face},

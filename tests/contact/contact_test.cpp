@@ -52,8 +52,8 @@ struct Scene {
 
 TEST(ContactDetection, FindsExactlyThePointsInside) {
   Scene s;
-  ContactSet set;
-  set.detect(s.obstacle, s.points, s.which);
+  PenaltyContact set(vertex_samples(s.which), kPenalty, "torus");
+  set.commit(s.obstacle, s.points);
   ASSERT_GT(set.size(), 100U);
   std::size_t c = 0;
   int kinds[3] = {0, 0, 0};
@@ -61,27 +61,29 @@ TEST(ContactDetection, FindsExactlyThePointsInside) {
     const ClosestPoint cp = s.obstacle.closest_point(s.points.col(i));
     if (!cp.inside) continue;
     ASSERT_LT(c, set.size());
-    const Contact& contact = set.contacts()[c++];
-    EXPECT_EQ(contact.point, i);
+    const SampleContact& contact = set.contacts()[c++];
+    EXPECT_EQ(s.which[static_cast<std::size_t>(contact.sample)], i);
     EXPECT_EQ(contact.closest.distance, cp.distance);
     EXPECT_EQ(contact.closest.vertices, cp.vertices);
     ++kinds[static_cast<int>(cp.feature)];
   }
   EXPECT_EQ(c, set.size());
   EXPECT_GT(kinds[0] + kinds[1], 0);
-  // detect() without a list: all columns.
-  ContactSet all;
-  all.detect(s.obstacle, s.points);
+  // Every column a sample: more contacts.
+  std::vector<int> columns(static_cast<std::size_t>(s.points.cols()));
+  std::iota(columns.begin(), columns.end(), 0);
+  PenaltyContact all(vertex_samples(columns), kPenalty, "torus");
+  all.commit(s.obstacle, s.points);
   EXPECT_GT(all.size(), set.size());
 }
 
 TEST(ContactDetection, ReusesItsStorage) {
   Scene s;
-  ContactSet set;
-  set.detect(s.obstacle, s.points, s.which);
-  const Contact* data = set.contacts().data();
+  PenaltyContact set(vertex_samples(s.which), kPenalty, "torus");
+  set.commit(s.obstacle, s.points);
+  const SampleContact* data = set.contacts().data();
   const std::size_t n = set.size();
-  for (int repeat = 0; repeat < 3; ++repeat) set.detect(s.obstacle, s.points, s.which);
+  for (int repeat = 0; repeat < 3; ++repeat) set.commit(s.obstacle, s.points);
   EXPECT_EQ(set.contacts().data(), data);
   EXPECT_EQ(set.size(), n);
 }

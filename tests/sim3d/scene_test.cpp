@@ -43,6 +43,22 @@ TEST(Scene, RefusesUnknownSetsMembersAndRegionsWithoutMaterial) {
   p.extra = R"(, "gravty": ["0 m/s^2", "0 m/s^2", "-9.81 m/s^2"])";
   EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input, {"gravty"}));
 
+  // Contact sampling: the two kinds, and a surface stiffness per depth.
+  p = PunchScene{};
+  p.contact = R"({"sampling": "faces"})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"contact.sampling", "unknown contact sampling 'faces'", "\"surface\""}));
+  p.contact = R"({"sampling": "surface", "subdivisions": 9})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input, {"contact.subdivisions"}));
+  p.contact = R"({"sampling": "surface", "stiffness": "2000 N/m"})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"contact.stiffness", "Pa/m"}));
+  p.contact = R"({"sampling": "surface", "subdivisions": 3, "stiffness": "50 kPa/mm"})";
+  const Scene surface = read_scene(write_punch_scene(dir, p));
+  EXPECT_EQ(surface.contact.sampling, body::ContactSampling::Surface);
+  EXPECT_EQ(surface.contact.subdivisions, 3);
+  EXPECT_DOUBLE_EQ(surface.contact.stiffness, 5e7);
+
   std::string text = test::punch_scene_json(PunchScene{});
   text.replace(text.find("\"bottom\""), 8, "\"floor\"");
   const auto file = dir.write("floor.json", text);

@@ -138,16 +138,6 @@ void CoupledSystem::scatter_boundary(const Eigen::Matrix3Xd& boundary, Eigen::Ma
   for (std::size_t i = 0; i < body_vertex_.size(); ++i) body.col(body_vertex_[i]) += boundary.col(static_cast<Eigen::Index>(i));
 }
 
-Eigen::Matrix3Xd CoupledSystem::reverse_body_forces(const Eigen::VectorXd& y) const {
-  place_obstacle(y);
-  Eigen::Matrix3Xd on_support = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(surface_.size()));
-  Eigen::Matrix3Xd on_boundary = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(body_vertex_.size()));
-  reverse_.add_forces(*body_surface_, support_points(y), on_support, on_boundary);
-  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, body_->model().num_vertices());
-  scatter_boundary(on_boundary, f);
-  return f;
-}
-
 Eigen::MatrixX3d CoupledSystem::surface_positions(const Eigen::VectorXd& y) const {
   const Eigen::VectorXd u = support_->full_displacement(y.tail(num_support_dofs()));
   const Eigen::MatrixX3d& X = support_->model().mesh().V;

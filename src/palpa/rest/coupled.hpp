@@ -79,11 +79,9 @@ class CoupledSystem final : public System {
   // moved there.
   Eigen::MatrixX3d surface_positions(const Eigen::VectorXd& y) const;
   void place_obstacle(const Eigen::VectorXd& y) const;
-  // The reverse pass (support surface vertices in the body's skin) with the
-  // contacts committed at the last prepare(), and the forces they put on the
-  // body's vertices at y (3×N) [N].
+  // The reverse pass (the support's surface in the body's skin) with the
+  // contacts committed at the last prepare().
   const contact::PenaltyContact& reverse_contacts() const noexcept { return reverse_; }
-  Eigen::Matrix3Xd reverse_body_forces(const Eigen::VectorXd& y) const;
   // The nodal contact forces of both passes at y (committed features) on the
   // body's vertices (3×N) and the support's surface vertices (3×#surface)
   // [N]: the pressure a vertex feels is its force over its area.

@@ -198,12 +198,7 @@ void RestSimulation::build_deformable_support() {
                support_model_->num_elements(), support_model_->num_vertices(), held);
 }
 
-Eigen::Matrix3Xd RestSimulation::body_contact_forces() const {
-  Eigen::Matrix3Xd f = term_->vertex_forces(system_->positions(x_));
-  // The support's vertices press on the body's skin too (two passes).
-  if (coupled_) f += coupled_->reverse_body_forces(coupled_dofs());
-  return f;
-}
+Eigen::Matrix3Xd RestSimulation::body_contact_forces() const { return contact_pressures().body_force; }
 
 Eigen::VectorXd RestSimulation::coupled_dofs() const {
   Eigen::VectorXd y(x_.size() + support_x_.size());
@@ -319,7 +314,10 @@ RestResult RestSimulation::solve() {
   const Eigen::VectorXd p = system_->positions(x_);
   r.core_translation = system_->core_translation(x_);
   r.core_rotation = system_->core_rotation(x_);
-  const Eigen::Matrix3Xd f = body_contact_forces();
+  // One set of nodal contact forces (both passes on a deformable support)
+  // gives the balance and both pressure maps.
+  const ContactPressures cp = contact_pressures();
+  const Eigen::Matrix3Xd& f = cp.body_force;
   if (coupled_) r.reverse_contacts = static_cast<int>(coupled_->reverse_contacts().size());
   const Eigen::Vector3d c = system_->core().centre + r.core_translation;
   for (Eigen::Index v = 0; v < f.cols(); ++v) {
@@ -348,9 +346,8 @@ RestResult RestSimulation::solve() {
     }
   }
 
-  // Both sides from one set of nodal forces: each vertex's force over its
-  // area (the body's skin share, the support's vertex area at rest).
-  const ContactPressures cp = contact_pressures();
+  // Each vertex's force over its area (the body's skin share, the
+  // support's vertex area at rest).
   r.body_pressure = cp.body;
   r.support_pressure = cp.support;
   r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
