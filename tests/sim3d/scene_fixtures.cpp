@@ -9,15 +9,16 @@ std::string punch_scene_json(const PunchScene& p) {
   return fmt::format(R"({{
   "palpa_scene": 1,
   "body": {{
-    "box": {{"size": {}, "cells": {}}},
+    {},
     "materials": [{{"material": {}, "density": "1000 kg/m^3"}}],
-    "fixed": [{{"set": "bottom"}}]
+    "fixed": {}
   }},
   "obstacles": [{{"name": "punch", "shape": {}, "path": {{"direction": [0, 0, -1], "depth": "{}"}}}}],
   "steps": {},
   "contact": {}{}
 }})",
-                     p.size_mm, p.cells, p.material, p.shape, p.depth, p.steps, p.contact, p.extra);
+                     p.body.empty() ? fmt::format(R"("box": {{"size": {}, "cells": {}}})", p.size_mm, p.cells) : p.body,
+                     p.material, p.fixed, p.shape, p.depth, p.steps, p.contact, p.extra);
 }
 
 std::filesystem::path write_punch_scene(const palpa::test::ScratchDir& dir, const PunchScene& p,

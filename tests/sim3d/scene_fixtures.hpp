@@ -12,6 +12,8 @@ namespace palpa::sim3d::test {
 struct PunchScene {
   std::string size_mm = "[\"40 mm\", \"40 mm\", \"10 mm\"]";
   std::string cells = "[8, 8, 3]";
+  std::string body;  // the body's shape member instead of the box (e.g. "\"cylinder\": {...}")
+  std::string fixed = R"([{"set": "bottom"}])";
   std::string material = R"({"model": "neo-hookean", "parameters": {"E": "10 kPa", "nu": 0.3}})";
   std::string shape = R"({"cylinder": {"radius": "5 mm", "height": "10 mm", "segments": 32}})";
   std::string depth = "1 mm";

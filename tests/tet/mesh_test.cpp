@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <numbers>
+#include <vector>
 
 #include "common/test_support.hpp"
 #include "palpa/core/error.hpp"
@@ -60,6 +62,61 @@ TEST(BoxMesh, BoundaryIsClosedOutwardAndEnclosesTheVolume) {
   EXPECT_LE(normal_sum.norm(), 1e-18);
   // Only the one interior vertex layer is missing: (4·3·3) − (2·1·1).
   EXPECT_EQ(b.vertices.size(), 4u * 3u * 3u - 2u * 1u * 1u);
+}
+
+// The boundary of a cylinder mesh: its area is that of the polygonal solid's
+// faces only when every interior face is shared by two tets (the prisms' quad
+// faces are split the same way from both sides).
+double boundary_area(const TetMesh& m) {
+  const geometry::Boundary b = geometry::boundary_of(m);
+  double area = 0.0;
+  for (Eigen::Index f = 0; f < b.faces.rows(); ++f) {
+    const Eigen::Vector3d p0 = m.V.row(b.faces(f, 0)), p1 = m.V.row(b.faces(f, 1)), p2 = m.V.row(b.faces(f, 2));
+    area += 0.5 * (p1 - p0).cross(p2 - p0).norm();
+  }
+  return area;
+}
+
+TEST(CylinderMesh, ConformingPositiveTetsFillThePolygonalSolid) {
+  const std::vector<double> radii{0.0, 0.002, 0.003, 0.005}, depths{0.0, 0.001, 0.004};
+  const double big_r = 0.005, h = 0.004;
+  for (const int segments : {8, 12}) {
+    for (const double angle : {2.0 * std::numbers::pi, 0.5 * std::numbers::pi}) {
+      const StructuredMesh c = make_cylinder_mesh(radii, depths, segments, angle);
+      const bool closed = angle > 6.0;
+      const int sectors = closed ? segments : segments / 4;
+      const int around = closed ? segments : sectors + 1;
+      EXPECT_EQ(c.mesh.V.rows(), 3 * (1 + 3 * around));
+      // Per layer: one prism per sector on the axis, two per sector and ring gap.
+      EXPECT_EQ(c.mesh.T.rows(), 2 * 3 * (sectors * (1 + 2 * 2)));
+      const double wedge = 0.5 * big_r * big_r * std::sin(2.0 * std::numbers::pi / segments);
+      double volume = 0.0;
+      for (Eigen::Index t = 0; t < c.mesh.T.rows(); ++t) {
+        const double v = signed_volume(corners(c.mesh, t));
+        EXPECT_GT(v, 0.0) << t;
+        volume += v;
+      }
+      EXPECT_NEAR(volume, sectors * wedge * h, 1e-12 * volume);
+      const double chord = 2.0 * big_r * std::sin(std::numbers::pi / segments);
+      const double faces = 2.0 * sectors * wedge + sectors * chord * h + (closed ? 0.0 : 2.0 * big_r * h);
+      EXPECT_NEAR(boundary_area(c.mesh), faces, 1e-12 * faces) << segments << " " << angle;
+      EXPECT_EQ(c.vertex_sets.at("top").size(), static_cast<std::size_t>(1 + 3 * around));
+      for (int v : c.vertex_sets.at("top")) EXPECT_DOUBLE_EQ(c.mesh.V(v, 2), 0.0);
+      for (int v : c.vertex_sets.at("bottom")) EXPECT_DOUBLE_EQ(c.mesh.V(v, 2), -h);
+      for (int v : c.vertex_sets.at("side")) EXPECT_NEAR(c.mesh.V.row(v).head<2>().norm(), big_r, 1e-15);
+      EXPECT_EQ(c.vertex_sets.count("sector_start"), closed ? 0u : 1u);
+      if (!closed) {
+        EXPECT_EQ(c.vertex_sets.at("sector_start").size(), 3u * 4u);
+        for (int v : c.vertex_sets.at("sector_start")) EXPECT_EQ(c.mesh.V(v, 1), 0.0);
+        for (int v : c.vertex_sets.at("sector_end")) EXPECT_NEAR(c.mesh.V(v, 0), 0.0, 1e-15);
+      }
+    }
+  }
+  EXPECT_TRUE(palpa::test::throws_error([&] { make_cylinder_mesh(radii, depths, 10, 0.5 * std::numbers::pi); },
+                                        ErrorKind::Input, {"not a whole number of the 10 segments"}));
+  const std::vector<double> bad{0.0, 0.002, 0.002};
+  EXPECT_TRUE(palpa::test::throws_error([&] { make_cylinder_mesh(bad, depths, 8); }, ErrorKind::Input,
+                                        {"radii and depths must increase from 0"}));
 }
 
 TEST(PrepareTetMesh, FlipsAConsistentlyNegativeMeshAndRefusesMixedOrientation) {

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
+#include <numbers>
 #include <set>
 
+#include "palpa/axisym/mesh.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/geometry/boundary.hpp"
 #include "palpa/io/mesh.hpp"
@@ -66,6 +68,41 @@ SurfaceMesh read_shape(const JsonView& shape, const fs::path& scene_file) {
   shape.fail("no shape given", "one of \"cylinder\", \"box\", \"sphere\", \"file\"");
 }
 
+// "cylinder": {"radius", "height", "rim", "level", "segments", "sector"}: the
+// (r, z) grid of `palpa poke`'s layer under a punch of radius "rim" at that
+// mesh level, swept around the axis.
+tet::StructuredMesh read_cylinder_body(const JsonView& c) {
+  c.expect_only({"radius", "height", "rim", "level", "segments", "sector"});
+  axisym::LayerGeometry g;
+  g.outer_radius = read_positive(c.at("radius"), Dimension::Length);
+  g.thickness = read_positive(c.at("height"), Dimension::Length);
+  g.punch_radius = read_positive(c.at("rim"), Dimension::Length);
+  if (!(g.outer_radius > 1.5 * g.punch_radius)) {
+    c.at("rim").fail(fmt::format("a rim at {:g} mm is not well inside the radius {:g} mm", g.punch_radius * 1e3,
+                                 g.outer_radius * 1e3),
+                     "a rim of at most 2/3 of the radius");
+  }
+  const int level = c.has("level") ? static_cast<int>(c.at("level").as_integer()) : 1;
+  if (level < 0 || level > 4) c.at("level").fail(fmt::format("level {} is out of range", level), "0 to 4");
+  const int segments = c.has("segments") ? static_cast<int>(c.at("segments").as_integer()) : 96;
+  if (segments < 8 || segments > 1024) {
+    c.at("segments").fail(fmt::format("{} segments", segments), "8 to 1024 segments around the full circle");
+  }
+  const double angle = c.has("sector") ? c.at("sector").as_quantity(Dimension::Angle) : 2.0 * std::numbers::pi;
+  const double share = segments * angle / (2.0 * std::numbers::pi);
+  if (!(angle > 0.0 && angle <= 2.0 * std::numbers::pi * (1.0 + 1e-12)) ||
+      std::abs(share - std::round(share)) > 1e-9 * segments || std::round(share) < 1.0) {
+    c.at("sector").fail("not a whole number of segments", "an angle up to \"360 deg\" that the segments divide");
+  }
+  const axisym::AxisymMesh grid = axisym::make_layer_mesh(g, level);
+  std::vector<double> radii, depths;
+  for (const int n : grid.top_nodes) radii.push_back(grid.nodes(n, 0));
+  for (int j = grid.rows - 1; j >= 0; --j) depths.push_back(-grid.nodes(grid.node(0, j), 1));
+  radii.front() = 0.0;
+  depths.front() = 0.0;
+  return tet::make_cylinder_mesh(radii, depths, segments, angle);
+}
+
 }  // namespace
 
 Scene read_scene(const fs::path& path) {
@@ -79,10 +116,17 @@ Scene read_scene(const fs::path& path) {
 
   // ---- body
   const JsonView body = root.at("body");
-  body.expect_only({"box", "mesh", "unit", "materials", "fixed"});
+  body.expect_only({"box", "cylinder", "mesh", "unit", "materials", "fixed"});
   std::map<std::string, std::vector<int>> sets;
-  if (const auto box = body.find("box")) {
-    if (body.has("mesh")) body.fail("both \"box\" and \"mesh\" given", "one of them");
+  if (int(body.has("box")) + int(body.has("cylinder")) + int(body.has("mesh")) > 1) {
+    body.fail("more than one of \"box\", \"cylinder\" and \"mesh\" given", "one of them");
+  }
+  if (const auto cyl = body.find("cylinder")) {
+    tet::StructuredMesh c = read_cylinder_body(*cyl);
+    s.mesh = std::move(c.mesh);
+    sets = std::move(c.vertex_sets);
+    s.mesh_name = fmt::format("{}: body.cylinder", path.string());
+  } else if (const auto box = body.find("box")) {
     box->expect_only({"size", "cells"});
     const Eigen::Vector3d size = read_quantity3(box->at("size"), Dimension::Length);
     if (!(size.minCoeff() > 0.0)) box->at("size").fail("sizes must be > 0", "three positive lengths");

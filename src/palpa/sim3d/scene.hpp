@@ -10,6 +10,8 @@
 //   "body": {
 //     "box": {"size": ["60 mm", "60 mm", "20 mm"], "cells": [12, 12, 4]},
 //                                   // top face at z = 0, centred in x and y
+//     // or "cylinder": {"radius": "22.57 mm", "height": "10 mm", "rim": "4 mm",
+//     //               "level": 1, "segments": 96, "sector": "90 deg"}
 //     // or "mesh": "body.vtu" (.vtu/.msh/.node/.ele), "unit": "mm"
 //     "materials": [{"material": "foam.json", "density": "1000 kg/m^3",
 //                    "regions": [0, 2]}],        // regions: omit for all tets
@@ -36,9 +38,18 @@
 //   "output": {"frames_every": 1}
 // }
 //
+// A cylinder stands on the z axis with its top face at z = 0; its (r, z) cells
+// are those of `palpa poke`'s layer under a punch of radius "rim" at mesh
+// "level" (0–4, default 1; graded toward a ring of nodes at the rim), swept
+// around in "segments" equal angles (default 96; a cylinder obstacle with as
+// many segments has its edge on the rim ring), over the whole circle or a
+// "sector" from the +x axis toward +y (a quarter: "90 deg").
+//
 // Vertex sets for "fixed": a box's faces ("bottom" = "zmin", "top" = "zmax",
-// "xmin", …), "boundary" (every boundary vertex), "marker:N" (vertices of the
-// boundary triangles with Gmsh physical tag N); or a half-space {"below"|
+// "xmin", …); a cylinder's "bottom", "top", "side" and, for a sector,
+// "sector_start" (the plane y = 0) and "sector_end"; "boundary" (every boundary
+// vertex); "marker:N" (vertices of the boundary triangles with Gmsh physical
+// tag N); or a half-space {"below"|
 // "above": "<length>", "axis": "x"|"y"|"z"} (coordinate ≤ / ≥ the value).
 // "components" is any of "x", "y", "z" (default "xyz").
 //

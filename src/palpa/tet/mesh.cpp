@@ -159,4 +159,138 @@ BoxMesh make_box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, cons
   return box;
 }
 
+namespace {
+
+// A triangular prism (bottom a b c, top a' b' c' = corners 3 4 5) as 3 tets whose
+// quad faces are split from their lowest vertex index (Dompierre et al.'s rule):
+// relabel so that the lowest corner is a, then the face b c c' b' alone decides.
+void split_prism(std::array<int, 6> v, std::vector<std::array<int, 4>>& out) {
+  const auto lowest = static_cast<std::size_t>(std::min_element(v.begin(), v.end()) - v.begin());
+  if (lowest >= 3) {
+    for (std::size_t k = 0; k < 3; ++k) std::swap(v[k], v[k + 3]);
+  }
+  const std::size_t r = lowest % 3;
+  const std::array<int, 6> p{v[r], v[(r + 1) % 3], v[(r + 2) % 3], v[3 + r], v[3 + (r + 1) % 3], v[3 + (r + 2) % 3]};
+  const auto [a, b, c, a1, b1, c1] = p;
+  if (std::min(b, c1) < std::min(c, b1)) {  // diagonal b–c'
+    out.push_back({a, b, c, c1});
+    out.push_back({a, b, c1, b1});
+  } else {  // diagonal c–b'
+    out.push_back({a, b, c, b1});
+    out.push_back({a, c, c1, b1});
+  }
+  out.push_back({a, b1, c1, a1});
+}
+
+bool increasing_from_zero(std::span<const double> x) {
+  if (x.size() < 2 || x[0] != 0.0) return false;
+  for (std::size_t k = 1; k < x.size(); ++k) {
+    if (!(std::isfinite(x[k]) && x[k] > x[k - 1])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+StructuredMesh make_cylinder_mesh(std::span<const double> radii, std::span<const double> depths, int segments,
+                                  double angle) {
+  if (!increasing_from_zero(radii) || !increasing_from_zero(depths)) {
+    throw Error(ErrorKind::Input, "cylinder mesh: radii and depths must increase from 0 (at least two of each)");
+  }
+  const double turn = 2.0 * std::numbers::pi;
+  const double sectors_real = segments * angle / turn;
+  const int sectors = static_cast<int>(std::lround(sectors_real));
+  if (segments < 3 || !(angle > 0.0 && angle <= turn * (1.0 + 1e-12)) || sectors < 1 ||
+      std::abs(sectors_real - sectors) > 1e-9 * segments) {
+    throw Error(ErrorKind::Input,
+                fmt::format("cylinder mesh: a sector of {:g} deg is not a whole number of the {} segments around",
+                            angle * 180.0 / std::numbers::pi, segments));
+  }
+  const bool closed = sectors == segments;
+  const int rings = static_cast<int>(radii.size()) - 1;     // rings off the axis
+  const int layers = static_cast<int>(depths.size());      // node layers
+  const int around = closed ? segments : sectors + 1;      // nodes per ring
+  const int per_layer = 1 + rings * around;
+  // Node of ring i (0 = the axis) at angle index j, layer k (0 = top).
+  const auto id = [&](int i, int j, int k) {
+    return k * per_layer + (i == 0 ? 0 : 1 + (i - 1) * around + (closed ? j % segments : j));
+  };
+  StructuredMesh out;
+  TetMesh& m = out.mesh;
+  m.V.resize(static_cast<Eigen::Index>(per_layer) * layers, 3);
+  for (int k = 0; k < layers; ++k) {
+    const double z = -depths[static_cast<std::size_t>(k)];
+    m.V.row(id(0, 0, k)) << 0.0, 0.0, z;
+    for (int i = 1; i <= rings; ++i) {
+      const double r = radii[static_cast<std::size_t>(i)];
+      for (int j = 0; j < around; ++j) {
+        const double t = turn * j / segments;
+        m.V.row(id(i, j, k)) << r * std::cos(t), r * std::sin(t), z;
+      }
+    }
+  }
+  // The plane's triangles (the same in every layer, so the horizontal faces
+  // agree): a fan on the axis, then each quad cut along the diagonal from its
+  // lowest index.
+  std::vector<std::array<std::array<int, 2>, 3>> triangles;  // (ring, angle) corners
+  for (int j = 0; j < sectors; ++j) {
+    triangles.push_back({{{0, 0}, {1, j}, {1, j + 1}}});
+    for (int i = 1; i < rings; ++i) {
+      const std::array<int, 2> q00{i, j}, q10{i + 1, j}, q11{i + 1, j + 1}, q01{i, j + 1};
+      const int lo02 = std::min(id(i, j, 0), id(i + 1, j + 1, 0));
+      const int lo13 = std::min(id(i + 1, j, 0), id(i, j + 1, 0));
+      if (lo02 < lo13) {
+        triangles.push_back({q00, q10, q11});
+        triangles.push_back({q00, q11, q01});
+      } else {
+        triangles.push_back({q00, q10, q01});
+        triangles.push_back({q10, q11, q01});
+      }
+    }
+  }
+  std::vector<std::array<int, 4>> tets;
+  tets.reserve(3 * triangles.size() * static_cast<std::size_t>(layers - 1));
+  for (int k = 0; k + 1 < layers; ++k) {
+    for (const auto& tri : triangles) {
+      std::array<int, 6> v{};
+      for (std::size_t c = 0; c < 3; ++c) {
+        v[c] = id(tri[c][0], tri[c][1], k + 1);
+        v[c + 3] = id(tri[c][0], tri[c][1], k);
+      }
+      split_prism(v, tets);
+    }
+  }
+  m.T.resize(static_cast<Eigen::Index>(tets.size()), 4);
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    auto tet = tets[t];
+    Mat34 X;
+    for (std::size_t a = 0; a < 4; ++a) X.col(static_cast<Eigen::Index>(a)) = m.V.row(tet[a]).transpose();
+    if (signed_volume(X) < 0.0) std::swap(tet[2], tet[3]);
+    for (std::size_t a = 0; a < 4; ++a) m.T(static_cast<Eigen::Index>(t), static_cast<Eigen::Index>(a)) = tet[a];
+  }
+  m.region = Eigen::VectorXi::Zero(m.T.rows());
+  auto& sets = out.vertex_sets;
+  for (int k = 0; k < layers; ++k) {
+    if (k == 0) sets["zmax"].push_back(id(0, 0, k));
+    if (k == layers - 1) sets["zmin"].push_back(id(0, 0, k));
+    if (!closed) {
+      sets["sector_start"].push_back(id(0, 0, k));
+      sets["sector_end"].push_back(id(0, 0, k));
+    }
+    for (int i = 1; i <= rings; ++i) {
+      for (int j = 0; j < around; ++j) {
+        const int v = id(i, j, k);
+        if (k == 0) sets["zmax"].push_back(v);
+        if (k == layers - 1) sets["zmin"].push_back(v);
+        if (i == rings) sets["side"].push_back(v);
+        if (!closed && j == 0) sets["sector_start"].push_back(v);
+        if (!closed && j == sectors) sets["sector_end"].push_back(v);
+      }
+    }
+  }
+  sets["top"] = sets["zmax"];
+  sets["bottom"] = sets["zmin"];
+  return out;
+}
+
 }  // namespace palpa::tet
