@@ -67,6 +67,10 @@ void run_sim3d_command(const Sim3dArgs& a) {
       spdlog::warn("sim3d: interrupted; the steps done are in {}: continue with the same command and --resume",
                    out.string());
     }
+    if (e.kind() == ErrorKind::Solver && std::filesystem::exists(out / "summary.json")) {
+      spdlog::warn("sim3d: the steps that converged are in {} (summary.json: \"complete\": false, "
+                   "\"failed_step\")", out.string());
+    }
     throw;
   }
 }

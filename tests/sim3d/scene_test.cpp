@@ -3,6 +3,9 @@
 // resume (bit-identical to an uninterrupted run).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+
 #include "common/test_support.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/io/csv.hpp"
@@ -35,6 +38,47 @@ TEST(Scene, ReadsABoxScene) {
   // The box's top face is at z = 0, centred.
   EXPECT_DOUBLE_EQ(s.mesh.V.col(2).maxCoeff(), 0.0);
   EXPECT_DOUBLE_EQ(s.mesh.V.col(0).minCoeff(), -0.02);
+}
+
+TEST(Scene, ReadsACylinderWithARingOfNodesAtTheRim) {
+  ScratchDir dir;
+  PunchScene p;
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16,
+                            "sector": "90 deg"})";
+  p.fixed = R"([{"set": "bottom"}, {"set": "sector_start", "components": "y"},
+                {"set": "sector_end", "components": "x"}])";
+  const Scene s = read_scene(write_punch_scene(dir, p));
+  ASSERT_EQ(s.fixed.size(), 3u);
+  EXPECT_EQ(s.fixed[1].components, (std::array<bool, 3>{false, true, false}));
+  for (int v : s.fixed[1].vertices) EXPECT_EQ(s.mesh.V(v, 1), 0.0);
+  for (int v : s.fixed[2].vertices) EXPECT_NEAR(s.mesh.V(v, 0), 0.0, 1e-15);
+  EXPECT_DOUBLE_EQ(s.mesh.V.col(2).maxCoeff(), 0.0);
+  EXPECT_DOUBLE_EQ(s.mesh.V.col(2).minCoeff(), -0.01);
+  // Five nodes (a quarter of 16 segments, both ends) on the rim in the top face.
+  int on_rim = 0;
+  for (Eigen::Index v = 0; v < s.mesh.V.rows(); ++v) {
+    if (s.mesh.V(v, 2) == 0.0 && std::abs(s.mesh.V.row(v).head<2>().norm() - 0.004) < 1e-15) ++on_rim;
+  }
+  EXPECT_EQ(on_rim, 5);
+
+  p.body = R"("cylinder": {"radius": "5 mm", "height": "10 mm", "rim": "4 mm"})";
+  p.fixed = R"([{"set": "bottom"}])";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"body.cylinder.rim", "not well inside the radius 5 mm"}));
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "segments": 10, "sector": "90 deg"})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"body.cylinder.sector", "not a whole number of segments"}));
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 9})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"body.cylinder.level", "0 to 4"}));
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm"}, "box": {"size": ["1 mm", "1 mm", "1 mm"], "cells": [1, 1, 1]})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"more than one of \"box\", \"cylinder\""}));
+  // A whole cylinder has no cut planes.
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16})";
+  p.fixed = R"([{"set": "sector_start"}])";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"unknown vertex set 'sector_start'", "side"}));
 }
 
 TEST(Scene, RefusesUnknownSetsMembersAndRegionsWithoutMaterial) {
@@ -136,6 +180,31 @@ TEST(Run, InterruptedAndResumedRunMatchesAnUninterruptedOne) {
   const Json summary = read_json_file(dir / "part" / "summary.json");
   EXPECT_TRUE(summary.at("complete").get<bool>());
   EXPECT_EQ(summary.at("records").size(), 4u);
+}
+
+TEST(Run, AStepThatCannotConvergeKeepsTheStepsBeforeItAndNamesAVertex) {
+  // The punch starts 0.5 mm above the block: step 1 stays 0.1 mm above it,
+  // step 2 presses 0.3 mm with too few Newton iterations allowed.
+  ScratchDir dir;
+  PunchScene p;
+  p.depth = "0.8 mm";
+  p.steps = 2;
+  p.extra = R"(, "solver": {"max_iterations": 2})";
+  std::string text = test::punch_scene_json(p);
+  text.replace(text.find(R"("shape")"), 7, R"("position": ["0 mm", "0 mm", "0.5 mm"], "shape")");
+  const Scene s = read_scene(dir.write("scene.json", text));
+  RunOptions o;
+  o.out = dir / "out";
+  o.progress = Progress::Style::Silent;
+  EXPECT_TRUE(throws_error([&] { run(s, o); }, ErrorKind::Solver,
+                           {"step 2 of 2", "did not converge", "largest unbalanced force", "at vertex", "mm)"}));
+  const Json summary = read_json_file(o.out / "summary.json");
+  EXPECT_FALSE(summary.at("complete").get<bool>());
+  EXPECT_EQ(summary.at("steps_done").get<int>(), 1);
+  EXPECT_EQ(summary.at("failed_step").get<int>(), 2);
+  EXPECT_NE(summary.at("failure").get<std::string>().find("step 2 of 2"), std::string::npos);
+  EXPECT_EQ(summary.at("records").size(), 1u);
+  EXPECT_TRUE(std::filesystem::exists(o.out / "force_punch.csv"));
 }
 
 TEST(Run, DampedDynamicsSettlesToTheStaticForce) {

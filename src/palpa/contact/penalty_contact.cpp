@@ -174,6 +174,14 @@ double PenaltyContact::max_depth() const {
   return m;
 }
 
+const SampleContact* PenaltyContact::deepest() const noexcept {
+  const SampleContact* d = nullptr;
+  for (const SampleContact& c : contacts_) {
+    if (d == nullptr || c.closest.distance > d->closest.distance) d = &c;
+  }
+  return d;
+}
+
 double PenaltyContact::energy(const Obstacle& obstacle, Points points) const {
   double e = 0.0;
   for (const SampleContact& c : contacts_) {

@@ -144,6 +144,8 @@ class PenaltyContact {
   bool empty() const noexcept { return contacts_.empty(); }
   // Largest depth at commit [m] (0 without contacts).
   double max_depth() const;
+  // The contact of that depth (the first in sample order), or nullptr.
+  const SampleContact* deepest() const noexcept;
   // k·c_s of a contact [N/m].
   double stiffness_of(const SampleContact& c) const { return k_ * samples_.scale[static_cast<std::size_t>(c.sample)]; }
   Stencil stencil_of(const SampleContact& c) const;

@@ -157,6 +157,44 @@ void Simulation::set_state(const Eigen::VectorXd& x, const std::vector<double>& 
   }
 }
 
+std::string Simulation::worst_residual() const {
+  Eigen::VectorXd g;
+  system_->gradient(x_, g);
+  if (g.size() == 0 || !g.allFinite()) return "the residual is not finite";
+  const std::vector<int>& dofs = system_->free_dofs();
+  Eigen::VectorXd per_vertex = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(vertex_map_.size()));
+  for (Eigen::Index i = 0; i < g.size(); ++i) {
+    per_vertex[dofs[static_cast<std::size_t>(i)] / 3] += g[i] * g[i];
+  }
+  Eigen::Index local = 0;
+  const double worst = std::sqrt(per_vertex.maxCoeff(&local));
+  const int v = vertex_map_[static_cast<std::size_t>(local)];
+  const Eigen::Vector3d at = scene_->mesh.V.row(v).transpose() * 1e3;
+  return fmt::format("the largest unbalanced force is {:.3g} N at vertex {} (rest position {:.4g}, {:.4g}, {:.4g} mm)",
+                     worst, v, at.x(), at.y(), at.z());
+}
+
+std::string Simulation::deepest_contact() const {
+  std::string out;
+  for (std::size_t i = 0; i < terms_.size(); ++i) {
+    const contact::PenaltyContact& pc = terms_[i]->potential();
+    const contact::SampleContact* c = pc.deepest();
+    if (c == nullptr || pc.stiffness_of(*c) <= 0.0 || stiffness_.accepts(c->closest.distance)) continue;
+    const contact::ContactSamples& samples = pc.samples();
+    const auto s = static_cast<std::size_t>(c->sample);
+    int slot = 0;
+    for (int k = 1; k < samples.count(s); ++k) {
+      if (samples.weights[s][k] > samples.weights[s][slot]) slot = k;
+    }
+    const int v = vertex_map_[static_cast<std::size_t>(samples.vertices[s][static_cast<std::size_t>(slot)])];
+    const Eigen::Vector3d at = scene_->mesh.V.row(v).transpose() * 1e3;
+    out += fmt::format("{}{}: {:.3g} mm deep at vertex {} (rest position {:.4g}, {:.4g}, {:.4g} mm)",
+                       out.empty() ? "" : "; ", scene_->obstacles[i].name, c->closest.distance * 1e3, v, at.x(),
+                       at.y(), at.z());
+  }
+  return out.empty() ? "no contact is above the target now" : out;
+}
+
 int Simulation::solve_static(StepRecord& r) {
   const NewtonResult res = newton_->solve(*system_, x_);
   r.newton_iterations += res.iterations;
@@ -164,8 +202,8 @@ int Simulation::solve_static(StepRecord& r) {
   r.residual = res.gradient_norm;
   r.tolerance = res.gradient_tolerance;
   if (!res.converged()) {
-    throw Error(ErrorKind::Solver, fmt::format("step {} of {}: the equilibrium did not converge: {}", r.step,
-                                               scene_->steps, res.message));
+    throw Error(ErrorKind::Solver, fmt::format("step {} of {}: the equilibrium did not converge: {}; {}", r.step,
+                                               scene_->steps, res.message, worst_residual()));
   }
   return res.iterations;
 }
@@ -239,9 +277,9 @@ StepRecord Simulation::solve_step(int s) {
   };
   if (run_equilibrium_loop(kMaxCorrections, solve_once, adjust).capped()) {
     throw Error(ErrorKind::Solver,
-                fmt::format("step {}: the penetration stays above the target {:.3g} mm after {} stiffness "
-                            "corrections; give contact.stiffness or a larger contact.max_penetration",
-                            s, target_penetration() * 1e3, kMaxCorrections));
+                fmt::format("step {} of {}: the penetration stays above the target {:.3g} mm after {} stiffness "
+                            "corrections ({}); give contact.stiffness or a larger contact.max_penetration",
+                            s, scene_->steps, target_penetration() * 1e3, kMaxCorrections, deepest_contact()));
   }
   const Eigen::VectorXd p = system_->positions(system_->full_displacement(x_));
   for (std::size_t i = 0; i < terms_.size(); ++i) {
@@ -450,7 +488,19 @@ Json run(const Scene& scene, const RunOptions& options) {
     if (options.stop_after_steps > 0 && s - start == options.stop_after_steps) {
       throw Error(ErrorKind::Interrupted, fmt::format("stopped after {} steps as asked", options.stop_after_steps));
     }
-    const StepRecord r = sim.solve_step(s);
+    StepRecord r;
+    try {
+      r = sim.solve_step(s);
+    } catch (const Error& e) {
+      // The converged steps stay written; the summary says where it stopped.
+      if (e.kind() == ErrorKind::Solver) {
+        Json failed = summary(false);
+        failed["failed_step"] = s;
+        failed["failure"] = e.what();
+        write_json_file(options.out / "summary.json", failed);
+      }
+      throw;
+    }
     records.push_back(record_json(r, scene));
     const double time = static_cast<double>(s) / scene.steps;
     if (scene.frames_every > 0 && (s % scene.frames_every == 0 || s == scene.steps)) {

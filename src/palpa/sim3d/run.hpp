@@ -103,6 +103,10 @@ class Simulation {
  private:
   void pose(int s);
   int solve_static(StepRecord& r);
+  // For failure messages: the vertex with the largest unbalanced force, and
+  // each obstacle's deepest contact above the target penetration.
+  std::string worst_residual() const;
+  std::string deepest_contact() const;
   int solve_dynamic(StepRecord& r);
 
   const Scene* scene_;
