@@ -55,7 +55,8 @@ void add_rest_command(CLI::App& app) {
   auto a = std::make_shared<RestArgs>();
   cmd->add_option("scene", a->scene, "Scene file (JSON, see the README)")->required();
   cmd->add_option("-o,--output", a->output,
-                  "Output folder (body.vtu, skin.ply, support.vtu/.ply, pressure_histogram.svg, summary.json)")
+                  "Output folder (body.vtu, skin.ply, support.vtu/.ply, pressure_histogram.svg, body_pressure.svg, "
+                  "support_pressure.svg, summary.json)")
       ->required();
   cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder");
   declare_paths(*cmd, {"scene"}, {"-o"});

@@ -2,13 +2,16 @@
 // `palpa design` end to end: outputs, resuming, bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "common/test_support.hpp"
+#include "report/pressure_map_check.hpp"
 
 namespace palpa {
 namespace {
@@ -40,10 +43,31 @@ TEST(DesignCli, LowersTheScoreAndWritesTheShapeAndTheMaps) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* f : {"support.obj", "support_mm.stl", "support_before.vtu", "support_after.vtu", "support_before.ply",
                         "support_after.ply", "body_before.vtu", "body_after.vtu", "skin_before.ply", "skin_after.ply",
-                        "score.svg", "pressure_histogram.svg", "summary.json", "checkpoint.json"}) {
+                        "score.svg", "pressure_histogram.svg", "body_pressure.svg", "support_pressure.svg",
+                        "summary.json", "checkpoint.json"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
   }
   const auto s = summary(dir / "out" / "summary.json");
+  // Each side's map before and after, side by side on one colour scale up to
+  // the larger of the two peaks; the captions give each map's own force.
+  for (const auto& [file, side] : {std::pair{"body_pressure.svg", "body"}, std::pair{"support_pressure.svg", "support"}}) {
+    const std::string svg = test::read_text(dir / "out" / file);
+    const auto pic = test::read_pressure_map_picture(svg);
+    ASSERT_TRUE(pic.doc.ok()) << file << ": " << pic.doc.error;
+    EXPECT_EQ(pic.frames.size(), 2u) << file;
+    EXPECT_NE(svg.find(std::string(side) + " side, initial"), std::string::npos) << file;
+    EXPECT_NE(svg.find(std::string(side) + " side, optimized"), std::string::npos) << file;
+    const auto coloured = std::count_if(pic.polygons.begin(), pic.polygons.end(),
+                                        [](const auto& q) { return !test::is_no_contact_grey(q.fill); });
+    EXPECT_GT(coloured, 20) << file;
+    const auto& before = s["initial"]["pressure_map"][side];
+    const auto& after = s["final"]["pressure_map"][side];
+    const double top_kpa = std::max(before["peak_Pa"].get<double>(), after["peak_Pa"].get<double>()) * 1e-3;
+    ASSERT_FALSE(pic.bar_labels.empty()) << file;
+    EXPECT_NEAR(std::stod(pic.bar_labels.back()), top_kpa, 5e-3 * top_kpa) << file;
+    const double force = before["force_N"].get<double>();
+    EXPECT_NEAR(test::number_after(pic.caption_text(), "map force "), force, 5e-3 * force) << pic.caption_text();
+  }
   EXPECT_EQ(s["iterations"], 4);
   EXPECT_GT(s["zeta_reduction_percent"].get<double>(), 20.0);
   EXPECT_LT(s["final"]["balance_error"].get<double>(), 0.005);

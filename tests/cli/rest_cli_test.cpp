@@ -2,9 +2,13 @@
 // `palpa rest` end to end: outputs and bad scenes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <utility>
+
 #include <nlohmann/json.hpp>
 
 #include "common/test_support.hpp"
+#include "report/pressure_map_check.hpp"
 
 namespace palpa {
 namespace {
@@ -29,13 +33,32 @@ TEST(RestCli, WritesPressureMapsAndASummary) {
   dir.write("scene.json", kRestScene);
   const auto r = run_palpa("rest scene.json -o out", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* f : {"body.vtu", "skin.ply", "support.vtu", "support.ply", "pressure_histogram.svg", "summary.json"}) {
+  for (const char* f : {"body.vtu", "skin.ply", "support.vtu", "support.ply", "pressure_histogram.svg",
+                        "body_pressure.svg", "support_pressure.svg", "summary.json"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / f)) << f;
   }
   const std::string summary = test::read_text(dir / "out" / "summary.json");
   EXPECT_NE(summary.find("\"balance_error\""), std::string::npos);
   EXPECT_NE(test::read_text(dir / "out" / "skin.ply").find("pressure_Pa"), std::string::npos);
   EXPECT_NE(r.err.find("rest: contact force"), std::string::npos) << r.err;
+  // Each side's map as a picture: coloured polygons, the colour bar up to
+  // the summary's peak, the caption with the map's force.
+  const auto s = nlohmann::json::parse(summary);
+  for (const auto& [file, side] : {std::pair{"body_pressure.svg", "body"}, std::pair{"support_pressure.svg", "support"}}) {
+    const std::string svg = test::read_text(dir / "out" / file);
+    EXPECT_NE(svg.find(std::string(side) + " side"), std::string::npos) << file;
+    const auto pic = test::read_pressure_map_picture(svg);
+    ASSERT_TRUE(pic.doc.ok()) << file << ": " << pic.doc.error;
+    EXPECT_EQ(pic.frames.size(), 1u) << file;
+    const auto coloured = std::count_if(pic.polygons.begin(), pic.polygons.end(),
+                                        [](const auto& q) { return !test::is_no_contact_grey(q.fill); });
+    EXPECT_GT(coloured, 10) << file;
+    const auto& map = s["pressure_map"][side];
+    const double peak_kpa = map["peak_Pa"].get<double>() * 1e-3, force = map["force_N"].get<double>();
+    ASSERT_FALSE(pic.bar_labels.empty()) << file;
+    EXPECT_NEAR(std::stod(pic.bar_labels.back()), peak_kpa, 5e-3 * peak_kpa) << file;
+    EXPECT_NEAR(test::number_after(pic.caption_text(), "map force "), force, 5e-3 * force) << pic.caption_text();
+  }
 }
 
 TEST(RestCli, RefusesABodyInsideTheSupportAndUnknownDofs) {

@@ -41,5 +41,29 @@ TEST(ReportSvgText, CountsCodePoints) {
   EXPECT_EQ(utf8_length("\xFF\xFE"), 2u);
 }
 
+TEST(ReportSvgText, WritesNumbersToATenthOfAPixel) {
+  EXPECT_EQ(svg_number(12.34), "12.3");
+  EXPECT_EQ(svg_number(40.0), "40");
+  EXPECT_EQ(svg_number(-0.5), "-0.5");
+  EXPECT_EQ(svg_number(-0.04), "0");
+  EXPECT_EQ(svg_number(0.96), "1");
+}
+
+TEST(ReportSvgText, WritesEscapedTextElements) {
+  SvgWriter svg;
+  svg.begin(100, 50.25);
+  svg.text(1.25, 2, "a<b", 11, "middle", "fill=\"#222\"");
+  svg.end();
+  const std::string& s = svg.str();
+  EXPECT_NE(s.find("width=\"100\" height=\"50.3\" viewBox=\"0 0 100 50.3\""), std::string::npos)
+      << s;
+  EXPECT_NE(s.find("<text x=\"1.3\" y=\"2\" font-size=\"11\" text-anchor=\"middle\" "
+                   "fill=\"#222\">a&lt;b</text>"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.substr(s.size() - 7), "</svg>\n");
+  EXPECT_DOUBLE_EQ(estimated_text_width("10 kPa", 10), 36.0);
+}
+
 }  // namespace
 }  // namespace palpa::report

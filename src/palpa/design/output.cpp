@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <memory>
+#include <vector>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -15,6 +16,7 @@
 #include "palpa/design/baselines.hpp"
 #include "palpa/report/compare.hpp"
 #include "palpa/report/plot.hpp"
+#include "palpa/report/pressure_map_svg.hpp"
 #include "palpa/rest/output.hpp"
 
 namespace palpa::design {
@@ -107,10 +109,17 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   if (!before.ok) throw Error(ErrorKind::Solver, "re-solving the initial shape: " + before.failure);
   const double threshold = scene.options.pose_to_seat_threshold;
   const Json pts_before = write_state(out, "before", sim, before, nullptr, threshold);
+  // Each side's map before and after, for the pictures (taken while the
+  // simulation is at that state).
+  std::vector<report::PressureMapPanel> body_maps, support_maps;
+  body_maps.push_back(rest::body_pressure_panel(sim, before.rest, "body side, initial support"));
+  support_maps.push_back(rest::support_pressure_panel(sim, before.rest, "support side, initial shape"));
   const Evaluation after = optimizer.evaluate(r.final.support, r.final.state, false, 0);
   if (!after.ok) throw Error(ErrorKind::Solver, "re-solving the optimized shape: " + after.failure);
   const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
   const Json pts_after = write_state(out, "after", sim, after, &displacement, threshold);
+  body_maps.push_back(rest::body_pressure_panel(sim, after.rest, "body side, optimized support"));
+  support_maps.push_back(rest::support_pressure_panel(sim, after.rest, "support side, optimized shape"));
 
   // The shape to make: for a deformable support its rest shape.
   SurfaceMesh optimized{r.final.support, sim.support().triangles()};
@@ -199,6 +208,15 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   report::Figure hist_fig;
   hist_fig.plots.push_back(hist);
   report::write_svg(out / "pressure_histogram.svg", hist_fig);
+
+  // The maps as pictures, before beside after on one colour scale per side.
+  const Eigen::Vector3d toward_body = rest::support_to_body(before.rest);
+  report::PressureMapOptions body_view = rest::body_pressure_view(toward_body);
+  body_view.title = "contact pressure on the body: initial and optimized support";
+  report::write_pressure_map_svg(out / "body_pressure.svg", body_maps, body_view);
+  report::PressureMapOptions support_view = rest::support_pressure_view(toward_body);
+  support_view.title = "contact pressure on the support: initial and optimized shape";
+  report::write_pressure_map_svg(out / "support_pressure.svg", support_maps, support_view);
 
   Json history = Json::array();
   for (const IterationRecord& it : r.history) {

@@ -11,6 +11,9 @@
 //                            the deformed body with its pressures
 //   score.svg                φ, ζ and γψ per iteration
 //   pressure_histogram.svg   contact pressures before and after
+//   body_pressure.svg, support_pressure.svg
+//                            each side's map as a picture, initial beside
+//                            optimized on one colour scale
 //   summary.json             scores, reduction, peaks, penetration, balance,
 //                            iterations, solves, times, per-iteration history
 // (checkpoint.json, written during the run, stays for --resume.)

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -52,7 +51,6 @@ constexpr const char* kDash = "6 4";
 constexpr const char* kGridColor = "#e6e6e6";
 constexpr const char* kFrameColor = "#777";
 constexpr const char* kTextColor = "#222";
-constexpr const char* kFontFamily = "'DejaVu Sans', Helvetica, Arial, sans-serif";
 
 std::string where(std::size_t plot_index, const Plot& plot) {
   std::string s = "plot " + std::to_string(plot_index + 1);
@@ -166,12 +164,6 @@ PreparedPlot prepare(const Plot& plot, std::size_t plot_index) {
   return out;
 }
 
-// Estimated advance of `text` at font size `size` (sans-serif, digits ≈ 0.6 em).
-double text_width(std::string_view text, double size) {
-  constexpr double kEm = 0.6;
-  return kEm * size * static_cast<double>(utf8_length(text));
-}
-
 struct Box {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // x0 < x1, y0 < y1 (y down)
   bool contains(double x, double y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
@@ -205,7 +197,7 @@ LegendSize legend_size(const PreparedPlot& p) {
   for (const auto& ps : p.series)
     if (!ps.series->label.empty()) {
       ++s.entries;
-      text = std::max(text, text_width(ps.series->label, kLegendSize));
+      text = std::max(text, estimated_text_width(ps.series->label, kLegendSize));
     }
   if (s.entries == 0) return s;
   s.width = 3 * kLegendPad + kLegendGlyph + text;
@@ -258,7 +250,8 @@ Layout make_layout(const PreparedPlot& p, double cx, double cy, double w, double
       std::clamp(static_cast<int>((l.area.y1 - l.area.y0) / kMinYTickSpacing) + 1, 2, kMaxLabels);
   l.yt = choose_ticks(p.y.lo, p.y.hi, plot.y.log, plot.y.min, plot.y.max, y_labels);
   double y_text = 0;
-  for (const auto& t : l.yt.major) y_text = std::max(y_text, text_width(t.label, kTickSize));
+  for (const auto& t : l.yt.major)
+    y_text = std::max(y_text, estimated_text_width(t.label, kTickSize));
   l.area.x0 =
       cx + kEdge + (plot.y.label.empty() ? 0 : kLabelSize + kGap) + y_text + kGap + kTickLength;
   const LegendSize legend = legend_size(p);
@@ -273,8 +266,9 @@ Layout make_layout(const PreparedPlot& p, double cx, double cy, double w, double
       const auto& a = l.xt.major[i - 1];
       const auto& b = l.xt.major[i];
       const double room = l.px(b.value) - l.px(a.value);
-      const double need =
-          0.5 * (text_width(a.label, kTickSize) + text_width(b.label, kTickSize)) + kMinXLabelGap;
+      const double need = 0.5 * (estimated_text_width(a.label, kTickSize) +
+                                 estimated_text_width(b.label, kTickSize)) +
+                          kMinXLabelGap;
       if (room < need) fits = false;
     }
     if (fits) break;
@@ -283,7 +277,7 @@ Layout make_layout(const PreparedPlot& p, double cx, double cy, double w, double
   if (!l.xt.major.empty()) {
     const Tick& last = l.xt.major.back();
     const double overflow =
-        l.px(last.value) + 0.5 * text_width(last.label, kTickSize) - (cx + w - kEdge);
+        l.px(last.value) + 0.5 * estimated_text_width(last.label, kTickSize) - (cx + w - kEdge);
     if (overflow > 0) l.area.x1 -= overflow;
   }
   if (legend.entries > 0) {
@@ -320,45 +314,7 @@ Layout make_layout(const PreparedPlot& p, double cx, double cy, double w, double
 
 // ---- SVG output ----
 
-// A coordinate rounded to 0.1 px: "12.3", "40", "-0.5".
-std::string num(double v) {
-  const double r = std::round(v * 10) / 10;
-  std::array<char, 32> buf{};
-  const auto res =
-      std::to_chars(buf.data(), buf.data() + buf.size(), r, std::chars_format::fixed, 1);
-  std::string s(buf.data(), res.ptr);
-  if (s.size() >= 2 && s.compare(s.size() - 2, 2, ".0") == 0) s.resize(s.size() - 2);
-  if (s == "-0") s = "0";
-  return s;
-}
-
-class Svg {
- public:
-  std::string& out() { return out_; }
-  Svg& operator<<(std::string_view s) {
-    out_ += s;
-    return *this;
-  }
-  Svg& operator<<(double v) {
-    out_ += num(v);
-    return *this;
-  }
-  // <text> with escaped content. size <= 0 and anchor "" inherit them from the
-  // enclosing group; anchor: start, middle, end.
-  void text(double x, double y, std::string_view content, double size, std::string_view anchor,
-            std::string_view extra = {}) {
-    *this << "<text x=\"" << x << "\" y=\"" << y << "\"";
-    if (size > 0) *this << " font-size=\"" << size << "\"";
-    if (!anchor.empty() && anchor != "start") *this << " text-anchor=\"" << anchor << "\"";
-    if (!extra.empty()) *this << " " << extra;
-    *this << ">" << escape_xml(content) << "</text>\n";
-  }
-
- private:
-  std::string out_;
-};
-
-void draw_axes(Svg& svg, const Layout& l) {
+void draw_axes(SvgWriter& svg, const Layout& l) {
   const Box& a = l.area;
   // Grid lines.
   svg << "<path stroke=\"" << kGridColor << "\" shape-rendering=\"crispEdges\" d=\"";
@@ -393,8 +349,8 @@ void draw_axes(Svg& svg, const Layout& l) {
   svg << "</g>\n";
 }
 
-void draw_series(Svg& svg, const PreparedSeries& ps, const Layout& l, const std::string& clip_lines,
-                 const std::string& clip_dots) {
+void draw_series(SvgWriter& svg, const PreparedSeries& ps, const Layout& l,
+                 const std::string& clip_lines, const std::string& clip_dots) {
   const Series& s = *ps.series;
   const bool line = s.mark != Mark::Dots;
   const bool dots = s.mark != Mark::Line;
@@ -403,7 +359,7 @@ void draw_series(Svg& svg, const PreparedSeries& ps, const Layout& l, const std:
   for (const auto& run : ps.runs) {
     auto& r = runs.emplace_back();
     for (const auto& pt : run) {
-      std::pair<std::string, std::string> q{num(l.px(pt.x)), num(l.py(pt.y))};
+      std::pair<std::string, std::string> q{svg_number(l.px(pt.x)), svg_number(l.py(pt.y))};
       if (r.empty() || r.back() != q) r.push_back(std::move(q));
     }
   }
@@ -427,7 +383,7 @@ void draw_series(Svg& svg, const PreparedSeries& ps, const Layout& l, const std:
   for (const auto& r : runs) any_dot |= dots || r.size() == 1;
   if (!any_dot) return;
   svg << "<g class=\"dots\" clip-path=\"url(#" << clip_dots << ")\" fill=\"" << ps.color << "\">\n";
-  const std::string radius = num(dots ? kDotRadius : kIsolatedDotRadius);
+  const std::string radius = svg_number(dots ? kDotRadius : kIsolatedDotRadius);
   // Points outside fixed axis bounds get no dot (a dot half inside the frame
   // would suggest a value on the bound).
   const Box& a = l.area;
@@ -438,7 +394,7 @@ void draw_series(Svg& svg, const PreparedSeries& ps, const Layout& l, const std:
     for (const auto& pt : ps.runs[i]) {
       const double x = l.px(pt.x), y = l.py(pt.y);
       if (!inside.contains(x, y)) continue;
-      std::pair<std::string, std::string> q{num(x), num(y)};
+      std::pair<std::string, std::string> q{svg_number(x), svg_number(y)};
       if (q == previous) continue;
       svg << "<circle cx=\"" << q.first << "\" cy=\"" << q.second << "\" r=\"" << radius
           << "\"/>\n";
@@ -448,7 +404,7 @@ void draw_series(Svg& svg, const PreparedSeries& ps, const Layout& l, const std:
   svg << "</g>\n";
 }
 
-void draw_legend(Svg& svg, const PreparedPlot& p, const Layout& l) {
+void draw_legend(SvgWriter& svg, const PreparedPlot& p, const Layout& l) {
   const Box& b = l.legend_box;
   svg << "<g class=\"legend\" font-size=\"" << kLegendSize << "\" fill=\"" << kTextColor
       << "\">\n<rect x=\"" << b.x0 << "\" y=\"" << b.y0 << "\" width=\"" << (b.x1 - b.x0)
@@ -474,8 +430,8 @@ void draw_legend(Svg& svg, const PreparedPlot& p, const Layout& l) {
   svg << "</g>\n";
 }
 
-void draw_plot(Svg& svg, const PreparedPlot& p, std::size_t index, double cx, double cy, double w,
-               double h) {
+void draw_plot(SvgWriter& svg, const PreparedPlot& p, std::size_t index, double cx, double cy,
+               double w, double h) {
   const Plot& plot = *p.plot;
   Layout l = make_layout(p, cx, cy, w, h, false);
   if (l.legend && l.hidden > 0) {
@@ -496,7 +452,8 @@ void draw_plot(Svg& svg, const PreparedPlot& p, std::size_t index, double cx, do
     const double x = cx + kEdge + kLabelSize * 0.8;
     const double y = 0.5 * (a.y0 + a.y1);
     svg.text(x, y, plot.y.label, kLabelSize, "middle",
-             "transform=\"rotate(-90 " + num(x) + " " + num(y) + ")\" fill=\"" + kTextColor + "\"");
+             "transform=\"rotate(-90 " + svg_number(x) + " " + svg_number(y) + ")\" fill=\"" +
+                 kTextColor + "\"");
   }
   if (p.series.empty()) {
     svg << "<rect class=\"frame\" x=\"" << a.x0 << "\" y=\"" << a.y0 << "\" width=\""
@@ -533,11 +490,11 @@ std::string render_svg(const Figure& figure) {
     throw_input_error("columns is " + std::to_string(figure.columns), field, "columns >= 1");
   if (!(figure.plot_width >= kMinCellWidth) || !(figure.plot_height >= kMinCellHeight) ||
       !std::isfinite(figure.plot_width) || !std::isfinite(figure.plot_height))
-    throw_input_error(
-        "plot size " + num(figure.plot_width) + " x " + num(figure.plot_height) +
-            " px is too small",
-        field,
-        "plot_width >= " + num(kMinCellWidth) + " and plot_height >= " + num(kMinCellHeight));
+    throw_input_error("plot size " + svg_number(figure.plot_width) + " x " +
+                          svg_number(figure.plot_height) + " px is too small",
+                      field,
+                      "plot_width >= " + svg_number(kMinCellWidth) +
+                          " and plot_height >= " + svg_number(kMinCellHeight));
 
   const Plot empty_plot;
   std::vector<const Plot*> plots;
@@ -553,12 +510,8 @@ std::string render_svg(const Figure& figure) {
   const double width = figure.plot_width * columns;
   const double height = top + figure.plot_height * rows;
 
-  Svg svg;
-  svg << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << width
-      << "\" height=\"" << height << "\" viewBox=\"0 0 " << width << " " << height
-      << "\" font-family=\"" << kFontFamily << "\">\n"
-      << "<rect width=\"" << width << "\" height=\"" << height << "\" fill=\"#fff\"/>\n";
+  SvgWriter svg;
+  svg.begin(width, height);
   if (!figure.title.empty())
     svg.text(0.5 * width, 0.7 * kFigureTitleHeight, figure.title, kFigureTitleSize, "middle",
              std::string("font-weight=\"bold\" fill=\"") + kTextColor + "\"");
@@ -568,8 +521,8 @@ std::string render_svg(const Figure& figure) {
     draw_plot(svg, prepared[static_cast<std::size_t>(i)], static_cast<std::size_t>(i), cx, cy,
               figure.plot_width, figure.plot_height);
   }
-  svg << "</svg>\n";
-  return std::move(svg.out());
+  svg.end();
+  return std::move(svg.str());
 }
 
 void write_svg(const std::filesystem::path& path, const Figure& figure) {

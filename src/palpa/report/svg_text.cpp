@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/report/svg_text.hpp"
 
+#include <array>
+#include <charconv>
+#include <cmath>
+
 namespace palpa::report {
 namespace {
 
@@ -92,6 +96,39 @@ std::size_t utf8_length(std::string_view text) noexcept {
     i += n == 0 ? 1 : n;
   }
   return count;
+}
+
+std::string svg_number(double v) {
+  const double r = std::round(v * 10) / 10;
+  std::array<char, 32> buf{};
+  const auto res =
+      std::to_chars(buf.data(), buf.data() + buf.size(), r, std::chars_format::fixed, 1);
+  std::string s(buf.data(), res.ptr);
+  if (s.size() >= 2 && s.compare(s.size() - 2, 2, ".0") == 0) s.resize(s.size() - 2);
+  if (s == "-0") s = "0";
+  return s;
+}
+
+double estimated_text_width(std::string_view text, double size) {
+  constexpr double kEm = 0.6;
+  return kEm * size * static_cast<double>(utf8_length(text));
+}
+
+void SvgWriter::begin(double width, double height) {
+  *this << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+        << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << width
+        << "\" height=\"" << height << "\" viewBox=\"0 0 " << width << " " << height
+        << "\" font-family=\"" << kSvgFontFamily << "\">\n"
+        << "<rect width=\"" << width << "\" height=\"" << height << "\" fill=\"#fff\"/>\n";
+}
+
+void SvgWriter::text(double x, double y, std::string_view content, double size,
+                     std::string_view anchor, std::string_view extra) {
+  *this << "<text x=\"" << x << "\" y=\"" << y << "\"";
+  if (size > 0) *this << " font-size=\"" << size << "\"";
+  if (!anchor.empty() && anchor != "start") *this << " text-anchor=\"" << anchor << "\"";
+  if (!extra.empty()) *this << " " << extra;
+  *this << ">" << escape_xml(content) << "</text>\n";
 }
 
 }  // namespace palpa::report

@@ -74,6 +74,35 @@ SurfaceMesh world_support(const RestSimulation& sim) {
   return support;
 }
 
+Eigen::Vector3d support_to_body(const RestResult& r) {
+  if (r.load.norm() > 0.0) return -r.load.normalized();
+  if (r.contact_force.norm() > 0.0) return r.contact_force.normalized();
+  return Eigen::Vector3d::UnitZ();
+}
+
+report::PressureMapPanel body_pressure_panel(const RestSimulation& sim, const RestResult& r, std::string title) {
+  return {sim.deformed_skin(), r.body_pressure, std::move(title), r.body_metrics, r.load.norm()};
+}
+
+report::PressureMapPanel support_pressure_panel(const RestSimulation& sim, const RestResult& r, std::string title) {
+  return {world_support(sim), r.support_pressure, std::move(title), r.support_metrics, r.load.norm()};
+}
+
+report::PressureMapOptions body_pressure_view(const Eigen::Vector3d& support_to_body) {
+  report::PressureMapOptions o;
+  o.view_direction = support_to_body;
+  o.view_label = "seen from the support";
+  return o;
+}
+
+report::PressureMapOptions support_pressure_view(const Eigen::Vector3d& support_to_body) {
+  report::PressureMapOptions o;
+  o.view_direction = -support_to_body;
+  o.view_label = "seen from the body";
+  o.hide_back_faces = true;  // the support is closed and wound outward
+  return o;
+}
+
 Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene, const RestSimulation& sim,
                         const RestResult& r) {
   ensure_directory(out);
@@ -94,6 +123,11 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
   report::Figure fig;
   fig.plots.push_back(plot);
   report::write_svg(out / "pressure_histogram.svg", fig);
+  const Eigen::Vector3d toward_body = support_to_body(r);
+  report::write_pressure_map_svg(out / "body_pressure.svg", {body_pressure_panel(sim, r, "body side")},
+                                 body_pressure_view(toward_body));
+  report::write_pressure_map_svg(out / "support_pressure.svg", {support_pressure_panel(sim, r, "support side")},
+                                 support_pressure_view(toward_body));
 
   const double deg = 180.0 / 3.14159265358979323846;
   const Eigen::AngleAxisd aa(r.core_rotation);

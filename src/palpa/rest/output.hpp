@@ -4,7 +4,9 @@
 // with displacement_m, contact_force_N, pressure_Pa, attached; von Mises stress
 // per tet), skin.ply (deformed skin with pressure_Pa), support.vtu and
 // support.ply (pressure_Pa from the reverse query), pressure_histogram.svg
-// (contact pressures on body and support), summary.json. Each file is atomic.
+// (contact pressures on body and support), body_pressure.svg and
+// support_pressure.svg (each side's map as a picture,
+// report/pressure_map_svg.hpp), summary.json. Each file is atomic.
 
 #include <filesystem>
 #include <string>
@@ -14,6 +16,7 @@
 #include "palpa/core/json.hpp"
 #include "palpa/io/ply.hpp"
 #include "palpa/report/plot.hpp"
+#include "palpa/report/pressure_map_svg.hpp"
 #include "palpa/rest/rest.hpp"
 #include "palpa/rest/scene.hpp"
 
@@ -28,6 +31,22 @@ SurfaceMesh world_support(const RestSimulation& sim);
 // A histogram of the positive values [Pa] as a step line over [0, top] in
 // `bins` bins, x in kPa.
 report::Series pressure_histogram(const std::string& label, const Eigen::VectorXd& v, double top, int bins);
+
+// The direction from the support toward the body (unit): against the load
+// that presses the body onto the support (its weight and the external
+// force), else along the contact force; +z without either.
+Eigen::Vector3d support_to_body(const RestResult& r);
+// Each side's pressure map at the simulation's current state, which is that
+// of the result r, for a picture: the body's on its deformed skin (r's
+// body_pressure and body_metrics), the support's on its surface where it is
+// now (support_pressure, support_metrics); with r's load for the caption.
+report::PressureMapPanel body_pressure_panel(const RestSimulation& sim, const RestResult& r, std::string title);
+report::PressureMapPanel support_pressure_panel(const RestSimulation& sim, const RestResult& r, std::string title);
+// The pictures' views: the body seen from the support's side, looking along
+// `support_to_body`; the support seen from the body's side, looking the
+// other way (its back faces left out: it is a closed surface).
+report::PressureMapOptions body_pressure_view(const Eigen::Vector3d& support_to_body);
+report::PressureMapOptions support_pressure_view(const Eigen::Vector3d& support_to_body);
 
 // The summary (also written as summary.json).
 Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene, const RestSimulation& sim,
