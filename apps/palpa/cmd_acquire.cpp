@@ -26,6 +26,7 @@
 #include "palpa/io/mesh.hpp"
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
+#include "palpa/report/pressure_metrics.hpp"
 
 namespace palpa::cli {
 
@@ -401,6 +402,7 @@ void run_acquire_pressure(const PressureArgs& a) {
                      {"pressure_min_Pa", m.pressure.minCoeff()},
                      {"pressure_max_Pa", m.pressure.maxCoeff()},
                      {"contact_area_m2", m.contact_area},
+                     {"pressure_map", report::to_json(report::pressure_metrics(mesh, m.pressure))},
                      {"locations", locations}};
   OutputBatch batch;
   batch.add(out / "locations.csv") << format_csv(location_table(m));

@@ -21,10 +21,6 @@ struct CompareArgs {
   std::string json;
 };
 
-Json side_json(const report::MapSide& s) {
-  return {{"force_N", s.force}, {"contact_area_m2", s.contact_area}, {"peak_Pa", s.peak}, {"mean_Pa", s.mean}};
-}
-
 void run_compare_command(const CompareArgs& a) {
   const report::PressureMap m = report::read_pressure_map(a.map, a.field);
   const report::PressureMap r =
@@ -36,6 +32,10 @@ void run_compare_command(const CompareArgs& a) {
   fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "area [cm²]", c.a.contact_area * 1e4, c.b.contact_area * 1e4);
   fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "peak [kPa]", c.a.peak * 1e-3, c.b.peak * 1e-3);
   fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "mean [kPa]", c.a.mean * 1e-3, c.b.mean * 1e-3);
+  fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "PPI [kPa]", c.a.peak_pressure_index * 1e-3,
+             c.b.peak_pressure_index * 1e-3);
+  fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "p95 [kPa]", c.a.p95 * 1e-3, c.b.p95 * 1e-3);
+  fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "dispersion", c.a.dispersion_index, c.b.dispersion_index);
   fmt::print("over the {} vertices in either contact: RMS difference {:.4g} kPa ({:.1f}% of the reference's mean), "
              "largest {:.4g} kPa, correlation {:.3f}\n",
              c.vertices, c.rms_difference * 1e-3, 100.0 * c.relative_rms, c.max_difference * 1e-3, c.correlation);
@@ -47,8 +47,8 @@ void run_compare_command(const CompareArgs& a) {
                              {"relative_rms", c.relative_rms},
                              {"max_difference_Pa", c.max_difference},
                              {"correlation", c.correlation},
-                             {"map_side", side_json(c.a)},
-                             {"reference_side", side_json(c.b)}});
+                             {"map_side", report::to_json(c.a)},
+                             {"reference_side", report::to_json(c.b)}});
   }
 }
 

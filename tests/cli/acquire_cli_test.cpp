@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/test_support.hpp"
+#include "palpa/core/json.hpp"
 
 namespace palpa {
 namespace {
@@ -196,6 +197,16 @@ TEST(AcquireCli, PressureWritesPlyVtuAndASummary) {
   const std::string summary = test::read_text(dir / "map" / "summary.json");
   EXPECT_NE(summary.find("\"posture_compensated\": true"), std::string::npos) << summary;
   EXPECT_NE(r.err.find("net force 343 N"), std::string::npos) << r.err;
+  // The figures every rest and design summary reports per side.
+  const Json s = Json::parse(summary);
+  const Json& m = s.at("pressure_map");
+  EXPECT_DOUBLE_EQ(m.at("peak_Pa").get<double>(), s.at("pressure_max_Pa").get<double>());
+  EXPECT_NEAR(m.at("contact_area_m2").get<double>(), s.at("contact_area_m2").get<double>(),
+              1e-9 * s.at("contact_area_m2").get<double>());
+  EXPECT_GT(m.at("peak_pressure_index_Pa").get<double>(), 0.0);
+  EXPECT_LE(m.at("peak_pressure_index_Pa").get<double>(), m.at("peak_Pa").get<double>());
+  EXPECT_LE(m.at("p95_Pa").get<double>(), m.at("peak_Pa").get<double>());
+  EXPECT_GT(m.at("force_N").get<double>(), 0.0);
 }
 
 TEST(AcquireCli, PressureRefusesBadInputAndWritesNothing) {

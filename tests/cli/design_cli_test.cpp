@@ -103,6 +103,12 @@ TEST(DesignCli, ScoresBaselinesAndComparesMaps) {
   const auto j = summary(dir / "cmp.json");
   EXPECT_NEAR(j["correlation"].get<double>(),
               s["pose_to_seat"]["before"]["against_palpa_on_the_support"]["correlation"].get<double>(), 1e-9);
+  // Each side carries the figures of a rest summary's pressure_map.
+  for (const char* side : {"map_side", "reference_side"}) {
+    EXPECT_GT(j[side]["peak_pressure_index_Pa"].get<double>(), 0.0) << side;
+    EXPECT_LE(j[side]["peak_pressure_index_Pa"].get<double>(), j[side]["peak_Pa"].get<double>()) << side;
+    EXPECT_TRUE(j[side].contains("dispersion_index")) << side;
+  }
   const auto d = run_palpa("compare out/support_before.ply out/support_after.ply", dir.path());
   EXPECT_EQ(d.exit_code, 2);
   EXPECT_NE(d.err.find("same support mesh"), std::string::npos) << d.err;

@@ -75,18 +75,8 @@ MapComparison compare_pressure_maps(const PressureMap& a, const PressureMap& b) 
   }
   const Eigen::VectorXd A = geometry::vertex_areas(a.mesh);
   MapComparison c;
-  auto side = [&](const Eigen::VectorXd& p) {
-    MapSide s;
-    for (Eigen::Index i = 0; i < p.size(); ++i) {
-      s.force += A[i] * p[i];
-      if (p[i] > 0.0) s.contact_area += A[i];
-    }
-    s.peak = p.maxCoeff();
-    s.mean = s.contact_area > 0.0 ? s.force / s.contact_area : 0.0;
-    return s;
-  };
-  c.a = side(a.pressure);
-  c.b = side(b.pressure);
+  c.a = pressure_metrics(a.mesh.V, A, a.pressure);
+  c.b = pressure_metrics(a.mesh.V, A, b.pressure);
   double w = 0.0, ma = 0.0, mb = 0.0;
   for (Eigen::Index i = 0; i < A.size(); ++i) {
     if (a.pressure[i] <= 0.0 && b.pressure[i] <= 0.0) continue;

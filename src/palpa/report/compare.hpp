@@ -13,15 +13,16 @@
 //   relative_rms        rms_difference / (Σ_U A_i b_i / Σ_U A_i)      (b: the reference)
 //   max_difference      max_U |a_i − b_i|                             [Pa]
 //   correlation         area-weighted Pearson correlation over U
-//   force               Σ A_i p_i of each map                         [N]
-//   contact_area        Σ A_i over p_i > 0 of each map                [m²]
-//   peak, mean          max p, force / contact area of each           [Pa]
+// and each map's own figures, as every rest and design summary reports them
+// (pressure_metrics.hpp: force Σ A_i p_i, contact area, mean, peak, Peak
+// Pressure Index, 95th percentile, centre of pressure, dispersion index).
 
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>
 
 #include "palpa/geometry/mesh.hpp"
+#include "palpa/report/pressure_metrics.hpp"
 
 namespace palpa::report {
 
@@ -36,14 +37,10 @@ struct PressureMap {
 // a non-finite or negative pressure, or a mesh that is not triangles.
 PressureMap read_pressure_map(const std::filesystem::path& path, const std::string& field = "pressure_Pa");
 
-struct MapSide {
-  double force = 0.0, contact_area = 0.0, peak = 0.0, mean = 0.0;
-};
-
 struct MapComparison {
   int vertices = 0;         // in the union of the contact patches
   double rms_difference = 0.0, relative_rms = 0.0, max_difference = 0.0, correlation = 0.0;
-  MapSide a, b;
+  PressureMetrics a, b;
 };
 
 // a against the reference b. Throws palpa::Error (Input) for maps on
