@@ -82,6 +82,30 @@ TEST(SurfaceOperators, AngleWeightedNormalIgnoresTheTriangulationOfAFlatFan) {
   EXPECT_TRUE(vertex_normals(fan).row(0).isApprox(Eigen::RowVector3d(0, 0, 1), 1e-14));
 }
 
+TEST(SurfaceOperators, PressureForceIsTheNetForceOfTheMap) {
+  // A uniform pressure on a closed surface has no net force; on the upper
+  // half of a sphere (z > 0) it is p·πr² along +z while ∫ p dA is twice that;
+  // a pressure linear in z over the whole sphere, p = z, gives (4/3)πr³ ẑ
+  // (the divergence theorem), and every one is exact for P1 fields up to the
+  // inscribed polyhedron's O(h²).
+  const SurfaceMesh sphere = icosphere(4, kRadius);
+  const double p0 = 2000.0;  // Pa
+  const Eigen::VectorXd uniform = Eigen::VectorXd::Constant(sphere.V.rows(), p0);
+  EXPECT_LT(pressure_force(sphere.V, sphere.F, uniform).norm(), 1e-12 * p0 * kRadius * kRadius);
+  Eigen::VectorXd cap = Eigen::VectorXd::Zero(sphere.V.rows());
+  for (Eigen::Index i = 0; i < cap.size(); ++i) cap[i] = sphere.V(i, 2) > 1e-12 ? p0 : 0.0;
+  const Eigen::Vector3d f_cap = pressure_force(sphere.V, sphere.F, cap);
+  const double disc = std::numbers::pi * kRadius * kRadius * p0;
+  // The cap's edge triangles carry a third to two thirds of p0: O(h) there.
+  EXPECT_NEAR(f_cap.z(), disc, 0.03 * disc);
+  EXPECT_LT(f_cap.head<2>().norm(), 1e-9 * disc);
+  const Eigen::VectorXd z = sphere.V.col(2);
+  const Eigen::Vector3d f_z = pressure_force(sphere.V, sphere.F, z);
+  const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(kRadius, 3);
+  EXPECT_NEAR(f_z.z(), volume, 5e-3 * volume);
+  EXPECT_LT(f_z.head<2>().norm(), 1e-12 * volume);
+}
+
 TEST(SurfaceOperators, LaplacianIsSymmetricWithZeroRowSumsAndKillsLinearFunctionsOnAPlane) {
   const SurfaceMesh grid = square_grid(8, 0.1);
   const Eigen::SparseMatrix<double> L = cotangent_laplacian(grid);

@@ -64,17 +64,6 @@ TrimmedStats trimmed_stats(std::span<const double> v, std::size_t trim) {
   return out;
 }
 
-Eigen::Vector3d net_force(const SurfaceMesh& mesh, const Eigen::VectorXd& pressure) {
-  const Eigen::VectorXd areas = geometry::face_areas(mesh);
-  const Eigen::MatrixX3d normals = geometry::face_normals(mesh);
-  Eigen::Vector3d f = Eigen::Vector3d::Zero();
-  for (Eigen::Index t = 0; t < mesh.F.rows(); ++t) {
-    const double mean = (pressure(mesh.F(t, 0)) + pressure(mesh.F(t, 1)) + pressure(mesh.F(t, 2))) / 3.0;
-    f += mean * areas(t) * normals.row(t).transpose();
-  }
-  return f;
-}
-
 PressureMap pressure_map(const SurfaceMesh& mesh, const std::filesystem::path& locations_file,
                          const std::filesystem::path& samples_file, const PressureOptions& o) {
   if (!(o.load > 0.0) || !std::isfinite(o.load)) {
@@ -172,7 +161,7 @@ PressureMap pressure_map(const SurfaceMesh& mesh, const std::filesystem::path& l
   io.sample_labels = labels;
   const geometry::SurfaceInterpolator interp(mesh, positions, io);
   const Eigen::MatrixXd field = interp.interpolate_columns(values);
-  const Eigen::Vector3d unit_force = net_force(mesh, field.col(0));
+  const Eigen::Vector3d unit_force = geometry::pressure_force(mesh.V, mesh.F, field.col(0));
   if (!(unit_force.norm() > 0.0)) {
     throw_input_error("the interpolated readings carry no net force (all zero, or cancelling)",
                       ErrorContext{samples_file.string(), 0, 0, ""}, "readings that increase with the pressure");

@@ -83,8 +83,5 @@ struct PressureMap {
 PressureMap pressure_map(const SurfaceMesh& mesh, const std::filesystem::path& locations,
                          const std::filesystem::path& samples, const PressureOptions& options);
 
-// The net force ∫ p n dA [N] of a per-vertex pressure field p (#V) linear over
-// each triangle, n the triangles' unit normals.
-Eigen::Vector3d net_force(const SurfaceMesh& mesh, const Eigen::VectorXd& pressure);
 
 }  // namespace palpa::acquire

@@ -2,6 +2,7 @@
 #include "palpa/geometry/surface_operators.hpp"
 
 #include <Eigen/Geometry>
+#include <cassert>
 #include <cmath>
 #include <vector>
 
@@ -44,6 +45,18 @@ Eigen::MatrixX3d face_normals(const SurfaceMesh& mesh) {
                                   : Eigen::RowVector3d::Zero();
   }
   return normals;
+}
+
+Eigen::Vector3d pressure_force(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::VectorXd& pressure) {
+  assert(pressure.size() == V.rows());
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (Eigen::Index t = 0; t < F.rows(); ++t) {
+    const Eigen::Vector3d a = V.row(F(t, 0));
+    // ½ (V1−V0)×(V2−V0) is the area times the unit normal.
+    const Eigen::Vector3d an = 0.5 * (V.row(F(t, 1)).transpose() - a).cross(V.row(F(t, 2)).transpose() - a);
+    f += (pressure(F(t, 0)) + pressure(F(t, 1)) + pressure(F(t, 2))) / 3.0 * an;
+  }
+  return f;
 }
 
 Eigen::VectorXd vertex_areas(const SurfaceMesh& mesh) {

@@ -24,6 +24,11 @@ Eigen::VectorXd face_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F)
 // triangles.
 Eigen::MatrixX3d face_normals(const SurfaceMesh& mesh);
 
+// ∫ p n dA [N] of a per-vertex pressure p [Pa] (#V) linear over each triangle,
+// n the triangles' unit normals (face_normals): the net force of the map on
+// the surface's positive side. On a curved surface |∫ p n dA| < ∫ p dA.
+Eigen::Vector3d pressure_force(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::VectorXd& pressure);
+
 // #V barycentric vertex areas [m²]: one third of the area of every incident
 // triangle. They sum to the surface area and are never negative.
 Eigen::VectorXd vertex_areas(const SurfaceMesh& mesh);

@@ -351,16 +351,17 @@ RestResult RestSimulation::solve() {
   r.body_pressure = cp.body;
   r.support_pressure = cp.support;
   r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
-  // Integrated as a user would: over the skin's vertex areas (with Vertices
-  // sampling its pressures are over spring areas, so this exceeds the load).
-  r.body_map_force = (cp.body.array() * body_area_.array()).sum();
-  r.support_map_force = (cp.support.array() * support_area_.array()).sum();
   const Eigen::MatrixX3d body_points =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
   r.body_metrics = report::pressure_metrics(body_points, body_area_, cp.body);
   Eigen::MatrixX3d support_points(support_->vertices().rows(), 3);
   for (Eigen::Index j = 0; j < support_points.rows(); ++j) support_points.row(j) = support_->world_vertex(static_cast<int>(j)).transpose();
   r.support_metrics = report::pressure_metrics(support_points, support_area_, cp.support);
+  // Integrated as a user would: Σ p·A over each map's vertex areas. That is
+  // Σ |f_i|: the load where the contact forces are parallel to it, more where
+  // the surface curves and they fan out.
+  r.body_map_force = (cp.body.array() * body_area_.array()).sum();
+  r.support_map_force = (cp.support.array() * support_area_.array()).sum();
   r.detection_seconds = term_->detection_seconds();
   r.seconds = seconds_since(t0);
   return r;
