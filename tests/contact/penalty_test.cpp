@@ -123,6 +123,34 @@ INSTANTIATE_TEST_SUITE_P(VertexEdgeFace, PenaltyRegion, ::testing::Values(1, 2, 
                                                   : (param_info.param == 2 ? "Edge" : "Face"));
                          });
 
+TEST(Penalty, AStuckAnchorIsASpringToAPointCarriedByTheFace) {
+  // Weights away from the point's projection: the spring pulls tangentially
+  // as well as along the normal.
+  const Eigen::Vector3d beta(0.5, 0.3, 0.2);
+  const auto stuck = [&](const Eigen::VectorXd& y) {
+    FeatureGeometry g = unpack_feature(y, 3);
+    g.stuck = true;
+    g.stuck_weights = beta;
+    return g;
+  };
+  const Eigen::VectorXd z = pack(query_point(3, 0.003) + Eigen::Vector3d(0.002, -0.001, 0.0), feature(3));
+  const auto energy = [&](const Eigen::VectorXd& y) { return penalty_energy(y.head<3>(), stuck(y), kStiffness); };
+  const auto gradient = [&](const Eigen::VectorXd& y) {
+    return Eigen::VectorXd(penalty_gradient_full(y.head<3>(), stuck(y), kStiffness));
+  };
+  const Eigen::VectorXd grad = gradient(z);
+  EXPECT_TRUE(derivatives_match(grad, fd_gradient(energy, z, kStep), kTol));
+  const Matrix12d H = penalty_hessian_full(z.head<3>(), stuck(z), kStiffness);
+  EXPECT_TRUE(derivatives_match(H, fd_jacobian(gradient, z, kStep), kTol));
+  // The anchor is Σ β_i q_i, the p-block 2kI.
+  const FeatureGeometry g = stuck(z);
+  const Eigen::Vector3d a = beta[0] * kQ0 + beta[1] * kQ1 + beta[2] * kQ2;
+  EXPECT_LT((sliding_anchor(z.head<3>(), g).point - a).norm(), 1e-15);
+  EXPECT_NEAR(energy(z), kStiffness * (z.head<3>() - a).squaredNorm(), 1e-12 * energy(z));
+  EXPECT_LT((penalty_hessian(g, kStiffness) - 2.0 * kStiffness * Eigen::Matrix3d::Identity()).norm(), 1e-9 * kStiffness);
+  EXPECT_LT((H.topLeftCorner<3, 3>() - penalty_hessian(g, kStiffness)).norm(), 1e-9 * kStiffness);
+}
+
 TEST(Penalty, ThesisClosedForms) {
   const double k = kStiffness;
   // (A.3) vertex: 2kI.

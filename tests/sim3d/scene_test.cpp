@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "common/test_support.hpp"
 #include "palpa/core/json.hpp"
@@ -97,6 +98,9 @@ TEST(Scene, RefusesUnknownSetsMembersAndRegionsWithoutMaterial) {
   p.contact = R"({"sampling": "surface", "stiffness": "2000 N/m"})";
   EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
                            {"contact.stiffness", "Pa/m"}));
+  p.contact = R"({"sampling": "surface", "friction": "coulomb"})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"contact.friction", "unknown friction 'coulomb'", "\"stick\""}));
   p.contact = R"({"sampling": "surface", "subdivisions": 3, "stiffness": "50 kPa/mm"})";
   const Scene surface = read_scene(write_punch_scene(dir, p));
   EXPECT_EQ(surface.contact.sampling, body::ContactSampling::Surface);
@@ -149,10 +153,14 @@ TEST(Scene, RefusesInvertedTetsAndAnOpenObstacle) {
   EXPECT_TRUE(throws_error([&] { Simulation sim(s); }, ErrorKind::Input, {"obstacle 'punch'", "not closed"}));
 }
 
-TEST(Run, InterruptedAndResumedRunMatchesAnUninterruptedOne) {
+class RunResume : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(RunResume, InterruptedAndResumedRunMatchesAnUninterruptedOne) {
   ScratchDir dir;
   PunchScene p;
   p.cells = "[4, 4, 2]";
+  // Stick contacts carry their anchors through the saved state.
+  if (std::string(GetParam()) == "stick") p.contact = R"({"max_penetration": "0.05 mm", "sampling": "surface", "friction": "stick"})";
   const Scene s = read_scene(write_punch_scene(dir, p));
   RunOptions whole;
   whole.out = dir / "whole";
@@ -181,6 +189,8 @@ TEST(Run, InterruptedAndResumedRunMatchesAnUninterruptedOne) {
   EXPECT_TRUE(summary.at("complete").get<bool>());
   EXPECT_EQ(summary.at("records").size(), 4u);
 }
+
+INSTANTIATE_TEST_SUITE_P(Friction, RunResume, ::testing::Values("frictionless", "stick"));
 
 TEST(Run, AStepThatCannotConvergeKeepsTheStepsBeforeItAndNamesAVertex) {
   // The punch starts 0.5 mm above the block: step 1 stays 0.1 mm above it,

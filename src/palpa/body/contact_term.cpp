@@ -103,6 +103,12 @@ void ContactTerm::prepare(const Eigen::VectorXd& x) {
   potential_.commit(*obstacle_, as_points(x));
 }
 
+int ContactTerm::anchor(const Eigen::VectorXd& x, const Eigen::VectorXd& reference,
+                        const contact::Pose& reference_pose) {
+  const Timer t(detection_ns_, detections_);
+  return potential_.anchor(*obstacle_, as_points(x), as_points(reference), reference_pose);
+}
+
 double ContactTerm::update_areas(double min_change) {
   if (sampling_ == ContactSampling::Surface) return 0.0;
   std::vector<int> touching;

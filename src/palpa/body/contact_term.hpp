@@ -46,6 +46,15 @@ class ContactTerm final : public tet::VertexTerm {
 
   ContactSampling sampling() const noexcept { return sampling_; }
 
+  // Stick (contact::Friction): see anchor().
+  void set_friction(contact::Friction friction) { potential_.set_friction(friction); }
+  // Anchors the contacts at x that have no anchor where they met the
+  // obstacle: `reference` (positions, 3N) with the obstacle at
+  // `reference_pose` (contact::PenaltyContact::anchor). Recommits; returns the
+  // number of new anchors.
+  int anchor(const Eigen::VectorXd& x, const Eigen::VectorXd& reference, const contact::Pose& reference_pose);
+  void set_anchors(const std::vector<std::array<double, 5>>& rows) { potential_.set_anchors(rows, *obstacle_); }
+
   double stiffness() const noexcept { return potential_.stiffness(); }
   void set_stiffness(double k) { potential_.set_stiffness(k); }
   const contact::Obstacle& obstacle() const noexcept { return *obstacle_; }

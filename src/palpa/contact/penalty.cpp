@@ -32,7 +32,13 @@ Projection project(const Eigen::Vector3d& p, const FeatureGeometry& g) {
   r.A.resize(3, c);
   for (int j = 0; j < c; ++j) r.A.col(j) = g.q[static_cast<std::size_t>(j + 1)] - g.q[0];
   r.beta.setZero();
-  if (c == 0) {
+  if (g.stuck) {
+    r.A.resize(3, 0);
+    r.G_inv.resize(0, 0);
+    r.beta = g.stuck_weights;
+    r.a = r.beta[0] * g.q[0] + r.beta[1] * g.q[1] + r.beta[2] * g.q[2];
+    r.P_perp.setIdentity();
+  } else if (c == 0) {
     r.G_inv.resize(0, 0);
     r.a = g.q[0];
     r.beta[0] = 1.0;
@@ -85,7 +91,7 @@ Vector12d penalty_gradient_full(const Eigen::Vector3d& p, const FeatureGeometry&
 //   H = 2k [ J_d ; −(β_i J_d + d J_β_i) for i = 0, 1, 2 ].
 Matrix12d penalty_hessian_full(const Eigen::Vector3d& p, const FeatureGeometry& g, double k) {
   const Projection r = project(p, g);
-  const int c = g.m - 1;
+  const int c = g.stuck ? 0 : g.m - 1;  // a stuck anchor's weights do not move
   Eigen::Matrix<double, 3, 12> U;
   U.leftCols<3>().setIdentity();
   for (int i = 0; i < 3; ++i)

@@ -15,6 +15,11 @@
 // semi-definite; the full 12×12 Hessian is not in general (it is the true
 // Hessian, for sensitivities with respect to the obstacle's vertices).
 //
+// A stuck contact (static friction, "stick") keeps its anchor at fixed
+// weights β on a face instead: a = Σ β_i q_i moves only with the q_i, so
+//   ∂E/∂p = 2k d,  ∂E/∂q_i = −2k β_i d,  ∂²E/∂z² = 2k [I, −β_j I; −β_i I, β_i β_j I],
+// a spring to a point carried by the obstacle (tangential and normal alike).
+//
 // Units: positions [m], k [N/m], E [J], gradients [N], Hessians [N/m].
 
 #include <Eigen/Core>
@@ -27,6 +32,9 @@ struct FeatureGeometry {
   int m = 3;
   std::array<Eigen::Vector3d, 3> q{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                                    Eigen::Vector3d::Zero()};
+  // A stuck anchor: a = Σ stuck_weights_i q_i (m = 3) instead of the projection.
+  bool stuck = false;
+  Eigen::Vector3d stuck_weights = Eigen::Vector3d::Zero();
 };
 
 using Vector12d = Eigen::Matrix<double, 12, 1>;

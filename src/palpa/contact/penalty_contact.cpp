@@ -136,13 +136,112 @@ Stencil PenaltyContact::stencil_of(const SampleContact& c) const {
   return s;
 }
 
+FeatureGeometry PenaltyContact::geometry_of(const Obstacle& obstacle, const SampleContact& c) const {
+  FeatureGeometry g = feature_geometry(obstacle, c.closest);
+  if (c.stuck) {
+    g.stuck = true;
+    g.stuck_weights = c.closest.weights;
+  }
+  return g;
+}
+
+void PenaltyContact::set_friction(Friction friction) {
+  friction_ = friction;
+  anchor_face_.assign(friction == Friction::Stick ? samples_.size() : 0, -1);
+  anchor_weights_.assign(anchor_face_.size(), Eigen::Vector3d::Zero());
+  for (SampleContact& c : contacts_) c.stuck = false;
+}
+
+int PenaltyContact::anchored() const {
+  return static_cast<int>(std::count_if(anchor_face_.begin(), anchor_face_.end(), [](int f) { return f >= 0; }));
+}
+
+std::vector<std::array<double, 5>> PenaltyContact::anchors() const {
+  std::vector<std::array<double, 5>> rows;
+  for (std::size_t s = 0; s < anchor_face_.size(); ++s) {
+    if (anchor_face_[s] < 0) continue;
+    const Eigen::Vector3d& w = anchor_weights_[s];
+    rows.push_back({static_cast<double>(s), static_cast<double>(anchor_face_[s]), w[0], w[1], w[2]});
+  }
+  return rows;
+}
+
+void PenaltyContact::set_anchors(const std::vector<std::array<double, 5>>& rows, const Obstacle& obstacle) {
+  if (friction_ != Friction::Stick) {
+    if (rows.empty()) return;
+    throw Error(ErrorKind::Input, fmt::format("{}: anchors given to a frictionless contact", name_));
+  }
+  std::fill(anchor_face_.begin(), anchor_face_.end(), -1);
+  for (const auto& r : rows) {
+    const double s = r[0], f = r[1];
+    const Eigen::Vector3d w(r[2], r[3], r[4]);
+    if (!(s >= 0.0 && s < static_cast<double>(samples_.size()) && s == std::floor(s) && f >= 0.0 &&
+          f < static_cast<double>(obstacle.triangles().rows()) && f == std::floor(f) && w.allFinite() &&
+          w.minCoeff() >= 0.0 && std::abs(w.sum() - 1.0) < 1e-9)) {
+      throw Error(ErrorKind::Input, fmt::format("{}: anchor (sample {}, face {}) does not fit", name_, s, f));
+    }
+    anchor_face_[static_cast<std::size_t>(s)] = static_cast<int>(f);
+    anchor_weights_[static_cast<std::size_t>(s)] = w;
+  }
+}
+
+namespace {
+
+// Barycentric weights of x (on or near the triangle) on its corners, clamped
+// into the triangle.
+Eigen::Vector3d barycentric(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                            const Eigen::Vector3d& c) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a, d = x - a;
+  const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2);
+  const double det = g11 * g22 - g12 * g12;
+  double u = (g22 * e1.dot(d) - g12 * e2.dot(d)) / det;
+  double v = (g11 * e2.dot(d) - g12 * e1.dot(d)) / det;
+  u = std::clamp(u, 0.0, 1.0);
+  v = std::clamp(v, 0.0, 1.0 - u);
+  return {1.0 - u - v, u, v};
+}
+
+}  // namespace
+
+int PenaltyContact::anchor(const Obstacle& obstacle, Points points, Points reference, const Pose& reference_pose) {
+  if (friction_ != Friction::Stick) return 0;
+  int added = 0;
+  const Eigen::MatrixX3i& F = obstacle.triangles();
+  const Pose& now = obstacle.pose();
+  for (const SampleContact& c : contacts_) {
+    const auto s = static_cast<std::size_t>(c.sample);
+    if (anchor_face_[s] >= 0) continue;
+    // The reference position as seen from the obstacle then, placed where
+    // that is now.
+    const Eigen::Vector3d body = reference_pose.R.transpose() * (position(c.sample, reference) - reference_pose.t);
+    const ClosestPoint at = obstacle.closest_point(now.R * body + now.t);
+    const int f = at.triangle;
+    anchor_face_[s] = f;
+    anchor_weights_[s] = barycentric(at.point, obstacle.world_vertex(F(f, 0)), obstacle.world_vertex(F(f, 1)),
+                                     obstacle.world_vertex(F(f, 2)));
+    ++added;
+  }
+  if (added > 0) commit(obstacle, points);
+  return added;
+}
+
 double PenaltyContact::detected_energy(const Obstacle& obstacle, Points points) const {
   return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, samples_.size(), kSampleGrain), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double sum) {
         ClosestPoint c;
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
-          if (!obstacle.penetration(position(static_cast<int>(s), points), c) || excluded(c)) continue;
+          const Eigen::Vector3d x = position(static_cast<int>(s), points);
+          if (!obstacle.penetration(x, c) || excluded(c)) continue;
+          if (!anchor_face_.empty() && anchor_face_[s] >= 0) {
+            const Eigen::MatrixX3i& F = obstacle.triangles();
+            const int f = anchor_face_[s];
+            const Eigen::Vector3d& w = anchor_weights_[s];
+            const Eigen::Vector3d a = w[0] * obstacle.world_vertex(F(f, 0)) + w[1] * obstacle.world_vertex(F(f, 1)) +
+                                      w[2] * obstacle.world_vertex(F(f, 2));
+            sum += k_ * samples_.scale[s] * (x - a).squaredNorm();
+            continue;
+          }
           sum += k_ * samples_.scale[s] * c.distance * c.distance;
         }
         return sum;
@@ -163,8 +262,26 @@ void PenaltyContact::commit(const Obstacle& obstacle, Points points) {
                       }
                     });
   contacts_.clear();
+  const bool stick = !anchor_face_.empty();
   for (std::size_t s = 0; s < samples_.size(); ++s) {
-    if (hit_[s] != 0) contacts_.push_back({static_cast<int>(s), slot_[s]});
+    if (hit_[s] == 0) {
+      if (stick) anchor_face_[s] = -1;  // it left the obstacle: released
+      continue;
+    }
+    SampleContact c{static_cast<int>(s), slot_[s]};
+    if (stick && anchor_face_[s] >= 0) {
+      const int f = anchor_face_[s];
+      const Eigen::MatrixX3i& F = obstacle.triangles();
+      c.stuck = true;
+      c.closest.feature = Feature::Face;
+      c.closest.triangle = f;
+      c.closest.vertices = {F(f, 0), F(f, 1), F(f, 2)};
+      c.closest.weights = anchor_weights_[s];
+      c.closest.point = anchor_weights_[s][0] * obstacle.world_vertex(F(f, 0)) +
+                        anchor_weights_[s][1] * obstacle.world_vertex(F(f, 1)) +
+                        anchor_weights_[s][2] * obstacle.world_vertex(F(f, 2));
+    }
+    contacts_.push_back(c);
   }
 }
 
@@ -185,7 +302,7 @@ const SampleContact* PenaltyContact::deepest() const noexcept {
 double PenaltyContact::energy(const Obstacle& obstacle, Points points) const {
   double e = 0.0;
   for (const SampleContact& c : contacts_) {
-    e += penalty_energy(position(c.sample, points), feature_geometry(obstacle, c.closest), stiffness_of(c));
+    e += penalty_energy(position(c.sample, points), geometry_of(obstacle, c), stiffness_of(c));
   }
   return e;
 }
@@ -206,7 +323,7 @@ void scatter(const Stencil& st, const Eigen::Vector3d& g, Eigen::Ref<Eigen::Matr
 void PenaltyContact::add_gradient(const Obstacle& obstacle, Points points, Eigen::Ref<Eigen::Matrix3Xd> grad) const {
   assert(grad.cols() == points.cols());
   for (const SampleContact& c : contacts_) {
-    scatter(stencil_of(c), penalty_gradient(position(c.sample, points), feature_geometry(obstacle, c.closest), stiffness_of(c)),
+    scatter(stencil_of(c), penalty_gradient(position(c.sample, points), geometry_of(obstacle, c), stiffness_of(c)),
             grad);
   }
 }
@@ -215,7 +332,7 @@ void PenaltyContact::add_obstacle_gradient(const Obstacle& obstacle, Points poin
                                            Eigen::Ref<Eigen::Matrix3Xd> grad) const {
   assert(grad.cols() == obstacle.vertices().rows());
   for (const SampleContact& c : contacts_) {
-    const FeatureGeometry g = feature_geometry(obstacle, c.closest);
+    const FeatureGeometry g = geometry_of(obstacle, c);
     const Vector12d full = penalty_gradient_full(position(c.sample, points), g, stiffness_of(c));
     for (int i = 0; i < g.m; ++i) grad.col(c.closest.vertices[static_cast<std::size_t>(i)]) += full.segment<3>(3 * (i + 1));
   }
@@ -226,7 +343,7 @@ void PenaltyContact::add_forces(const Obstacle& obstacle, Points points, Eigen::
   assert(on_points.cols() == points.cols());
   assert(on_obstacle.cols() == 0 || on_obstacle.cols() == obstacle.vertices().rows());
   for (const SampleContact& c : contacts_) {
-    const FeatureGeometry g = feature_geometry(obstacle, c.closest);
+    const FeatureGeometry g = geometry_of(obstacle, c);
     const Stencil st = stencil_of(c);
     if (on_obstacle.cols() == 0) {
       scatter(st, -penalty_gradient(position(c.sample, points), g, stiffness_of(c)), on_points);
@@ -244,7 +361,7 @@ Wrench PenaltyContact::obstacle_wrench(const Obstacle& obstacle, Points points, 
   Wrench w;
   for (const SampleContact& c : contacts_) {
     const Eigen::Vector3d p = position(c.sample, points);
-    const Eigen::Vector3d a = sliding_anchor(p, feature_geometry(obstacle, c.closest)).point;
+    const Eigen::Vector3d a = sliding_anchor(p, geometry_of(obstacle, c)).point;
     const Eigen::Vector3d reaction = 2.0 * stiffness_of(c) * (p - a);  // −f
     w.force += reaction;
     w.torque += (a - about).cross(reaction);

@@ -91,7 +91,16 @@ ContactSamples surface_samples(const Eigen::MatrixX3d& rest, const Eigen::Matrix
 struct SampleContact {
   int sample = -1;
   ClosestPoint closest;  // at detection: anchor, depth (= distance), feature
+  // Stuck (Friction::Stick): closest.feature is the face holding the anchor,
+  // closest.vertices its corners and closest.weights the anchor's fixed
+  // weights on them; distance stays the depth.
+  bool stuck = false;
 };
+
+// How a contact holds the surface tangentially: not at all (the sliding
+// anchor), or fully ("stick": static friction without a limit, a bonded
+// punch face) once the sample has been anchored (PenaltyContact::anchor).
+enum class Friction { Frictionless, Stick };
 
 // One committed contact as a stencil: its slots are the sample's n surface
 // vertices, then the feature's m obstacle vertices.
@@ -131,8 +140,26 @@ class PenaltyContact {
   // pass). Empty: every feature counts.
   void set_excluded(std::vector<char> excluded_obstacle_vertices);
 
+  // Stick: a sample inside the obstacle that has an anchor is held by a
+  // spring to that point, carried by the obstacle's face (penalty.hpp); a
+  // sample found outside at commit() loses its anchor. Frictionless (the
+  // default) never anchors.
+  void set_friction(Friction friction);
+  Friction friction() const noexcept { return friction_; }
+  // Gives every committed contact without an anchor the point where it met
+  // the obstacle: the obstacle point closest to the sample's position in
+  // `reference` (the last converged state) with the obstacle at
+  // `reference_pose` (its pose then), carried to its pose now. Then recommits
+  // at `points`. Returns the number of new anchors (0 when frictionless).
+  int anchor(const Obstacle& obstacle, Points points, Points reference, const Pose& reference_pose);
+  int anchored() const;  // samples with an anchor
+  // The anchors as (sample, face, w0, w1, w2) rows, for saving a state; and
+  // back (Stick only; throws palpa::Error (Input) for a row out of range).
+  std::vector<std::array<double, 5>> anchors() const;
+  void set_anchors(const std::vector<std::array<double, 5>>& rows, const Obstacle& obstacle);
+
   // Σ k·c_s·depth² over the samples inside the obstacle, detected afresh at
-  // `points` [J]. Parallel, deterministic, allocation-free, thread-safe.
+  // `points` (k·c_s·‖x_s − a_s‖² for an anchored one) [J]. Parallel, deterministic, allocation-free, thread-safe.
   double detected_energy(const Obstacle& obstacle, Points points) const;
   // Detects the samples inside the obstacle at `points` and keeps them (in
   // sample order) as the committed contacts. Parallel.
@@ -149,6 +176,8 @@ class PenaltyContact {
   // k·c_s of a contact [N/m].
   double stiffness_of(const SampleContact& c) const { return k_ * samples_.scale[static_cast<std::size_t>(c.sample)]; }
   Stencil stencil_of(const SampleContact& c) const;
+  // The kernel's feature (stuck or sliding) of a contact, in world coordinates.
+  FeatureGeometry geometry_of(const Obstacle& obstacle, const SampleContact& c) const;
   // The sample's position at `points` [m].
   Eigen::Vector3d position(int sample, Points points) const;
 
@@ -174,7 +203,7 @@ class PenaltyContact {
   void for_each_surface_hessian(const Obstacle& obstacle, Fn&& fn) const {
     for (const SampleContact& c : contacts_) {
       const Stencil st = stencil_of(c);
-      const Eigen::Matrix3d P = penalty_hessian(feature_geometry(obstacle, c.closest), stiffness_of(c));
+      const Eigen::Matrix3d P = penalty_hessian(geometry_of(obstacle, c), stiffness_of(c));
       for (int a = 0; a < st.n; ++a) {
         for (int b = 0; b < st.n; ++b) fn(st.surface_vertex[static_cast<std::size_t>(a)], st.surface_vertex[static_cast<std::size_t>(b)], Eigen::Matrix3d(st.weight[a] * st.weight[b] * P));
       }
@@ -186,7 +215,7 @@ class PenaltyContact {
   template <class Fn>
   void for_each_stencil_hessian(const Obstacle& obstacle, Points points, Fn&& fn) const {
     for (const SampleContact& c : contacts_) {
-      fn(stencil_of(c), penalty_hessian_full(position(c.sample, points), feature_geometry(obstacle, c.closest),
+      fn(stencil_of(c), penalty_hessian_full(position(c.sample, points), geometry_of(obstacle, c),
                                              stiffness_of(c)));
     }
   }
@@ -204,6 +233,10 @@ class PenaltyContact {
   ContactSamples samples_;
   double k_ = 0.0;
   std::vector<char> excluded_;
+  Friction friction_ = Friction::Frictionless;
+  // Per sample under Stick: the anchor's face (−1: none) and weights.
+  std::vector<int> anchor_face_;
+  std::vector<Eigen::Vector3d> anchor_weights_;
   std::vector<SampleContact> contacts_;
   std::vector<ClosestPoint> slot_;  // scratch of commit(): one per sample
   std::vector<unsigned char> hit_;  // scratch of commit(): inside or not

@@ -118,6 +118,7 @@ Simulation::Simulation(const Scene& scene) : scene_(&scene) {
   for (const auto& o : obstacles_) {
     terms_.push_back(std::make_unique<body::ContactTerm>(*o, model_->mesh().V, boundary.faces, k0,
                                                          scene.contact.sampling, scene.contact.subdivisions));
+    terms_.back()->set_friction(scene.contact.friction);
     system_->add_term(terms_.back().get());
   }
 
@@ -145,15 +146,17 @@ void Simulation::pose(int s) {
 }
 
 void Simulation::set_state(const Eigen::VectorXd& x, const std::vector<double>& stiffness,
-                           const std::vector<std::vector<double>>& spring_areas) {
+                           const std::vector<std::vector<double>>& spring_areas,
+                           const std::vector<std::vector<std::array<double, 5>>>& anchors) {
   if (x.size() != system_->num_dofs() || stiffness.size() != terms_.size() ||
-      spring_areas.size() != terms_.size()) {
+      spring_areas.size() != terms_.size() || (!anchors.empty() && anchors.size() != terms_.size())) {
     throw Error(ErrorKind::Input, "the saved state does not fit this scene's mesh");
   }
   x_ = x;
   for (std::size_t i = 0; i < terms_.size(); ++i) {
     terms_[i]->set_stiffness(stiffness[i]);
     terms_[i]->set_areas(spring_areas[i]);
+    terms_[i]->set_anchors(anchors.empty() ? std::vector<std::array<double, 5>>{} : anchors[i]);
   }
 }
 
@@ -246,6 +249,12 @@ StepRecord Simulation::solve_step(int s) {
   for (auto& t : terms_) t->reset_timers();
   StepRecord r;
   r.step = s;
+  // Where the body was when the step began: contacts that stick are anchored
+  // where their points met the obstacle.
+  const Eigen::VectorXd reference = system_->positions(system_->full_displacement(x_));
+  pose(s - 1);
+  std::vector<contact::Pose> reference_pose;
+  for (const auto& o : obstacles_) reference_pose.push_back(o->pose());
   pose(s);
   constexpr int kMaxCorrections = 12;
   const auto solve_once = [&] {
@@ -264,6 +273,12 @@ StepRecord Simulation::solve_step(int s) {
       bool areas_changed = false;
       for (auto& t : terms_) areas_changed = t->update_areas() > 0.0 || areas_changed;
       if (areas_changed) return Resolve::Areas;
+      if (scene_->contact.friction == contact::Friction::Stick) {
+        const Eigen::VectorXd now = system_->positions(system_->full_displacement(x_));
+        int anchored = 0;
+        for (std::size_t i = 0; i < terms_.size(); ++i) anchored += terms_[i]->anchor(now, reference, reference_pose[i]);
+        if (anchored > 0) return Resolve::Anchors;
+      }
     }
     if (!automatic_stiffness_) return Resolve::None;
     bool raised = false;
@@ -277,7 +292,7 @@ StepRecord Simulation::solve_step(int s) {
   };
   if (run_equilibrium_loop(kMaxCorrections, solve_once, adjust).capped()) {
     throw Error(ErrorKind::Solver,
-                fmt::format("step {} of {}: the penetration stays above the target {:.3g} mm after {} stiffness "
+                fmt::format("step {} of {}: the penetration stays above the target {:.3g} mm after {} "
                             "corrections ({}); give contact.stiffness or a larger contact.max_penetration",
                             s, scene_->steps, target_penetration() * 1e3, kMaxCorrections, deepest_contact()));
   }
@@ -430,8 +445,17 @@ Json run(const Scene& scene, const RunOptions& options) {
     for (std::size_t i = 0; i < v.at("spring_areas").size(); ++i) {
       areas.push_back(v.at("spring_areas").at(i).as_number_array());
     }
+    std::vector<std::vector<std::array<double, 5>>> anchors;
+    if (const auto an = v.find("anchors")) {
+      for (std::size_t i = 0; i < an->size(); ++i) {
+        const std::vector<double> flat = an->at(i).as_number_array();
+        if (flat.size() % 5 != 0) an->at(i).fail("not rows of 5 numbers", "(sample, face, w0, w1, w2) rows");
+        auto& rows = anchors.emplace_back();
+        for (std::size_t k = 0; k < flat.size(); k += 5) rows.push_back({flat[k], flat[k + 1], flat[k + 2], flat[k + 3], flat[k + 4]});
+      }
+    }
     sim.set_state(Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())),
-                  v.at("stiffness").as_number_array(), areas);
+                  v.at("stiffness").as_number_array(), areas, anchors);
     start = static_cast<int>(v.at("next_step").as_integer());
     for (const Json& r : doc.at("records")) records.push_back(r);
     for (const Json& e : doc.at("body_frames")) body_frames.push_back({e.at(0).get<double>(), e.at(1).get<std::string>()});
@@ -521,10 +545,13 @@ Json run(const Scene& scene, const RunOptions& options) {
       Json ofr = Json::array();
       for (const auto& f : obstacle_frames) ofr.push_back(frame_pair(f));
       std::vector<double> k;
-      Json areas = Json::array();
+      Json areas = Json::array(), anchors = Json::array();
       for (std::size_t i = 0; i < sim.num_obstacles(); ++i) {
         k.push_back(sim.contact_term(i).stiffness());
         areas.push_back(sim.contact_term(i).spring_area());
+        std::vector<double> flat;
+        for (const auto& row : sim.contact_term(i).potential().anchors()) flat.insert(flat.end(), row.begin(), row.end());
+        anchors.push_back(flat);
       }
       const Eigen::VectorXd& x = sim.state();
       write_json_file(state_path, Json{{"palpa_sim3d_state", 1},
@@ -533,6 +560,7 @@ Json run(const Scene& scene, const RunOptions& options) {
                                        {"state", std::vector<double>(x.data(), x.data() + x.size())},
                                        {"stiffness", k},
                                        {"spring_areas", areas},
+                                       {"anchors", anchors},
                                        {"records", records},
                                        {"body_frames", frame_pair(body_frames)},
                                        {"obstacle_frames", ofr}});

@@ -91,9 +91,11 @@ class Simulation {
 
   // The free DOFs and the full displacement (3N) of the current state.
   const Eigen::VectorXd& state() const noexcept { return x_; }
-  // Restores a saved state: free DOFs, each obstacle's k and spring areas.
+  // Restores a saved state: free DOFs, each obstacle's k, spring areas and
+  // stick anchors (contact::PenaltyContact::anchors(); none when frictionless).
   void set_state(const Eigen::VectorXd& x, const std::vector<double>& stiffness,
-                 const std::vector<std::vector<double>>& spring_areas);
+                 const std::vector<std::vector<double>>& spring_areas,
+                 const std::vector<std::vector<std::array<double, 5>>>& anchors = {});
   Eigen::VectorXd displacement() const { return system_->full_displacement(x_); }
 
   // The body at the current state, for output.

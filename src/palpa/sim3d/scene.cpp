@@ -283,7 +283,15 @@ Scene read_scene(const fs::path& path) {
   }
 
   if (const auto c = root.find("contact")) {
-    c->expect_only({"stiffness", "max_penetration", "sampling", "subdivisions"});
+    c->expect_only({"stiffness", "max_penetration", "sampling", "subdivisions", "friction"});
+    if (const auto fr = c->find("friction")) {
+      const std::string f = fr->as_string();
+      if (f == "stick") {
+        s.contact.friction = contact::Friction::Stick;
+      } else if (f != "frictionless") {
+        fr->fail(fmt::format("unknown friction '{}'", f), "\"frictionless\" or \"stick\"");
+      }
+    }
     if (const auto sm = c->find("sampling")) s.contact.sampling = read_contact_sampling(*sm);
     if (const auto n = c->find("subdivisions")) s.contact.subdivisions = read_count(*n, 1, 8);
     if (const auto k = c->find("stiffness")) {

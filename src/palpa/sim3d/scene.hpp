@@ -30,6 +30,8 @@
 //   }],
 //   "steps": 10,                                // equilibria along the paths
 //   "contact": {"max_penetration": "0.05 mm"}   // or {"stiffness": "2000 N/m"}
+//              // + "sampling": "vertices"|"surface", "subdivisions": 2,
+//              //   "friction": "frictionless"|"stick"
 //   "solver": {"line_search": "backtracking", "max_iterations": 100,
 //              "force_tolerance": "1 uN"},
 //   "dynamics": {"time_step": "5 ms", "mass_damping": "20 Hz",
@@ -93,6 +95,9 @@ struct ContactSpec {
   // or subdivisions² points on each boundary triangle.
   body::ContactSampling sampling = body::ContactSampling::Vertices;
   int subdivisions = 2;
+  // Frictionless, or Stick: a point that meets an obstacle stays where it met
+  // it (a bonded punch face) while it is pressed.
+  contact::Friction friction = contact::Friction::Frictionless;
 };
 
 struct SolverSpec {

@@ -10,6 +10,7 @@ std::string_view to_string(Resolve r) noexcept {
     case Resolve::None: return "none";
     case Resolve::Areas: return "spring areas";
     case Resolve::Stiffness: return "stiffness";
+    case Resolve::Anchors: return "stick anchors";
   }
   return "unknown";
 }

@@ -18,6 +18,7 @@ enum class Resolve {
   None,       // nothing: the equilibrium stands
   Areas,      // contact spring areas followed the contact set
   Stiffness,  // the penalty stiffness was corrected toward the target depth
+  Anchors,    // contacts that stick were anchored where they met the obstacle
 };
 std::string_view to_string(Resolve r) noexcept;
 
