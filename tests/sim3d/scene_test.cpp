@@ -192,6 +192,21 @@ TEST_P(RunResume, InterruptedAndResumedRunMatchesAnUninterruptedOne) {
 
 INSTANTIATE_TEST_SUITE_P(Friction, RunResume, ::testing::Values("frictionless", "stick"));
 
+TEST(Run, TheDefaultPenetrationTargetIsASmallShareOfAShallowPoke) {
+  ScratchDir dir;
+  PunchScene p;
+  p.contact = "{}";
+  p.depth = "0.5 mm";
+  const Simulation poke(read_scene(write_punch_scene(dir, p)));
+  EXPECT_DOUBLE_EQ(poke.target_penetration(), 0.01 * 0.5e-3);
+  // Without a path, 2% of the mean surface edge (5 mm cells here).
+  std::string text = test::punch_scene_json(p);
+  text.replace(text.find(R"(, "path")"), 54, "");
+  const Simulation posed(read_scene(dir.write("posed.json", text)));
+  EXPECT_GT(posed.target_penetration(), 0.02 * 2.5e-3);
+  EXPECT_LT(posed.target_penetration(), 0.02 * 6e-3);
+}
+
 TEST(Run, AStepThatCannotConvergeKeepsTheStepsBeforeItAndNamesAVertex) {
   // The punch starts 0.5 mm above the block: step 1 stays 0.1 mm above it,
   // step 2 presses 0.3 mm with too few Newton iterations allowed.

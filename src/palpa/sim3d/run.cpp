@@ -101,7 +101,15 @@ Simulation::Simulation(const Scene& scene) : scene_(&scene) {
   // correction aims 10% beyond the proportional rule so that the re-solve
   // lands below it.
   contact::StiffnessPolicy policy;
-  policy.target = scene.contact.max_penetration > 0.0 ? scene.contact.max_penetration : 0.02 * h;
+  // The default target: 2% of the mean surface edge, and at most 1% of the
+  // deepest path (a shallow poke is not measured against a coarse mesh).
+  double deepest_path = 0.0;
+  for (const ObstacleSpec& o : scene.obstacles) {
+    if (o.has_path) deepest_path = std::max(deepest_path, o.depth);
+  }
+  policy.target = scene.contact.max_penetration > 0.0 ? scene.contact.max_penetration
+                  : deepest_path > 0.0                ? std::min(0.02 * h, 0.01 * deepest_path)
+                                                      : 0.02 * h;
   policy.low = 0.0;
   policy.high = 1.0;
   policy.overshoot = 1.1;

@@ -90,7 +90,7 @@ struct FixedSpec {
 
 struct ContactSpec {
   double stiffness = 0.0;          // k [N/m] ([Pa/m] with Surface); 0: automatic from max_penetration
-  double max_penetration = 0.0;    // target [m]; 0: 1% of the mean surface edge
+  double max_penetration = 0.0;    // target [m]; 0: 2% of the mean surface edge, ≤ 1% of the deepest path
   // Where the springs sit (body/contact_term.hpp): the boundary's vertices,
   // or subdivisions² points on each boundary triangle.
   body::ContactSampling sampling = body::ContactSampling::Vertices;
