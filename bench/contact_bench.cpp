@@ -2,16 +2,19 @@
 // Benchmarks of the contact module. Prints one JSON line per figure (see
 // BENCHMARKS.md), each with its in-run reference and the ratio.
 //
-//  1. Closest-point queries per second (1 thread, with the inside test and the
-//     closest feature) against tori of ~2k and ~50k triangles, for 10k points in
-//     the bounding box and 10k points within 1 mm of the surface: palpa's own
-//     BVH; reference: CGAL's AABB_tree (with its distance-query accelerator).
-//     Accuracy: largest distance difference between the two.
-//  2. Tree build time: own BVH vs CGAL's AABB_tree; and the whole Obstacle
+//  1. Closest-point queries per second (1 thread) against tori of ~2k and ~50k
+//     triangles, for 10k points in the bounding box and 10k points within 1 mm
+//     of the surface: palpa's geometry::TriangleTree; reference: CGAL's
+//     AABB_tree (with its distance-query accelerator, the tests' reference
+//     tree). Also the rate of Obstacle::closest_point (the tree query plus the
+//     closest feature and the inside test). Accuracy: largest distance
+//     difference between the two trees.
+//  2. Tree build time: TriangleTree vs CGAL's AABB_tree; and the whole Obstacle
 //     construction (validation, normals, tree).
 //  3. A deforming obstacle (a body surface moving each Newton step): time of
-//     set_vertices() with refit, with rebuild, and with CGAL's rebuild, and the
-//     query rate after the refit relative to a fresh build (tree quality).
+//     set_vertices() with refit and with rebuild, of the box refit alone and of
+//     a CGAL tree rebuilt on the moved vertices, and the query rate after the
+//     refit relative to a fresh build (tree quality).
 //  4. Batch detection of 10k points (PenaltyContact::commit, TBB) and
 //     PenaltyContact::detected_energy(), against the same queries in a 1-thread loop.
 //
@@ -28,17 +31,19 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "common/cgal_triangle_tree.hpp"
 #include "contact/shapes.hpp"
 #include "palpa/contact/contact.hpp"
 #include "palpa/contact/penalty_contact.hpp"
-#include "palpa/contact/detail/bvh.hpp"
-#include "palpa/contact/detail/cgal_tree.hpp"
+#include "palpa/geometry/triangle_tree.hpp"
 
 namespace {
 
 using palpa::bench::emit;
 using palpa::bench::median_seconds;
 using palpa::bench::throughput;
+using palpa::geometry::TriangleTree;
+using palpa::test::CgalTriangleTree;
 namespace contact = palpa::contact;
 
 constexpr int kQueries = 10000;
@@ -79,24 +84,30 @@ Eigen::Matrix3Xd near_points(std::mt19937_64& rng) {
   return p;
 }
 
-double queries_per_second(const contact::Obstacle& o, const Eigen::Matrix3Xd& points) {
+// Queries per second of distance(point) (1 thread) over the points.
+template <class Distance>
+double queries_per_second(const Distance& distance, const Eigen::Matrix3Xd& points) {
   double sink = 0.0;
   const double rate = throughput(
       [&] {
-        for (Eigen::Index i = 0; i < points.cols(); ++i)
-          sink += o.closest_point(points.col(i)).distance;
+        for (Eigen::Index i = 0; i < points.cols(); ++i) sink += distance(points.col(i));
       },
       static_cast<double>(points.cols()));
   if (sink < 0.0) fmt::print("");  // keep the loop
   return rate;
 }
 
-double max_distance_difference(const contact::Obstacle& a, const contact::Obstacle& b,
+double queries_per_second(const contact::Obstacle& o, const Eigen::Matrix3Xd& points) {
+  return queries_per_second([&](const Eigen::Vector3d& p) { return o.closest_point(p).distance; },
+                            points);
+}
+
+double max_distance_difference(const TriangleTree& a, const CgalTriangleTree& b,
                                const Eigen::Matrix3Xd& points) {
   double worst = 0.0;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    worst = std::max(worst, std::abs(a.closest_point(points.col(i)).distance -
-                                     b.closest_point(points.col(i)).distance));
+    worst = std::max(worst, std::abs(std::sqrt(a.closest(points.col(i)).distance2) -
+                                     std::sqrt(b.closest(points.col(i)).distance2)));
   }
   return worst;
 }
@@ -104,46 +115,50 @@ double max_distance_difference(const contact::Obstacle& a, const contact::Obstac
 void bench_mesh(const MeshCase& mc) {
   const palpa::SurfaceMesh mesh = palpa::test::torus_mesh(kRingRadius, kTubeRadius, mc.nu, mc.nv);
   const auto triangles = static_cast<long>(mesh.F.rows());
-  contact::ObstacleOptions cgal_options;
-  cgal_options.tree = contact::TreeKind::Cgal;
-  const contact::Obstacle own(mesh, mc.name);
-  const contact::Obstacle cgal(mesh, mc.name, cgal_options);
+  const contact::Obstacle obstacle(mesh, mc.name);
+  const TriangleTree own(mesh.V, mesh.F);
+  const CgalTriangleTree cgal(mesh.V, mesh.F);
   std::mt19937_64 rng(20261129);  // fixed: the same points every run
 
   // 1. Queries.
   for (const auto& [where, points] :
        {std::pair<std::string, Eigen::Matrix3Xd>{"bounding box", box_points(rng)},
         std::pair<std::string, Eigen::Matrix3Xd>{"within 1 mm of the surface", near_points(rng)}}) {
-    const double rate_own = queries_per_second(own, points);
-    const double rate_cgal = queries_per_second(cgal, points);
+    const double rate_own = queries_per_second(
+        [&](const Eigen::Vector3d& p) { return own.closest(p).distance2; }, points);
+    const double rate_cgal = queries_per_second(
+        [&](const Eigen::Vector3d& p) { return cgal.closest(p).distance2; }, points);
     emit({{"bench", "contact.closest_point"},
           {"mesh", mc.name},
           {"triangles", triangles},
           {"points", where},
-          {"figure", "closest point + feature + inside test per second (1 thread), own BVH"},
+          {"figure", "closest point per second (1 thread), geometry::TriangleTree"},
           {"queries_per_s", rate_own},
           {"reference", "CGAL AABB_tree (accelerated distance queries)"},
           {"reference_queries_per_s", rate_cgal},
           {"ratio_to_reference", rate_own / rate_cgal},
+          {"obstacle_queries_per_s", queries_per_second(obstacle, points)},
+          {"obstacle_note",
+           "Obstacle::closest_point: the tree query + closest feature + inside test"},
           {"accuracy_max_distance_difference_m", max_distance_difference(own, cgal, points)}});
   }
 
   // 2. Build.
-  palpa::contact::detail::Bvh bvh;
-  const double t_own = median_seconds([] {}, [&] { bvh.build(mesh.V, mesh.F); });
-  const double t_cgal =
-      median_seconds([] {}, [&] { palpa::contact::detail::CgalTree tree(mesh.V, mesh.F); });
+  TriangleTree tree;
+  const double t_own = median_seconds([] {}, [&] { tree.build(mesh.V, mesh.F); });
+  const double t_cgal = median_seconds([] {}, [&] { CgalTriangleTree reference(mesh.V, mesh.F); });
   const double t_obstacle = median_seconds([] {}, [&] { contact::Obstacle o(mesh, mc.name); });
   emit({{"bench", "contact.tree_build"},
         {"mesh", mc.name},
         {"triangles", triangles},
-        {"figure", "tree build time, own BVH"},
+        {"figure", "tree build time, geometry::TriangleTree"},
         {"seconds", t_own},
         {"reference", "CGAL AABB_tree build + accelerate_distance_queries"},
         {"reference_seconds", t_cgal},
         {"ratio_to_reference", t_own / t_cgal},
         {"obstacle_construction_seconds", t_obstacle},
-        {"obstacle_construction_note", "validation (with the exact self-intersection test) + normals + own tree"}});
+        {"obstacle_construction_note",
+         "validation (with the exact self-intersection test) + normals + tree"}});
 
   // 3. Deformation: every vertex moves (a squash plus a wobble of ~5 mm).
   palpa::SurfaceMesh moved = mesh;
@@ -153,7 +168,6 @@ void bench_mesh(const MeshCase& mc) {
   }
   contact::Obstacle refit(mesh, mc.name);
   contact::Obstacle rebuild(mesh, mc.name);
-  contact::Obstacle cgal_rebuild(mesh, mc.name, cgal_options);
   bool flip = false;
   auto next = [&] {
     flip = !flip;
@@ -161,8 +175,9 @@ void bench_mesh(const MeshCase& mc) {
   };
   const double t_refit = median_seconds([] {}, [&] { refit.set_vertices(next(), true); });
   const double t_rebuild = median_seconds([] {}, [&] { rebuild.set_vertices(next(), false); });
-  const double t_cgal_rebuild = median_seconds([] {}, [&] { cgal_rebuild.set_vertices(next()); });
-  const double t_box_refit = median_seconds([] {}, [&] { bvh.refit(next(), mesh.F); });
+  const double t_cgal_rebuild =
+      median_seconds([] {}, [&] { CgalTriangleTree reference(next(), mesh.F); });
+  const double t_box_refit = median_seconds([] {}, [&] { tree.refit(next()); });
   refit.set_vertices(moved.V, true);
   rebuild.set_vertices(moved.V, false);
   const Eigen::Matrix3Xd pts = near_points(rng);
@@ -173,10 +188,10 @@ void bench_mesh(const MeshCase& mc) {
         {"triangles", triangles},
         {"figure", "set_vertices() with refit (normals + box refit)"},
         {"seconds", t_refit},
-        {"reference", "set_vertices() with a rebuild of the own BVH"},
+        {"reference", "set_vertices() with a rebuild of the tree"},
         {"reference_seconds", t_rebuild},
         {"ratio_to_reference", t_refit / t_rebuild},
-        {"cgal_rebuild_seconds", t_cgal_rebuild},
+        {"cgal_tree_rebuild_seconds", t_cgal_rebuild},
         {"box_refit_only_seconds", t_box_refit},
         {"query_rate_after_refit_over_fresh_build", q_refit / q_rebuild}});
 

@@ -1,18 +1,22 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // Obstacle meshes: validation messages, the inside test on cube, sphere and
 // torus (on faces, edges and vertices too), closest points against brute force,
-// the own tree against CGAL's, poses and refits.
+// palpa's tree against CGAL's AABB tree (the reference), poses and refits.
 
 #include "palpa/contact/obstacle.hpp"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <random>
+#include <utility>
 
+#include "common/cgal_triangle_tree.hpp"
 #include "common/test_support.hpp"
 #include "contact/shapes.hpp"
 #include "palpa/contact/primitives.hpp"
@@ -288,33 +292,44 @@ TEST(ObstacleClosest, MatchesBruteForceOnSphereAndTorus) {
   expect_closest_points_correct(Obstacle(torus, "torus"), torus, 0.08, 2000, 5);
 }
 
-TEST(ObstacleClosest, OwnTreeAndCgalAgree) {
+// The feature of the mesh (and the vertices spanning it, ordered as
+// ClosestPoint::vertices) holding the closest point of triangle f to p.
+std::pair<Feature, std::array<int, 3>> feature_of(const SurfaceMesh& mesh, int f,
+                                                  const Eigen::Vector3d& p) {
+  const Eigen::Vector3i t = mesh.F.row(f);
+  const int region =
+      geometry::closest_on_triangle(p, mesh.V.row(t[0]), mesh.V.row(t[1]), mesh.V.row(t[2])).region;
+  if (region == geometry::kFace) return {Feature::Face, {t[0], t[1], t[2]}};
+  if (region < geometry::kEdgeAB) return {Feature::Vertex, {t[region], -1, -1}};
+  const int a = t[region - geometry::kEdgeAB];
+  const int b = t[(region - geometry::kEdgeAB + 1) % 3];
+  return {Feature::Edge, {std::min(a, b), std::max(a, b), -1}};
+}
+
+TEST(ObstacleClosest, AgreesWithCgalsTree) {
   const SurfaceMesh torus = test::torus_mesh(0.04, 0.015, 40, 25);  // 2000 triangles
-  ObstacleOptions cgal_options;
-  cgal_options.tree = TreeKind::Cgal;
   const Obstacle own(torus, "torus");
-  const Obstacle cgal(torus, "torus", cgal_options);
-  expect_closest_points_correct(cgal, torus, 0.07, 300, 6);
+  const test::CgalTriangleTree cgal(torus.V, torus.F);
+  expect_closest_points_correct(own, torus, 0.07, 300, 6);
   auto rng = test::make_rng(7);
   for (int i = 0; i < 3000; ++i) {
     const Eigen::Vector3d p = random_point(rng, 0.07);
     const ClosestPoint a = own.closest_point(p);
-    const ClosestPoint b = cgal.closest_point(p);
-    ASSERT_NEAR(a.distance, b.distance, 1e-15) << p.transpose();
+    const test::CgalTriangleTree::Hit b = cgal.closest(p);
+    ASSERT_NEAR(a.distance, std::sqrt(b.distance2), 1e-15) << p.transpose();
     EXPECT_LT((a.point - b.point).norm(), 1e-14);
-    EXPECT_EQ(a.feature, b.feature);
-    EXPECT_EQ(a.vertices, b.vertices);
-    EXPECT_EQ(a.inside, b.inside);
+    const auto [feature, vertices] = feature_of(torus, b.triangle, p);
+    EXPECT_EQ(a.feature, feature);
+    EXPECT_EQ(a.vertices, vertices);
+    // The inside test against the winding number (O(#F), so on every tenth point).
+    if (i % 10 == 0) EXPECT_EQ(a.inside, test::winding_number(torus, p) > 0.5) << p.transpose();
   }
 }
 
 TEST(ObstacleClosest, RefitRebuildAndCgalAgreeAfterDeformation) {
   const SurfaceMesh sphere = test::sphere_mesh(0.05, 3);
-  ObstacleOptions cgal_options;
-  cgal_options.tree = TreeKind::Cgal;
   Obstacle refit(sphere, "body");
   Obstacle rebuilt(sphere, "body");
-  Obstacle cgal(sphere, "body", cgal_options);
   // A large, uneven deformation: squash along z, wobble in x.
   SurfaceMesh moved = sphere;
   for (Eigen::Index v = 0; v < moved.V.rows(); ++v) {
@@ -323,14 +338,14 @@ TEST(ObstacleClosest, RefitRebuildAndCgalAgreeAfterDeformation) {
   }
   refit.set_vertices(moved.V, true);
   rebuilt.set_vertices(moved.V, false);
-  cgal.set_vertices(moved.V);
+  const test::CgalTriangleTree cgal(moved.V, moved.F);
   expect_closest_points_correct(refit, moved, 0.07, 500, 8);
   auto rng = test::make_rng(9);
   for (int i = 0; i < 1000; ++i) {
     const Eigen::Vector3d p = random_point(rng, 0.07);
     const ClosestPoint a = refit.closest_point(p);
     EXPECT_NEAR(a.distance, rebuilt.closest_point(p).distance, 1e-15);
-    EXPECT_NEAR(a.distance, cgal.closest_point(p).distance, 1e-15);
+    EXPECT_NEAR(a.distance, std::sqrt(cgal.closest(p).distance2), 1e-15);
     EXPECT_EQ(a.inside, test::winding_number(moved, p) > 0.5);
   }
 }

@@ -94,5 +94,38 @@ TEST(ClosestPoint, OnASphereMatchesExhaustiveSearchAndTheRadialDistance) {
   }
 }
 
+TEST(ClosestPoint, TiesGoToTheLowestFaceIndex) {
+  // Above the centre vertex of a flat grid with dyadic coordinates: the
+  // distance to every triangle around it is exactly 0.5.
+  const SurfaceMesh grid = test::square_grid(4, 1.0);
+  const Eigen::Index centre = 2 * 5 + 2;
+  Eigen::Index lowest = -1;
+  for (Eigen::Index f = grid.F.rows() - 1; f >= 0; --f) {
+    if ((grid.F.row(f).array() == centre).any()) lowest = f;
+  }
+  const SurfacePoint q =
+      closest_point(grid, grid.V.row(centre).transpose() + Eigen::Vector3d(0.0, 0.0, 0.5));
+  EXPECT_EQ(q.face, lowest);
+  EXPECT_EQ(q.distance, 0.5);
+  EXPECT_EQ(q.position, Eigen::Vector3d(grid.V.row(centre)));
+}
+
+TEST(ClosestPoint, WithATreeBuiltOnceAnswersAsOneQueryAtATime) {
+  const SurfaceMesh sphere = test::icosphere(2, 0.05);
+  const TriangleTree tree(sphere.V, sphere.F);
+  auto rng = test::make_rng(12);
+  std::uniform_real_distribution<double> u(-0.08, 0.08);
+  for (int trial = 0; trial < 200; ++trial) {
+    const double x = u(rng), y = u(rng), z = u(rng);  // drawn in order on every compiler
+    const Eigen::Vector3d p(x, y, z);
+    const SurfacePoint a = closest_point(sphere, tree, p);
+    const SurfacePoint b = closest_point(sphere, p);
+    EXPECT_EQ(a.face, b.face);
+    EXPECT_EQ(a.barycentric, b.barycentric);
+    EXPECT_EQ(a.position, b.position);
+    EXPECT_EQ(a.distance, b.distance);
+  }
+}
+
 }  // namespace
 }  // namespace palpa::geometry

@@ -38,7 +38,7 @@ TEST(Shapes, CylinderBoxAndSphereAreClosedOutwardWithTheirVolumes) {
   EXPECT_NEAR(sphere.V.col(2).minCoeff(), 0.0, 1e-15);
   // Each is accepted as an obstacle without flipping (closed, manifold, outward).
   for (const SurfaceMesh* m : {&cyl, &box, &sphere}) {
-    const contact::Obstacle o(*m, "shape", {.tree = contact::TreeKind::Own, .flip_inward = false});
+    const contact::Obstacle o(*m, "shape", {.flip_inward = false});
     EXPECT_FALSE(o.flipped());
     EXPECT_NEAR(o.volume(), volume_of(*m), 1e-12 * volume_of(*m));
   }

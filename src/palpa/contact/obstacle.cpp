@@ -11,11 +11,10 @@
 #include <numeric>
 #include <vector>
 
-#include "palpa/contact/detail/bvh.hpp"
 #include "palpa/contact/detail/cgal_checks.hpp"
-#include "palpa/contact/detail/cgal_tree.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/geometry/closest_point_on_triangle.hpp"
+#include "palpa/geometry/triangle_tree.hpp"
 
 namespace palpa::contact {
 
@@ -183,8 +182,7 @@ struct Obstacle::Impl {
   bool flipped = false;
   double volume = 0.0;
   Pose pose;
-  detail::Bvh bvh;
-  std::unique_ptr<detail::CgalTree> cgal;    // only for TreeKind::Cgal
+  geometry::TriangleTree tree;               // in body coordinates
   std::vector<int> neighbour;                // 3·f + local side → triangle across
   std::vector<Eigen::Vector3d> face_normal;  // unit
   std::vector<int> corner_start;             // #V + 1: corners of vertex v are
@@ -247,29 +245,19 @@ struct Obstacle::Impl {
     return n;
   }
 
-  void build_tree(bool refit, TreeKind kind) {
-    if (kind == TreeKind::Cgal) {
-      cgal = std::make_unique<detail::CgalTree>(V, F);
-    }
+  void build_tree(bool refit) {
     if (refit) {
-      bvh.refit(V, F);
+      tree.refit(V);
     } else {
-      bvh.build(V, F);
+      tree.build(V, F);
     }
   }
 
   // Closest point to a body-coordinate point xb, in body coordinates.
   ClosestPoint closest_body(const Eigen::Vector3d& xb) const {
-    int f = 0;
-    geometry::TrianglePoint tp;
-    if (cgal) {
-      f = cgal->closest_triangle(xb);
-      tp = geometry::closest_on_triangle(xb, corner(f, 0), corner(f, 1), corner(f, 2));
-    } else {
-      const detail::Bvh::Hit hit = bvh.closest(xb);
-      f = hit.triangle;
-      tp = hit.where;
-    }
+    const geometry::TriangleTree::Hit hit = tree.closest(xb);
+    const int f = hit.triangle;
+    const geometry::TrianglePoint& tp = hit.where;
     ClosestPoint out;
     out.point = tp.point;
     out.triangle = f;
@@ -353,7 +341,7 @@ Obstacle::Obstacle(const SurfaceMesh& mesh, std::string name, const ObstacleOpti
   }
   m.build_vertex_corners();
   m.update_normals();
-  m.build_tree(false, options.tree);
+  m.build_tree(false);
 }
 
 Obstacle::~Obstacle() = default;
@@ -406,7 +394,7 @@ void Obstacle::set_vertices(const Eigen::MatrixX3d& body_vertices, bool refit) {
   check_finite(body_vertices, m.name);
   m.V = body_vertices;  // F keeps its (possibly flipped) winding
   m.update_normals();
-  m.build_tree(refit, m.cgal ? TreeKind::Cgal : TreeKind::Own);
+  m.build_tree(refit);
 }
 
 ClosestPoint Obstacle::closest_point(const Eigen::Vector3d& x) const {
@@ -415,7 +403,8 @@ ClosestPoint Obstacle::closest_point(const Eigen::Vector3d& x) const {
 
 bool Obstacle::penetration(const Eigen::Vector3d& x, ClosestPoint& out) const {
   const Eigen::Vector3d xb = impl_->to_body(x);
-  if ((xb.array() < impl_->bvh.lo().array()).any() || (xb.array() > impl_->bvh.hi().array()).any())
+  if ((xb.array() < impl_->tree.lo().array()).any() ||
+      (xb.array() > impl_->tree.hi().array()).any())
     return false;
   ClosestPoint c = impl_->closest_body(xb);
   if (!c.inside) return false;

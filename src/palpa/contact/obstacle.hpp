@@ -63,12 +63,7 @@ struct ClosestPoint {
   Eigen::Vector3d weights = Eigen::Vector3d::Zero();
 };
 
-// Which bounding-volume hierarchy answers closest-point queries. Both give the
-// same closest point; Own is faster and can be refitted (contact_bench).
-enum class TreeKind { Own, Cgal };
-
 struct ObstacleOptions {
-  TreeKind tree = TreeKind::Own;
   // A mesh whose normals point inwards (negative enclosed volume) is flipped
   // (every triangle's winding reversed; flipped() tells) when true, refused
   // (palpa::Error, Input) when false.
@@ -115,11 +110,11 @@ class Obstacle {
   // Moves the vertices (body coordinates, #V×3, same triangles), e.g. a body
   // surface deformed by a Newton step. refit = true keeps the tree's topology
   // and refits its boxes (O(#F), much cheaper than a rebuild; queries slow down
-  // only if the motion is large); false rebuilds the tree (CGAL's tree is
-  // always rebuilt). Normals are recomputed either way. Throws palpa::Error
-  // (Input) for a wrong shape or a non-finite coordinate; the connectivity
-  // checks of the constructor are not redone (triangles may degenerate or
-  // intersect while a body deforms; queries stay defined).
+  // only if the motion is large); false rebuilds the tree; both give the same
+  // answers. Normals are recomputed either way. Throws palpa::Error (Input)
+  // for a wrong shape or a non-finite coordinate; the connectivity checks of
+  // the constructor are not redone (triangles may degenerate or intersect
+  // while a body deforms; queries stay defined).
   void set_vertices(const Eigen::MatrixX3d& body_vertices, bool refit = true);
 
   // Closest surface point to x [m, world], its feature, and the inside test.

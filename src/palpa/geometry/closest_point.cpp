@@ -1,40 +1,32 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/geometry/closest_point.hpp"
 
-#include <Eigen/Geometry>
-#include <algorithm>
 #include <cassert>
-#include <cmath>
 #include <limits>
 
 namespace palpa::geometry {
 
-SurfacePoint closest_point(const SurfaceMesh& mesh, const Eigen::Vector3d& p) {
-  assert(mesh.F.rows() > 0);
+SurfacePoint closest_point(const SurfaceMesh& mesh, const TriangleTree& tree,
+                           const Eigen::Vector3d& p) {
+  assert(mesh.F.rows() > 0 && tree.size() == mesh.F.rows());
+  const TriangleTree::Hit hit = tree.closest(p);
   SurfacePoint best;
-  double best_d2 = std::numeric_limits<double>::infinity();
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0));
-    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1));
-    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2));
-    // Bounding-sphere cut: no point of the triangle is closer than |p−m| − r.
-    const Eigen::Vector3d m = (a + b + c) / 3.0;
-    const double r = std::sqrt(std::max({(a - m).squaredNorm(), (b - m).squaredNorm(),
-                                         (c - m).squaredNorm()}));
-    const double lower = (p - m).norm() - r;
-    if (lower > 0.0 && lower * lower >= best_d2) continue;
-    const Eigen::Vector3d w = closest_point_on_triangle(p, a, b, c);
-    const Eigen::Vector3d q = w(0) * a + w(1) * b + w(2) * c;
-    const double d2 = (p - q).squaredNorm();
-    if (d2 < best_d2) {
-      best_d2 = d2;
-      best.face = f;
-      best.barycentric = w;
-      best.position = q;
-    }
+  if (hit.triangle < 0) {
+    best.distance = std::numeric_limits<double>::infinity();
+    return best;
   }
-  best.distance = std::sqrt(best_d2);
+  const Eigen::Vector3d& w = hit.where.weights;
+  best.face = hit.triangle;
+  best.barycentric = w;
+  best.position = w(0) * mesh.V.row(mesh.F(best.face, 0)).transpose() +
+                  w(1) * mesh.V.row(mesh.F(best.face, 1)).transpose() +
+                  w(2) * mesh.V.row(mesh.F(best.face, 2)).transpose();
+  best.distance = (p - best.position).norm();
   return best;
+}
+
+SurfacePoint closest_point(const SurfaceMesh& mesh, const Eigen::Vector3d& p) {
+  return closest_point(mesh, TriangleTree(mesh.V, mesh.F), p);
 }
 
 Eigen::RowVectorXd evaluate_at(const SurfaceMesh& mesh, const SurfacePoint& point,

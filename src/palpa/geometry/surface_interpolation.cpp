@@ -11,6 +11,7 @@
 #include "palpa/core/units.hpp"
 #include "palpa/geometry/format.hpp"
 #include "palpa/geometry/surface_operators.hpp"
+#include "palpa/geometry/triangle_tree.hpp"
 #include "palpa/solve/sparse_cholesky.hpp"
 
 namespace palpa::geometry {
@@ -88,13 +89,14 @@ void SurfaceInterpolator::Impl::locate(const SurfaceMesh& mesh,
   points.reserve(static_cast<std::size_t>(positions.rows()));
   free_of.assign(static_cast<std::size_t>(mesh.V.rows()), -1);
   std::vector<Eigen::Index> owner(static_cast<std::size_t>(mesh.V.rows()), -1);
+  const TriangleTree tree(mesh.V, mesh.F);
   for (Eigen::Index s = 0; s < positions.rows(); ++s) {
     const Eigen::Vector3d p = positions.row(s).transpose();
     if (!p.allFinite()) {
       throw_input_error(fmt::format("{} has a non-finite position", label(s)), context(),
                         "finite coordinates");
     }
-    SurfacePoint q = closest_point(mesh, p);
+    SurfacePoint q = closest_point(mesh, tree, p);
     if (q.distance > options.max_distance) {
       throw_input_error(
           fmt::format("{} at {} is {} from the surface", label(s), format_point(p),

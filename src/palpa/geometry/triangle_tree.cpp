@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-#include "palpa/contact/detail/bvh.hpp"
+#include "palpa/geometry/triangle_tree.hpp"
 
 #include <algorithm>
-#include <array>
+#include <cassert>
 #include <numeric>
 
-namespace palpa::contact::detail {
+namespace palpa::geometry {
 
 namespace {
 
@@ -16,14 +16,27 @@ double box_distance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo,
   return d.squaredNorm();
 }
 
-constexpr int kMaxDepth = 64;
+// Entries of a query's node stack. Median splits keep the depth at most
+// ⌈log2 #F⌉ + 1 (< 33 for any int count), and a depth-first search holds at
+// most depth + 1 pending nodes.
+constexpr int kTreeStackSize = 64;
 
 }  // namespace
 
-void Bvh::build(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+TriangleTree::TriangleTree() {
+  nodes_.push_back({Eigen::Vector3d::Constant(1.0), Eigen::Vector3d::Constant(-1.0), 0, 0});
+}
+
+TriangleTree::TriangleTree(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+  build(V, F);
+}
+
+void TriangleTree::build(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
   const auto nf = static_cast<int>(F.rows());
   order_.resize(static_cast<std::size_t>(nf));
   std::iota(order_.begin(), order_.end(), 0);
+  max_vertex_ = nf == 0 ? -1 : F.maxCoeff();
+  assert(nf == 0 || (F.minCoeff() >= 0 && max_vertex_ < V.rows()));
   std::vector<Eigen::Vector3d> centroid(static_cast<std::size_t>(nf));
   for (int f = 0; f < nf; ++f) {
     centroid[static_cast<std::size_t>(f)] =
@@ -32,14 +45,19 @@ void Bvh::build(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
   nodes_.clear();
   nodes_.reserve(static_cast<std::size_t>(2 * nf / kLeafSize + 2));
   if (nf == 0) {
+    vertices_.clear();
+    corner_.clear();
     nodes_.push_back({Eigen::Vector3d::Constant(1.0), Eigen::Vector3d::Constant(-1.0), 0, 0});
     return;
   }
   build_node(0, nf, centroid);
-  refit(V, F);
+  vertices_.resize(order_.size());
+  for (std::size_t s = 0; s < order_.size(); ++s)
+    vertices_[s] = {F(order_[s], 0), F(order_[s], 1), F(order_[s], 2)};
+  refit(V);
 }
 
-int Bvh::build_node(int begin, int end, std::vector<Eigen::Vector3d>& centroid) {
+int TriangleTree::build_node(int begin, int end, const std::vector<Eigen::Vector3d>& centroid) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.push_back({});
   if (end - begin <= kLeafSize) {
@@ -69,17 +87,17 @@ int Bvh::build_node(int begin, int end, std::vector<Eigen::Vector3d>& centroid) 
   return index;
 }
 
-void Bvh::store_corners(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
-  corner_.resize(3 * order_.size());
-  for (std::size_t s = 0; s < order_.size(); ++s) {
-    for (int k = 0; k < 3; ++k)
-      corner_[3 * s + static_cast<std::size_t>(k)] = V.row(F(order_[s], k));
+void TriangleTree::store_corners(const Eigen::MatrixX3d& V) {
+  corner_.resize(3 * vertices_.size());
+  for (std::size_t s = 0; s < vertices_.size(); ++s) {
+    for (std::size_t k = 0; k < 3; ++k) corner_[3 * s + k] = V.row(vertices_[s][k]);
   }
 }
 
-void Bvh::refit(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+void TriangleTree::refit(const Eigen::MatrixX3d& V) {
   if (order_.empty()) return;
-  store_corners(V, F);
+  assert(max_vertex_ < V.rows());
+  store_corners(V);
   // Children follow their parent in the array: one backward sweep sees every
   // child before its parent.
   for (auto i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i) {
@@ -100,24 +118,26 @@ void Bvh::refit(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
   }
 }
 
-Bvh::Hit Bvh::closest(const Eigen::Vector3d& p) const {
+TriangleTree::Hit TriangleTree::closest(const Eigen::Vector3d& p) const {
   Hit best;
   if (order_.empty()) return best;
-  std::array<int, kMaxDepth> stack{};
+  std::array<int, kTreeStackSize> stack{};
   int top = 0;
   stack[static_cast<std::size_t>(top++)] = 0;
+  // A box at exactly the best distance is still visited (> rather than ≥), so
+  // that a tie with a lower triangle index in it is found.
   while (top > 0) {
     const Node& n = nodes_[static_cast<std::size_t>(stack[static_cast<std::size_t>(--top)])];
-    if (box_distance2(p, n.lo, n.hi) >= best.distance2) continue;
+    if (box_distance2(p, n.lo, n.hi) > best.distance2) continue;
     if (n.count > 0) {
       for (int s = n.first; s < n.first + n.count; ++s) {
         const auto c = 3 * static_cast<std::size_t>(s);
-        const geometry::TrianglePoint tp =
-            geometry::closest_on_triangle(p, corner_[c], corner_[c + 1], corner_[c + 2]);
+        const TrianglePoint tp = closest_on_triangle(p, corner_[c], corner_[c + 1], corner_[c + 2]);
         const double d2 = (p - tp.point).squaredNorm();
-        if (d2 < best.distance2) {
+        const int triangle = order_[static_cast<std::size_t>(s)];
+        if (d2 < best.distance2 || (d2 == best.distance2 && triangle < best.triangle)) {
           best.distance2 = d2;
-          best.triangle = order_[static_cast<std::size_t>(s)];
+          best.triangle = triangle;
           best.where = tp;
         }
       }
@@ -133,10 +153,11 @@ Bvh::Hit Bvh::closest(const Eigen::Vector3d& p) const {
     const bool left_first = dl <= dr;
     const int near = left_first ? left : right;
     const int far = left_first ? right : left;
-    if ((left_first ? dr : dl) < best.distance2) stack[static_cast<std::size_t>(top++)] = far;
-    if ((left_first ? dl : dr) < best.distance2) stack[static_cast<std::size_t>(top++)] = near;
+    assert(top + 2 <= kTreeStackSize);
+    if ((left_first ? dr : dl) <= best.distance2) stack[static_cast<std::size_t>(top++)] = far;
+    if ((left_first ? dl : dr) <= best.distance2) stack[static_cast<std::size_t>(top++)] = near;
   }
   return best;
 }
 
-}  // namespace palpa::contact::detail
+}  // namespace palpa::geometry

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-// The one translation unit of the contact module that includes CGAL.
-#include "palpa/contact/detail/cgal_tree.hpp"
+// The one translation unit of the tests and benchmarks that includes CGAL.
+#include "common/cgal_triangle_tree.hpp"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -9,7 +9,7 @@
 
 #include <vector>
 
-namespace palpa::contact::detail {
+namespace palpa::test {
 
 namespace {
 using Kernel = CGAL::Simple_cartesian<double>;
@@ -24,12 +24,12 @@ Point to_point(const Eigen::Vector3d& v) {
 }
 }  // namespace
 
-struct CgalTree::Impl {
+struct CgalTriangleTree::Impl {
   std::vector<Triangle> triangles;
   Tree tree;
 };
 
-CgalTree::CgalTree(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F)
+CgalTriangleTree::CgalTriangleTree(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F)
     : impl_(std::make_unique<Impl>()) {
   impl_->triangles.reserve(static_cast<std::size_t>(F.rows()));
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
@@ -37,17 +37,19 @@ CgalTree::CgalTree(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F)
                                   to_point(V.row(F(f, 2))));
   }
   impl_->tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
-  // Build now (tree and the distance-query accelerator), so that concurrent
-  // const queries never trigger the lazy construction.
   impl_->tree.build();
   impl_->tree.accelerate_distance_queries();
 }
 
-CgalTree::~CgalTree() = default;
+CgalTriangleTree::~CgalTriangleTree() = default;
 
-int CgalTree::closest_triangle(const Eigen::Vector3d& p) const {
-  const auto hit = impl_->tree.closest_point_and_primitive(to_point(p));
-  return static_cast<int>(hit.second - impl_->triangles.cbegin());
+CgalTriangleTree::Hit CgalTriangleTree::closest(const Eigen::Vector3d& p) const {
+  const auto [point, primitive] = impl_->tree.closest_point_and_primitive(to_point(p));
+  Hit hit;
+  hit.triangle = static_cast<int>(primitive - impl_->triangles.cbegin());
+  hit.point = Eigen::Vector3d(point.x(), point.y(), point.z());
+  hit.distance2 = (p - hit.point).squaredNorm();
+  return hit;
 }
 
-}  // namespace palpa::contact::detail
+}  // namespace palpa::test
