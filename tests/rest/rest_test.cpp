@@ -10,6 +10,7 @@
 
 #include "common/test_support.hpp"
 #include "palpa/material/models.hpp"
+#include "palpa/rest/measurements.hpp"
 #include "palpa/rest/rest.hpp"
 #include "palpa/sim3d/shapes.hpp"
 #include "palpa/tet/mesh.hpp"
@@ -86,7 +87,7 @@ TEST(Rest, BlockOnASlabCarriesItsWeightWithPressureRhoGH) {
   // nodal forces on the two sides are equal and opposite.
   EXPECT_NEAR(r.body_map_force, weight, 0.01 * weight);
   EXPECT_NEAR(r.support_map_force, weight, 0.01 * weight);
-  const RestSimulation::ContactPressures cp = sim.contact_pressures();
+  const ContactPressures cp = contact_pressures(sim);
   EXPECT_LT((cp.body_force.rowwise().sum() + cp.support_force.rowwise().sum()).norm(), 1e-6 * weight);
   EXPECT_NEAR(cp.body_force.rowwise().sum().z(), weight, 0.005 * weight);
   // What a mat would read on each side: the weight, centred under the

@@ -12,6 +12,7 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/design/optimizer.hpp"
+#include "palpa/rest/measurements.hpp"
 
 namespace palpa::design {
 
@@ -63,7 +64,7 @@ PressureEstimate pose_to_seat(const rest::RestSimulation& sim, const rest::RestR
 
   // The load line: where palpa's contact forces act.
   const Eigen::VectorXd P = system.positions(sim.dofs());
-  const Eigen::Matrix3Xd f = sim.body_contact_forces();
+  const Eigen::Matrix3Xd f = rest::contact_pressures(sim).body_force;
   double fz = 0.0;
   Eigen::Vector2d load_point = Eigen::Vector2d::Zero();
   for (Eigen::Index v = 0; v < f.cols(); ++v) {

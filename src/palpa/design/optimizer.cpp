@@ -21,6 +21,7 @@
 #include "palpa/core/json.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/csg.hpp"
+#include "palpa/rest/adjoint.hpp"
 #include "palpa/solve/blas.hpp"
 
 namespace palpa::design {
@@ -296,7 +297,7 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestS
   if (gradient && ev.ok) {
     const auto ta = Clock::now();
     Eigen::MatrixX3d through;
-    if (const AdjointStatus st = sim.shape_derivative(ev.score.d_body, ev.score.d_support, through); !st.ok()) {
+    if (const AdjointStatus st = rest::shape_derivative(sim, ev.score.d_body, ev.score.d_support, through); !st.ok()) {
       ev.ok = false;
       ev.failure = st.message();
     } else {

@@ -65,16 +65,16 @@ Json evaluation_json(const Evaluation& e, double gamma) {
 Json write_state(const std::filesystem::path& out, const std::string& tag, rest::RestSimulation& sim,
                  const Evaluation& e, const Eigen::MatrixX3d* displacement, double threshold) {
   const PressureEstimate pts = pose_to_seat(sim, e.rest, threshold);
-  UnstructuredGrid body = sim.body_grid(e.rest);
+  UnstructuredGrid body = rest::body_grid(sim, e.rest);
   body.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.body_smoothed});
   body.point_data.push_back(DataArray{"pose_to_seat_Pa", pts.body_pressure});
   write_vtu(out / fmt::format("body_{}.vtu", tag), body);
-  UnstructuredGrid support = sim.support_grid(e.rest);
+  UnstructuredGrid support = rest::support_grid(sim, e.rest);
   support.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
   support.point_data.push_back(DataArray{"pose_to_seat_Pa", pts.support_pressure});
   if (displacement != nullptr) support.point_data.push_back(DataArray{"design_displacement_m", *displacement});
   write_vtu(out / fmt::format("support_{}.vtu", tag), support);
-  if (sim.deformable_support()) write_vtu(out / fmt::format("support_volume_{}.vtu", tag), sim.support_volume_grid());
+  if (sim.deformable_support()) write_vtu(out / fmt::format("support_volume_{}.vtu", tag), rest::support_volume_grid(sim));
   rest::write_skin_ply(out / fmt::format("skin_{}.ply", tag), sim,
                        {{"pressure_Pa", e.score.body_pressure},
                         {"pressure_smoothed_Pa", e.score.body_smoothed},
@@ -150,10 +150,10 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
     }
     if (!e.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}': {}", b.name, e.failure));
     const std::string slug = slug_of(b.name);
-    UnstructuredGrid grid = bsim->support_grid(e.rest);
+    UnstructuredGrid grid = rest::support_grid(*bsim, e.rest);
     grid.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
     write_vtu(out / fmt::format("baseline_{}_support.vtu", slug), grid);
-    write_vtu(out / fmt::format("baseline_{}_body.vtu", slug), bsim->body_grid(e.rest));
+    write_vtu(out / fmt::format("baseline_{}_body.vtu", slug), rest::body_grid(*bsim, e.rest));
     j.update(evaluation_json(e, 0.0));
     j["name"] = b.name;
     j["source"] = b.sit_and_relax ? "Sit & Relax fit to the pressures on " + b.source : b.source;

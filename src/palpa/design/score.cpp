@@ -9,6 +9,8 @@
 #include "palpa/core/error.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/geometry/umbrella.hpp"
+#include "palpa/rest/adjoint.hpp"
+#include "palpa/rest/measurements.hpp"
 
 namespace palpa::design {
 
@@ -92,7 +94,7 @@ Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) c
   // deformable support), so
   // ∂p_i/∂y = −f̂_iᵀ H_c(i, ·)/A_i (f = −∂E_c/∂y) and ∂ζ/∂y = −H_c v with
   // v_i = (∂ζ/∂p_i / A_i) f̂_i: one product with the contact Hessian.
-  const rest::RestSimulation::ContactPressures cp = sim.contact_pressures();
+  const rest::ContactPressures cp = rest::contact_pressures(sim);
   const Eigen::Index nb = sim.model().num_vertices();
   const Eigen::Index ns = sim.support().vertices().rows();
   const int e = options_.exponent;
@@ -127,7 +129,7 @@ Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) c
     }
   }
   Eigen::Matrix3Xd hb, hs;
-  sim.contact_hessian_product(vb, vs, hb, hs);
+  rest::contact_hessian_product(sim, vb, vs, hb, hs);
   s.d_body = -Eigen::Map<const Eigen::VectorXd>(hb.data(), hb.size());
   s.d_support = -hs.transpose();
   s.d_support_area = Eigen::MatrixX3d::Zero(ns, 3);

@@ -7,9 +7,11 @@
 #include <fmt/format.h>
 
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/error.hpp"
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
 #include "palpa/report/plot.hpp"
+#include "palpa/rest/measurements.hpp"
 
 namespace palpa::rest {
 
@@ -18,6 +20,64 @@ namespace {
 Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
 
 }  // namespace
+
+UnstructuredGrid body_grid(const RestSimulation& sim, const RestResult& r) {
+  const Eigen::VectorXd u = sim.system().full_displacement(sim.dofs());
+  const TetMesh& mesh = sim.model().mesh();
+  UnstructuredGrid grid;
+  grid.points.resize(mesh.V.rows(), 3);
+  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) grid.points.row(v) = mesh.V.row(v) + u.segment<3>(3 * v).transpose();
+  grid.cells.push_back(CellBlock{VtkCellType::Tetra, mesh.T});
+  Eigen::MatrixXd disp(mesh.V.rows(), 3);
+  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) disp.row(v) = u.segment<3>(3 * v).transpose();
+  grid.point_data.push_back(DataArray{"displacement_m", disp});
+  grid.point_data.push_back(DataArray{"contact_force_N", contact_pressures(sim).body_force.transpose()});
+  grid.point_data.push_back(DataArray{"pressure_Pa", r.body_pressure});
+  Eigen::VectorXd attached = Eigen::VectorXd::Zero(mesh.V.rows());
+  for (int v : sim.body().attached) attached[v] = 1.0;
+  grid.point_data.push_back(DataArray{"attached", attached});
+  grid.cell_data.push_back(DataArray{"von_mises_stress_Pa", tet::ElasticModel::von_mises(sim.model().cauchy_stress(u))});
+  return grid;
+}
+
+UnstructuredGrid support_grid(const RestSimulation& sim, const RestResult& r) {
+  const contact::Obstacle& support = sim.support();
+  UnstructuredGrid grid;
+  grid.points.resize(support.vertices().rows(), 3);
+  for (Eigen::Index v = 0; v < grid.points.rows(); ++v) grid.points.row(v) = support.world_vertex(static_cast<int>(v)).transpose();
+  grid.cells.push_back(CellBlock{VtkCellType::Triangle, support.triangles()});
+  grid.point_data.push_back(DataArray{"pressure_Pa", r.support_pressure});
+  if (sim.support_model() != nullptr) {
+    grid.point_data.push_back(DataArray{"displacement_m", grid.points - sim.support_rest_vertices()});
+  }
+  return grid;
+}
+
+UnstructuredGrid support_volume_grid(const RestSimulation& sim) {
+  const tet::ElasticModel* model = sim.support_model();
+  if (model == nullptr) throw Error(ErrorKind::Internal, "the support is rigid: it has no tets");
+  const Eigen::VectorXd u = sim.support_system()->full_displacement(sim.support_dofs());
+  const TetMesh& mesh = model->mesh();
+  UnstructuredGrid grid;
+  grid.points.resize(mesh.V.rows(), 3);
+  Eigen::MatrixXd disp(mesh.V.rows(), 3);
+  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) {
+    disp.row(v) = u.segment<3>(3 * v).transpose();
+    grid.points.row(v) = mesh.V.row(v) + disp.row(v);
+  }
+  grid.cells.push_back(CellBlock{VtkCellType::Tetra, mesh.T});
+  grid.point_data.push_back(DataArray{"displacement_m", disp});
+  grid.cell_data.push_back(DataArray{"von_mises_stress_Pa", tet::ElasticModel::von_mises(model->cauchy_stress(u))});
+  return grid;
+}
+
+SurfaceMesh deformed_skin(const RestSimulation& sim) {
+  const Eigen::VectorXd p = sim.system().positions(sim.dofs());
+  SurfaceMesh s;
+  s.V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
+  s.F = sim.surface_faces();
+  return s;
+}
 
 report::Series pressure_histogram(const std::string& label, const Eigen::VectorXd& v, double top, int bins) {
   std::vector<double> counts(static_cast<std::size_t>(bins), 0.0);
@@ -38,7 +98,7 @@ report::Series pressure_histogram(const std::string& label, const Eigen::VectorX
 
 void write_skin_ply(const std::filesystem::path& path, const RestSimulation& sim,
                     const std::vector<std::pair<std::string, Eigen::VectorXd>>& fields) {
-  const SurfaceMesh skin = sim.deformed_skin();
+  const SurfaceMesh skin = deformed_skin(sim);
   std::vector<int> to_new(static_cast<std::size_t>(skin.V.rows()), -1);
   std::vector<int> used;
   for (Eigen::Index f = 0; f < skin.F.rows(); ++f) {
@@ -81,7 +141,7 @@ Eigen::Vector3d support_to_body(const RestResult& r) {
 }
 
 report::PressureMapPanel body_pressure_panel(const RestSimulation& sim, const RestResult& r, std::string title) {
-  return {sim.deformed_skin(), r.body_pressure, std::move(title), r.body_metrics, r.load.norm()};
+  return {deformed_skin(sim), r.body_pressure, std::move(title), r.body_metrics, r.load.norm()};
 }
 
 report::PressureMapPanel support_pressure_panel(const RestSimulation& sim, const RestResult& r, std::string title) {
@@ -106,9 +166,9 @@ report::PressureMapOptions support_pressure_view(const Eigen::Vector3d& support_
 Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene, const RestSimulation& sim,
                         const RestResult& r) {
   ensure_directory(out);
-  write_vtu(out / "body.vtu", sim.body_grid(r));
-  write_vtu(out / "support.vtu", sim.support_grid(r));
-  if (sim.deformable_support()) write_vtu(out / "support_volume.vtu", sim.support_volume_grid());
+  write_vtu(out / "body.vtu", body_grid(sim, r));
+  write_vtu(out / "support.vtu", support_grid(sim, r));
+  if (sim.deformable_support()) write_vtu(out / "support_volume.vtu", support_volume_grid(sim));
   write_skin_ply(out / "skin.ply", sim, {{"pressure_Pa", r.body_pressure}});
   const SurfaceMesh support = world_support(sim);
   write_ply(out / "support.ply", support, {.vertex_scalars = {{"pressure_Pa", r.support_pressure}}});

@@ -15,12 +15,25 @@
 
 #include "palpa/core/json.hpp"
 #include "palpa/io/ply.hpp"
+#include "palpa/io/vtu.hpp"
 #include "palpa/report/plot.hpp"
 #include "palpa/report/pressure_map_svg.hpp"
 #include "palpa/rest/rest.hpp"
 #include "palpa/rest/scene.hpp"
 
 namespace palpa::rest {
+
+// The deformed body at the state of the result r (tets, point data
+// displacement_m, contact_force_N, pressure_Pa, attached; cell data
+// von_mises_stress_Pa) and the support where it is now with pressure_Pa (and
+// displacement_m when deformable).
+UnstructuredGrid body_grid(const RestSimulation& sim, const RestResult& r);
+UnstructuredGrid support_grid(const RestSimulation& sim, const RestResult& r);
+// A deformable support's deformed tets (point data displacement_m, cell data
+// von_mises_stress_Pa); palpa::Error (Internal) for a rigid one.
+UnstructuredGrid support_volume_grid(const RestSimulation& sim);
+// The deformed outer skin (tet-mesh vertex numbering kept).
+SurfaceMesh deformed_skin(const RestSimulation& sim);
 
 // The deformed skin, compacted to its own vertices, with per-body-vertex
 // fields (each #body vertices) carried along, as a PLY file.

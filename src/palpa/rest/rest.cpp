@@ -18,6 +18,7 @@
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/tetrahedralize.hpp"
 #include "palpa/rest/coupled.hpp"
+#include "palpa/rest/measurements.hpp"
 #include "palpa/solve/adjoint.hpp"
 #include "palpa/solve/equilibrium.hpp"
 #include "palpa/tet/mesh.hpp"
@@ -198,48 +199,10 @@ void RestSimulation::build_deformable_support() {
                support_model_->num_elements(), support_model_->num_vertices(), held);
 }
 
-Eigen::Matrix3Xd RestSimulation::body_contact_forces() const { return contact_pressures().body_force; }
-
 Eigen::VectorXd RestSimulation::coupled_dofs() const {
   Eigen::VectorXd y(x_.size() + support_x_.size());
   y << x_, support_x_;
   return y;
-}
-
-RestSimulation::ContactPressures RestSimulation::contact_pressures() const {
-  ContactPressures out;
-  if (coupled_) {
-    coupled_->contact_forces(coupled_dofs(), out.body_force, out.support_force);
-  } else {
-    const Eigen::VectorXd Y = system_->positions(x_);
-    out.body_force = Eigen::Matrix3Xd::Zero(3, Y.size() / 3);
-    out.support_force = Eigen::Matrix3Xd::Zero(3, support_->vertices().rows());
-    term_->potential().add_forces(*support_, Eigen::Map<const Eigen::Matrix3Xd>(Y.data(), 3, Y.size() / 3),
-                                  out.body_force, out.support_force);
-  }
-  out.body = Eigen::VectorXd::Zero(out.body_force.cols());
-  out.support = Eigen::VectorXd::Zero(out.support_force.cols());
-  const Eigen::VectorXd& area = term_->pressure_areas();
-  for (int v : surface_) {
-    if (area[v] > 0.0) out.body[v] = out.body_force.col(v).norm() / area[v];
-  }
-  for (Eigen::Index j = 0; j < out.support.size(); ++j) {
-    if (support_area_[j] > 0.0) out.support[j] = out.support_force.col(j).norm() / support_area_[j];
-  }
-  return out;
-}
-
-void RestSimulation::contact_hessian_product(const Eigen::Matrix3Xd& v_body, const Eigen::Matrix3Xd& v_support,
-                                             Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const {
-  if (coupled_) {
-    coupled_->contact_hessian_product(coupled_dofs(), v_body, v_support, body, support);
-    return;
-  }
-  const Eigen::VectorXd Y = system_->positions(x_);
-  body = Eigen::Matrix3Xd::Zero(3, v_body.cols());
-  support = Eigen::Matrix3Xd::Zero(3, v_support.cols());
-  term_->potential().add_hessian_product(*support_, Eigen::Map<const Eigen::Matrix3Xd>(Y.data(), 3, Y.size() / 3),
-                                         v_body, v_support, body, support);
 }
 
 void RestSimulation::set_pass_stiffness(double k) {
@@ -311,57 +274,7 @@ RestResult RestSimulation::solve() {
   const EquilibriumLoopResult loop = run_equilibrium_loop(kMaxSolves, solve_once, adjust);
   if (loop.capped()) r.message = fmt::format("the penetration is {:.2f}× the target after {} solves", ratio, kMaxSolves);
 
-  const Eigen::VectorXd p = system_->positions(x_);
-  r.core_translation = system_->core_translation(x_);
-  r.core_rotation = system_->core_rotation(x_);
-  // One set of nodal contact forces (both passes on a deformable support)
-  // gives the balance and both pressure maps.
-  const ContactPressures cp = contact_pressures();
-  const Eigen::Matrix3Xd& f = cp.body_force;
-  if (coupled_) r.reverse_contacts = static_cast<int>(coupled_->reverse_contacts().size());
-  const Eigen::Vector3d c = system_->core().centre + r.core_translation;
-  for (Eigen::Index v = 0; v < f.cols(); ++v) {
-    if (f.col(v).squaredNorm() == 0.0) continue;
-    r.contact_force += f.col(v);
-    r.contact_torque += (p.segment<3>(3 * v) - c).cross(f.col(v));
-  }
-  const body::CoreSpec& core = system_->core();
-  r.load = options_.gravity * (model_->total_mass() + core.mass) + core.force;
-  Eigen::Vector3d imbalance = r.contact_force + r.load;
-  for (int a = 0; a < 3; ++a) {
-    if (core.locked[static_cast<std::size_t>(a)]) imbalance[a] = 0.0;
-  }
-  r.balance_error = r.load.norm() > 0.0 ? imbalance.norm() / r.load.norm() : imbalance.norm();
-  r.max_penetration = term_->potential().max_depth();
-  r.stiffness = contact_stiffness();
-  r.contacts = static_cast<int>(term_->potential().size());
-  r.min_det_f = model_->min_jacobian(system_->full_displacement(x_));
-  if (support_model_) {
-    const Eigen::VectorXd u = support_system_->full_displacement(support_x_);
-    r.support_min_det_f = support_model_->min_jacobian(u);
-    const Eigen::VectorXd reaction = support_system_->reactions(support_x_);
-    for (Eigen::Index v = 0; v < u.size() / 3; ++v) {
-      r.support_max_displacement = std::max(r.support_max_displacement, u.segment<3>(3 * v).norm());
-      r.support_base_force += reaction.segment<3>(3 * v);
-    }
-  }
-
-  // Each vertex's force over its area (the body's skin share, the
-  // support's vertex area at rest).
-  r.body_pressure = cp.body;
-  r.support_pressure = cp.support;
-  r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
-  const Eigen::MatrixX3d body_points =
-      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
-  r.body_metrics = report::pressure_metrics(body_points, body_area_, cp.body);
-  Eigen::MatrixX3d support_points(support_->vertices().rows(), 3);
-  for (Eigen::Index j = 0; j < support_points.rows(); ++j) support_points.row(j) = support_->world_vertex(static_cast<int>(j)).transpose();
-  r.support_metrics = report::pressure_metrics(support_points, support_area_, cp.support);
-  // Integrated as a user would: Σ p·A over each map's vertex areas. That is
-  // Σ |f_i|: the load where the contact forces are parallel to it, more where
-  // the surface curves and they fan out.
-  r.body_map_force = (cp.body.array() * body_area_.array()).sum();
-  r.support_map_force = (cp.support.array() * support_area_.array()).sum();
+  measure(*this, r);
   r.detection_seconds = term_->detection_seconds();
   r.seconds = seconds_since(t0);
   return r;
@@ -407,100 +320,6 @@ void RestSimulation::set_support_vertices(const Eigen::MatrixX3d& V) {
     support_rest_ = V;
   }
   support_area_ = geometry::vertex_areas(support_rest_, support_->triangles());
-}
-
-AdjointStatus RestSimulation::shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support,
-                                               Eigen::MatrixX3d& out) {
-  if (!coupled_) {
-    // Y_support = X: the direct part, and the equilibrium's response through
-    // the contacts' mixed blocks H_pq (K z = Pᵀ d_body, then −Σ H_qpᵀ P z).
-    Eigen::VectorXd z;
-    const AdjointStatus st = solve_adjoint(*newton_, *system_, x_, system_->pull_back(x_, d_body), z);
-    if (!st.ok()) return st;
-    const Eigen::VectorXd w = system_->push_forward(x_, z);
-    const Eigen::VectorXd Y = system_->positions(x_);
-    const contact::Points points = Eigen::Map<const Eigen::Matrix3Xd>(Y.data(), 3, Y.size() / 3);
-    const Eigen::Matrix3Xd none(3, 0);
-    Eigen::Matrix3Xd on_points = Eigen::Matrix3Xd::Zero(3, points.cols());
-    Eigen::Matrix3Xd on_support = Eigen::Matrix3Xd::Zero(3, support_rest_.rows());
-    term_->potential().add_hessian_product(*support_, points, Eigen::Map<const Eigen::Matrix3Xd>(w.data(), 3, w.size() / 3),
-                                           none, on_points, on_support);
-    out = d_support - on_support.transpose();
-    return st;
-  }
-  // Deformable (7.21–7.23): f sees the deformed positions y only; X enters
-  // the equilibrium through the support's elastic forces, so
-  // df/dX = −(∂g/∂X)ᵀ z with K z = ∂f/∂y.
-  const Eigen::VectorXd y = coupled_dofs();
-  Eigen::VectorXd rhs(y.size());
-  rhs << system_->pull_back(x_, d_body), coupled_->support_free_part(d_support);
-  Eigen::VectorXd z;
-  const AdjointStatus st = solve_adjoint(*newton_, *coupled_, y, rhs, z);
-  if (!st.ok()) return st;
-  // z over the support's full DOFs (0 on its base).
-  Eigen::VectorXd zs = Eigen::VectorXd::Zero(support_model_->num_dofs());
-  const std::vector<int>& free = support_system_->free_dofs();
-  for (std::size_t k = 0; k < free.size(); ++k) zs[free[k]] = z[x_.size() + static_cast<Eigen::Index>(k)];
-  const Eigen::MatrixX3d G =
-      support_model_->rest_gradient_product(support_system_->full_displacement(support_x_), zs);
-  out = -G.topRows(support_rest_.rows());
-  return st;
-}
-
-UnstructuredGrid RestSimulation::body_grid(const RestResult& r) const {
-  const Eigen::VectorXd u = system_->full_displacement(x_);
-  const TetMesh& mesh = model_->mesh();
-  UnstructuredGrid grid;
-  grid.points.resize(mesh.V.rows(), 3);
-  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) grid.points.row(v) = mesh.V.row(v) + u.segment<3>(3 * v).transpose();
-  grid.cells.push_back(CellBlock{VtkCellType::Tetra, mesh.T});
-  Eigen::MatrixXd disp(mesh.V.rows(), 3);
-  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) disp.row(v) = u.segment<3>(3 * v).transpose();
-  grid.point_data.push_back(DataArray{"displacement_m", disp});
-  const Eigen::Matrix3Xd f = body_contact_forces();
-  grid.point_data.push_back(DataArray{"contact_force_N", f.transpose()});
-  grid.point_data.push_back(DataArray{"pressure_Pa", r.body_pressure});
-  Eigen::VectorXd attached = Eigen::VectorXd::Zero(mesh.V.rows());
-  for (int v : body_.attached) attached[v] = 1.0;
-  grid.point_data.push_back(DataArray{"attached", attached});
-  grid.cell_data.push_back(DataArray{"von_mises_stress_Pa", tet::ElasticModel::von_mises(model_->cauchy_stress(u))});
-  return grid;
-}
-
-UnstructuredGrid RestSimulation::support_grid(const RestResult& r) const {
-  UnstructuredGrid grid;
-  grid.points.resize(support_->vertices().rows(), 3);
-  for (Eigen::Index v = 0; v < grid.points.rows(); ++v) grid.points.row(v) = support_->world_vertex(static_cast<int>(v)).transpose();
-  grid.cells.push_back(CellBlock{VtkCellType::Triangle, support_->triangles()});
-  grid.point_data.push_back(DataArray{"pressure_Pa", r.support_pressure});
-  if (support_model_) grid.point_data.push_back(DataArray{"displacement_m", grid.points - support_rest_});
-  return grid;
-}
-
-UnstructuredGrid RestSimulation::support_volume_grid() const {
-  if (!support_model_) throw Error(ErrorKind::Internal, "the support is rigid: it has no tets");
-  const Eigen::VectorXd u = support_system_->full_displacement(support_x_);
-  const TetMesh& mesh = support_model_->mesh();
-  UnstructuredGrid grid;
-  grid.points.resize(mesh.V.rows(), 3);
-  Eigen::MatrixXd disp(mesh.V.rows(), 3);
-  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) {
-    disp.row(v) = u.segment<3>(3 * v).transpose();
-    grid.points.row(v) = mesh.V.row(v) + disp.row(v);
-  }
-  grid.cells.push_back(CellBlock{VtkCellType::Tetra, mesh.T});
-  grid.point_data.push_back(DataArray{"displacement_m", disp});
-  grid.cell_data.push_back(
-      DataArray{"von_mises_stress_Pa", tet::ElasticModel::von_mises(support_model_->cauchy_stress(u))});
-  return grid;
-}
-
-SurfaceMesh RestSimulation::deformed_skin() const {
-  const Eigen::VectorXd p = system_->positions(x_);
-  SurfaceMesh s;
-  s.V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
-  s.F = surface_faces_;
-  return s;
 }
 
 }  // namespace palpa::rest

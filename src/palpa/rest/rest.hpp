@@ -31,9 +31,7 @@
 #include "palpa/body/core_system.hpp"
 #include "palpa/contact/obstacle.hpp"
 #include "palpa/contact/stiffness.hpp"
-#include "palpa/io/vtu.hpp"
 #include "palpa/report/pressure_metrics.hpp"
-#include "palpa/solve/adjoint.hpp"
 #include "palpa/solve/newton.hpp"
 #include "palpa/tet/model.hpp"
 #include "palpa/tet/system.hpp"
@@ -174,29 +172,15 @@ class RestSimulation {
   // surface vertex j is held in place (its base; false for a rigid support).
   const tet::ElasticModel* support_model() const noexcept { return support_model_.get(); }
   CoupledSystem* coupled_system() noexcept { return coupled_.get(); }
+  const CoupledSystem* coupled_system() const noexcept { return coupled_.get(); }
+  const tet::StaticSystem* support_system() const noexcept { return support_system_.get(); }
   const Eigen::VectorXd& support_dofs() const noexcept { return support_x_; }
   bool support_vertex_fixed(int j) const;
-  // The contact force on every body vertex at the current state (3×N) [N]:
-  // both passes on a deformable support.
-  Eigen::Matrix3Xd body_contact_forces() const;
   // Body and support DOFs together (deformable support).
   Eigen::VectorXd coupled_dofs() const;
-  // The nodal contact forces (both passes on a deformable support) on the
-  // body's vertices (3×N) and the support's surface vertices [N], equal and
-  // opposite in sum, and the pressures they make, force over area (the
-  // body's ContactTerm::pressure_areas(), the support's vertex areas at
-  // rest) [Pa].
-  struct ContactPressures {
-    Eigen::Matrix3Xd body_force, support_force;
-    Eigen::VectorXd body, support;
-  };
-  ContactPressures contact_pressures() const;
-  // H_c v, H_c the Hessian of the contact energy (both passes on a
-  // deformable support) over the vertex positions of the body (3×N) and the
-  // support's surface.
-  void contact_hessian_product(const Eigen::Matrix3Xd& v_body, const Eigen::Matrix3Xd& v_support,
-                               Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const;
   const Eigen::VectorXd& dofs() const noexcept { return x_; }
+  const RestBody& body() const noexcept { return body_; }
+  const RestOptions& options() const noexcept { return options_; }
   const body::ContactTerm& contact_term() const noexcept { return *term_; }
   // The contact's pressure law: a depth δ means a pressure kδ (Surface
   // sampling, k [Pa/m]) or 2kδ/Ā (Vertices, k [N/m], Ā the mean skin
@@ -204,13 +188,14 @@ class RestSimulation {
   // the body's skin too (two passes, rest/coupled.hpp), each pass with half
   // of k, so that where both surfaces sink into each other alike the
   // pressure is the same; its pressures are the nodal forces of both passes
-  // over the vertices' areas (contact_pressures()).
+  // over the vertices' areas (rest/measurements.hpp).
   double contact_passes() const noexcept { return options_.deformable_support ? 2.0 : 1.0; }
   double contact_stiffness() const noexcept { return term_->stiffness() * contact_passes(); }
   NewtonSolver& newton() noexcept { return *newton_; }
   const std::vector<int>& surface_vertices() const noexcept { return surface_; }
   const Eigen::MatrixX3i& boundary_faces() const noexcept { return boundary_faces_; }
   const Eigen::VectorXd& skin_area() const noexcept { return body_area_; }  // per body vertex [m²]
+  const Eigen::VectorXd& support_area() const noexcept { return support_area_; }  // per support vertex, at rest [m²]
 
   RestState state() const;
   // Throws palpa::Error (Input) for a state of another body.
@@ -220,14 +205,9 @@ class RestSimulation {
   // are its rest positions (its inner tet vertices stay); palpa::Error
   // (Solver) if that inverts a tet.
   void set_support_vertices(const Eigen::MatrixX3d& V);
-  // The derivative with respect to the support's rest vertices X (#V×3) of a
-  // function f(Y_body, Y_support) of the body's vertex positions (3N) and the
-  // support's surface positions (#V×3) at the equilibrium, given its partial
-  // derivatives d_body and d_support there: the adjoint (thesis 7.17–7.23),
-  // one factorization of the equilibrium's Hessian and one back-solve. A
-  // Hessian that cannot be factored is a returned status (out untouched).
-  AdjointStatus shape_derivative(const Eigen::VectorXd& d_body, const Eigen::MatrixX3d& d_support,
-                                 Eigen::MatrixX3d& out);
+  // Measurements, the shape derivative and the output grids of a state are
+  // free functions: rest/measurements.hpp, rest/adjoint.hpp, rest/output.hpp.
+
   // Keeps k and the spring areas as they are in later solves (no automatic
   // correction, no area updates): the equilibrium becomes one smooth function
   // of the support's shape.
@@ -236,17 +216,6 @@ class RestSimulation {
     options_.update_areas = false;
   }
   const Eigen::MatrixX3i& surface_faces() const noexcept { return surface_faces_; }  // outer skin, tet-mesh rows
-
-  // The deformed body (tets, point data displacement_m, contact_force_N,
-  // pressure_Pa; cell data von_mises_stress_Pa) and the support with
-  // pressure_Pa, for the result r.
-  UnstructuredGrid body_grid(const RestResult& r) const;
-  UnstructuredGrid support_grid(const RestResult& r) const;
-  // A deformable support's deformed tets (point data displacement_m, cell
-  // data von_mises_stress_Pa); palpa::Error (Internal) for a rigid one.
-  UnstructuredGrid support_volume_grid() const;
-  // The deformed outer skin with pressure_Pa (tet-mesh vertex numbering kept).
-  SurfaceMesh deformed_skin() const;
 
  private:
   void build_deformable_support();
