@@ -19,32 +19,12 @@
 #include "palpa/sim3d/shapes.hpp"
 #include "palpa/tet/mesh.hpp"
 #include "rest/block_constants.hpp"
+#include "rest/rest_fixtures.hpp"
 
 namespace palpa::rest {
 namespace {
 
 using namespace test;
-
-// A 40 × 40 × 20 mm block (E 20 kPa) hanging from its top face, its bottom
-// `gap` above z = 0.
-RestBody block(int n, double nu, double gap) {
-  RestBody b;
-  tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d(-kW / 2, -kW / 2, gap),
-                                        Eigen::Vector3d(kW / 2, kW / 2, kH + gap), Eigen::Vector3i(n, n, n / 2));
-  b.mesh = box.mesh;
-  b.attached = box.vertex_sets.at("top");
-  b.materials = {{std::make_shared<material::NeoHookean>(20e3, nu), kRho}};
-  return b;
-}
-
-// A `side` × `side` × `thickness` slab, top face at z = 0, its faces cut
-// into near-squares of side/divisions.
-SurfaceMesh slab(double side, double thickness, int divisions) {
-  const int up = std::max(1, static_cast<int>(std::lround(thickness / side * divisions)));
-  SurfaceMesh s = sim3d::make_box_surface(Eigen::Vector3d(side, side, thickness), Eigen::Vector3i(divisions, divisions, up));
-  s.V.col(2).array() -= thickness;
-  return s;
-}
 
 RestOptions on_foam(double E, double nu, double edge) {
   RestOptions o;
@@ -58,7 +38,7 @@ TEST(DeformableSupport, CoupledGradientAndHessianMatchDifferences) {
   RestOptions o = on_foam(30e3, 0.3, 8e-3);
   o.core.locked = {true, true, false, false, false, true};  // the core tilts too
   o.core.torque = Eigen::Vector3d(1e-3, -2e-3, 0.0);
-  RestSimulation sim(block(4, 0.3, 3e-4), slab(0.06, 0.012, 8), o);
+  RestSimulation sim(hanging_block(4, 0.3, 3e-4), square_slab(0.06, 0.012, 8), o);
   sim.solve();
   ASSERT_TRUE(sim.deformable_support());
   ASSERT_GT(sim.contact_term().potential().size(), 8u);
@@ -99,7 +79,7 @@ TEST(DeformableSupport, CoupledGradientAndHessianMatchDifferences) {
 TEST(DeformableSupport, FoamSlabUnderABlockCompressesByPressureTimesThicknessOverE) {
   // ν = 0 in both: uniaxial compression, p·h/E under the block's middle.
   const double E = 50e3, hs = 0.008;
-  RestSimulation sim(block(8, 0.0, 3e-4), slab(0.048, hs, 12), on_foam(E, 0.0, 4e-3));
+  RestSimulation sim(hanging_block(8, 0.0, 3e-4), square_slab(0.048, hs, 12), on_foam(E, 0.0, 4e-3));
   const RestResult r = sim.solve();
   const double weight = (kRho * kW * kW * kH + 0.2) * kG;
   EXPECT_NEAR(r.contact_force.z(), weight, 0.005 * weight);
@@ -135,12 +115,12 @@ TEST(DeformableSupport, FoamSlabUnderABlockCompressesByPressureTimesThicknessOve
 }
 
 TEST(DeformableSupport, AStiffSlabGivesTheRigidSlabsAnswer) {
-  const SurfaceMesh s = slab(0.06, 0.01, 12);
+  const SurfaceMesh s = square_slab(0.06, 0.01, 12);
   RestOptions rigid = on_foam(1.0, 0.3, 0.0);
   rigid.deformable_support.reset();
-  RestSimulation a(block(6, 0.3, 3e-4), s, rigid);
+  RestSimulation a(hanging_block(6, 0.3, 3e-4), s, rigid);
   const RestResult ra = a.solve();
-  RestSimulation b(block(6, 0.3, 3e-4), s, on_foam(2e6, 0.3, 5e-3));  // 100 × the body
+  RestSimulation b(hanging_block(6, 0.3, 3e-4), s, on_foam(2e6, 0.3, 5e-3));  // 100 × the body
   const RestResult rb = b.solve();
   const double sink = std::abs(ra.core_translation.z());
   EXPECT_LT(rb.support_max_displacement, 0.02 * sink);
@@ -164,14 +144,14 @@ TEST(DeformableSupport, AStiffSlabGivesTheRigidSlabsAnswer) {
   EXPECT_NEAR(mean_b, mean_a, 0.03 * mean_a);
   // A soft slab lets the core sink deeper: p·h/E is 0.7 mm, less where the
   // slab around the block holds it (ν = 0.3); 0.39 mm measured.
-  RestSimulation c(block(6, 0.3, 3e-4), s, on_foam(20e3, 0.3, 5e-3));
+  RestSimulation c(hanging_block(6, 0.3, 3e-4), s, on_foam(20e3, 0.3, 5e-3));
   const RestResult rc = c.solve();
   EXPECT_LT(rc.core_translation.z(), ra.core_translation.z() - 2.5e-4);
   EXPECT_GT(rc.support_max_displacement, 5e-4);
 }
 
 TEST(DeformableSupport, StateRoundTripsAndTheRestShapeMoves) {
-  RestSimulation sim(block(4, 0.3, 3e-4), slab(0.06, 0.01, 8), on_foam(30e3, 0.3, 6e-3));
+  RestSimulation sim(hanging_block(4, 0.3, 3e-4), square_slab(0.06, 0.01, 8), on_foam(30e3, 0.3, 6e-3));
   const RestResult r1 = sim.solve();
   const RestState s = sim.state();
   EXPECT_EQ(s.support.size(), sim.support_dofs().size());
@@ -204,11 +184,11 @@ TEST(DeformableSupport, RefusesBadSetups) {
   RestOptions o = on_foam(30e3, 0.3, 6e-3);
   o.deformable_support->material.reset();
   EXPECT_TRUE(palpa::test::throws_error(
-      [&] { RestSimulation s(block(4, 0.3, 3e-4), slab(0.06, 0.01, 8), o); }, ErrorKind::Input,
+      [&] { RestSimulation s(hanging_block(4, 0.3, 3e-4), square_slab(0.06, 0.01, 8), o); }, ErrorKind::Input,
       {"deformable support", "no material"}));
   o = on_foam(30e3, 0.3, -1.0);
   EXPECT_TRUE(palpa::test::throws_error(
-      [&] { RestSimulation s(block(4, 0.3, 3e-4), slab(0.06, 0.01, 8), o); }, ErrorKind::Input, {"tet edge"}));
+      [&] { RestSimulation s(hanging_block(4, 0.3, 3e-4), square_slab(0.06, 0.01, 8), o); }, ErrorKind::Input, {"tet edge"}));
   // A ball has no flat base to stand on.
   o = on_foam(30e3, 0.3, 0.0);
   o.deformable_support->base_tolerance = 0.0;
@@ -216,7 +196,7 @@ TEST(DeformableSupport, RefusesBadSetups) {
   const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.1, Eigen::Vector3d(1, 0.3, 0).normalized()).toRotationMatrix();
   ball.V = (ball.V * tilt.transpose()).eval();  // one lowest vertex
   ball.V.col(2).array() -= 0.0305;
-  EXPECT_TRUE(palpa::test::throws_error([&] { RestSimulation s(block(4, 0.3, 3e-4), ball, o); }, ErrorKind::Input,
+  EXPECT_TRUE(palpa::test::throws_error([&] { RestSimulation s(hanging_block(4, 0.3, 3e-4), ball, o); }, ErrorKind::Input,
                                         {"on its base", "flat base"}));
 }
 
