@@ -67,7 +67,10 @@ struct StepRecord {
 
 class Simulation {
  public:
+  // Keeps a reference to the scene, which must outlive the simulation (a
+  // temporary scene does not compile).
   explicit Simulation(const Scene& scene);
+  explicit Simulation(const Scene&& scene) = delete;
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
