@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "common/test_support.hpp"
@@ -159,6 +160,36 @@ TEST(Checkpoint, KeepsOneWarmStartFileAndRefusesADamagedOne) {
   const FitResult done = fit_dataset(d, o, resume);
   EXPECT_TRUE(done.guesses.at(0).done);
   EXPECT_TRUE(warm_files(dir.path()).empty());
+}
+
+// Ctrl-C during a layer-depth search, while several guesses run at once:
+// every guess stops at its next check and the fit throws Interrupted (the
+// interrupt must not cancel a guess's own parallel loops half done, which
+// left it reading simulations that never ran), with the checkpoint written.
+TEST(Checkpoint, AnInterruptDuringADepthSearchThrowsInterrupted) {
+  for (const Optimizer opt : {Optimizer::LevenbergMarquardt, Optimizer::Nlcg}) {
+    SCOPED_TRACE(std::string(to_string(opt)));
+    ScratchDir dir;
+    test::IndentationSpec spec;
+    spec.true_depth = 6e-3;
+    spec.layer_depth = Json{{"from", "4 mm"}, {"to", "8 mm"}, {"count", 4}};
+    spec.train_radii = {2e-3, 3e-3, 4e-3};
+    spec.max_depth = 1.2e-3;
+    spec.points = 8;
+    spec.mesh_level = 0;
+    spec.salt = 17;
+    const Dataset d =
+        read_dataset(test::write_indentation_dataset(dir.path(), material::NeoHookean(20e3, 0.3), spec).dataset);
+    ASSERT_EQ(d.layer_depths.size(), 4u);
+    FitControl c;
+    c.checkpoint = dir / "checkpoint.json";
+    // At the first recorded iteration of any guess: the other guesses are
+    // then inside their simulations.
+    c.on_iteration = [&](std::size_t, const GuessResult&) { request_interrupt(); };
+    EXPECT_TRUE(palpa::test::throws_error([&] { fit_dataset(d, options(opt), c); }, ErrorKind::Interrupted, {}));
+    clear_interrupt();
+    EXPECT_TRUE(std::filesystem::exists(c.checkpoint));
+  }
 }
 
 TEST(Checkpoint, ACheckpointOfAnotherFitIsRefused) {

@@ -6,7 +6,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <mutex>
 
@@ -281,7 +283,16 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     if (control.on_iteration) control.on_iteration(g, r);
   };
 
-  tbb::parallel_for(std::size_t{0}, d.layer_depths.size(), [&](std::size_t g) {
+  // Each guess keeps its own error: one leaving a task would cancel the loop
+  // and with it the parallel loops the other guesses are inside
+  // (fit_modulus, TrainingProblem::evaluate), which then return with
+  // simulations that never ran. After a failure the other guesses stop at
+  // their next iteration (after an interrupt, at their next check).
+  struct Stopped {};  // a guess stopped because another one failed
+  std::vector<std::exception_ptr> errors(d.layer_depths.size());
+  std::atomic<bool> failed{false};
+  auto fit_guess = [&](std::size_t g) {
+    if (failed) throw Stopped{};
     const auto t0 = std::chrono::steady_clock::now();
     GuessResult& r = result.guesses[g];
     GuessState state;
@@ -317,6 +328,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
         return;
       }
     }
+    if (failed) throw Stopped{};
     const int evaluations0 = r.evaluations;
     const double mu0 = material::small_strain_constants(*r.stage1_material).mu;
     if (!r.stage2_start) r.stage2_start = std::shared_ptr<Material>(stage2_start(*r.stage1_material, o));
@@ -335,6 +347,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
 
     OptimizerCallbacks cb;
     cb.on_iteration = [&](const Eigen::VectorXd& x, double eps, const GuessState& st) {
+      if (failed) throw Stopped{};
       r.material = std::shared_ptr<Material>(problem.material_at(x));
       const double data_eps = eps - problem.regularization(x);
       r.objective_final = data_eps;
@@ -366,7 +379,30 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     GuessState final_state;
     final_state.x = out.x;
     publish(g, r, final_state);
+  };
+  tbb::parallel_for(std::size_t{0}, d.layer_depths.size(), [&](std::size_t g) {
+    try {
+      fit_guess(g);
+    } catch (const Stopped&) {
+      // the failed guess's error is rethrown below
+    } catch (...) {
+      errors[g] = std::current_exception();
+      failed = true;
+    }
   });
+  // An interrupt first (the user asked to stop), else the first guess's error.
+  std::exception_ptr first;
+  for (const std::exception_ptr& e : errors) {
+    if (!e) continue;
+    if (!first) first = e;
+    try {
+      std::rethrow_exception(e);
+    } catch (const Error& x) {
+      if (x.kind() == ErrorKind::Interrupted) throw;
+    } catch (...) {
+    }
+  }
+  if (first) std::rethrow_exception(first);
 
   for (std::size_t g = 1; g < result.guesses.size(); ++g) {
     if (result.guesses[g].objective_final < result.guesses[result.best].objective_final) result.best = g;

@@ -78,7 +78,7 @@ class ResidualCost final : public ceres::CostFunction {
 
 class ProgressCallback final : public ceres::IterationCallback {
  public:
-  ProgressCallback(const double* x, Eigen::Index n, const EvaluationCache& cache, const OptimizeOptions& o,
+  ProgressCallback(const double* x, Eigen::Index n, EvaluationCache& cache, const OptimizeOptions& o,
                    const OptimizerCallbacks& cb)
       : x_(x), n_(n), cache_(&cache), o_(&o), cb_(&cb) {}
 
@@ -91,7 +91,13 @@ class ProgressCallback final : public ceres::IterationCallback {
       // (After an accepted step the summary holds the radius already updated
       // by the step's quality: the one the next step is taken with.)
       st.trust_region_radius = s.trust_region_radius;
-      cb_->on_iteration(st.x, 2.0 * s.cost, st);
+      // An exception must not cross Ceres: it is rethrown after Solve.
+      try {
+        cb_->on_iteration(st.x, 2.0 * s.cost, st);
+      } catch (...) {
+        cache_->error = std::current_exception();
+        return ceres::SOLVER_ABORT;
+      }
     }
     return ceres::SOLVER_CONTINUE;
   }
@@ -99,7 +105,7 @@ class ProgressCallback final : public ceres::IterationCallback {
  private:
   const double* x_;
   Eigen::Index n_;
-  const EvaluationCache* cache_;
+  EvaluationCache* cache_;
   const OptimizeOptions* o_;
   const OptimizerCallbacks* cb_;
 };
