@@ -152,10 +152,6 @@ void PenaltyContact::set_friction(Friction friction) {
   for (SampleContact& c : contacts_) c.stuck = false;
 }
 
-int PenaltyContact::anchored() const {
-  return static_cast<int>(std::count_if(anchor_face_.begin(), anchor_face_.end(), [](int f) { return f >= 0; }));
-}
-
 std::vector<std::array<double, 5>> PenaltyContact::anchors() const {
   std::vector<std::array<double, 5>> rows;
   for (std::size_t s = 0; s < anchor_face_.size(); ++s) {
@@ -186,6 +182,13 @@ void PenaltyContact::set_anchors(const std::vector<std::array<double, 5>>& rows,
 }
 
 namespace {
+
+// The point with weights w on face f of the obstacle, where it is now [m].
+Eigen::Vector3d face_point(const Obstacle& obstacle, int f, const Eigen::Vector3d& w) {
+  const Eigen::MatrixX3i& F = obstacle.triangles();
+  return w[0] * obstacle.world_vertex(F(f, 0)) + w[1] * obstacle.world_vertex(F(f, 1)) +
+         w[2] * obstacle.world_vertex(F(f, 2));
+}
 
 // Barycentric weights of x (on or near the triangle) on its corners, clamped
 // into the triangle.
@@ -234,12 +237,7 @@ double PenaltyContact::detected_energy(const Obstacle& obstacle, Points points) 
           const Eigen::Vector3d x = position(static_cast<int>(s), points);
           if (!obstacle.penetration(x, c) || excluded(c)) continue;
           if (!anchor_face_.empty() && anchor_face_[s] >= 0) {
-            const Eigen::MatrixX3i& F = obstacle.triangles();
-            const int f = anchor_face_[s];
-            const Eigen::Vector3d& w = anchor_weights_[s];
-            const Eigen::Vector3d a = w[0] * obstacle.world_vertex(F(f, 0)) + w[1] * obstacle.world_vertex(F(f, 1)) +
-                                      w[2] * obstacle.world_vertex(F(f, 2));
-            sum += k_ * samples_.scale[s] * (x - a).squaredNorm();
+            sum += k_ * samples_.scale[s] * (x - face_point(obstacle, anchor_face_[s], anchor_weights_[s])).squaredNorm();
             continue;
           }
           sum += k_ * samples_.scale[s] * c.distance * c.distance;
@@ -277,9 +275,7 @@ void PenaltyContact::commit(const Obstacle& obstacle, Points points) {
       c.closest.triangle = f;
       c.closest.vertices = {F(f, 0), F(f, 1), F(f, 2)};
       c.closest.weights = anchor_weights_[s];
-      c.closest.point = anchor_weights_[s][0] * obstacle.world_vertex(F(f, 0)) +
-                        anchor_weights_[s][1] * obstacle.world_vertex(F(f, 1)) +
-                        anchor_weights_[s][2] * obstacle.world_vertex(F(f, 2));
+      c.closest.point = face_point(obstacle, f, anchor_weights_[s]);
     }
     contacts_.push_back(c);
   }

@@ -152,7 +152,6 @@ class PenaltyContact {
   // `reference_pose` (its pose then), carried to its pose now. Then recommits
   // at `points`. Returns the number of new anchors (0 when frictionless).
   int anchor(const Obstacle& obstacle, Points points, Points reference, const Pose& reference_pose);
-  int anchored() const;  // samples with an anchor
   // The anchors as (sample, face, w0, w1, w2) rows, for saving a state; and
   // back (Stick only; throws palpa::Error (Input) for a row out of range).
   std::vector<std::array<double, 5>> anchors() const;
