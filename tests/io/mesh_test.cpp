@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <limits>
 
 #include "common/test_support.hpp"
@@ -12,6 +14,55 @@
 
 namespace palpa {
 namespace {
+
+// A UTF-8 byte-order mark before a text file (editors on Windows write one)
+// changes nothing: every text format reads the same mesh with and without it
+// (it once dropped an OBJ's first vertex and made an ASCII STL "binary").
+TEST(MeshIo, TextFilesReadTheSameAfterAByteOrderMark) {
+  test::ScratchDir dir;
+  const std::string bom = "\xEF\xBB\xBF";
+  const auto with_bom = [&](const std::filesystem::path& p) {
+    const auto q = p.parent_path() / ("bom_" + p.filename().string());
+    test::write_bytes(q, bom + test::read_bytes(p));
+    return q;
+  };
+  const SurfaceMesh cube = test::unit_cube_surface();
+  PlyWriteOptions ascii;
+  ascii.encoding = PlyEncoding::Ascii;
+  write_ply(dir / "c.ply", cube, ascii);
+  write_surface_mesh(dir / "c.obj", cube);
+  write_surface_mesh(dir / "c.off", cube);
+  std::string stl = "solid cube\n";
+  for (Eigen::Index f = 0; f < cube.F.rows(); ++f) {
+    stl += "facet normal 0 0 0\nouter loop\n";
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::RowVector3d v = cube.V.row(cube.F(f, c));
+      stl += fmt::format("vertex {} {} {}\n", v.x(), v.y(), v.z());
+    }
+    stl += "endloop\nendfacet\n";
+  }
+  test::write_bytes(dir / "c.stl", stl + "endsolid cube\n");
+  for (const char* name : {"c.obj", "c.off", "c.ply", "c.stl"}) {
+    const SurfaceMesh plain = read_surface_mesh(dir / name);
+    const SurfaceMesh marked = read_surface_mesh(with_bom(dir / name));
+    EXPECT_EQ(plain.V.rows(), 8) << name;
+    EXPECT_TRUE(test::same_bits(plain.V, marked.V)) << name;
+    EXPECT_TRUE(test::same_ints(plain.F, marked.F)) << name;
+  }
+  std::mt19937_64 rng = test::make_rng(5);
+  const TetMesh tets = test::cube_tet_mesh(rng);
+  for (const char* name : {"t.msh", "t.vtu", "t.node"}) {
+    write_tet_mesh(dir / name, tets);
+    const TetMesh plain = read_tet_mesh(dir / name);
+    std::filesystem::path marked_path = with_bom(dir / name);
+    if (std::string(name) == "t.node") {  // its .ele goes along, marked too
+      test::write_bytes(dir / "bom_t.ele", bom + test::read_bytes(dir / "t.ele"));
+    }
+    const TetMesh marked = read_tet_mesh(marked_path);
+    EXPECT_TRUE(test::same_bits(plain.V, marked.V)) << name;
+    EXPECT_TRUE(test::same_ints(plain.T, marked.T)) << name;
+  }
+}
 
 // A NaN or an infinity never reaches a file: every writer refuses it (exit 3,
 // a failed computation), naming the array, the row and the value, and writes

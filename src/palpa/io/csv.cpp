@@ -14,7 +14,6 @@ namespace palpa {
 
 namespace {
 
-constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
 // How many column names a message lists before "...".
 constexpr std::size_t kMaxListedColumns = 20;
 
@@ -212,7 +211,6 @@ ErrorContext CsvTable::context_of(std::size_t row, std::string_view name) const 
 }
 
 CsvTable parse_csv(std::string_view text, const std::string& source) {
-  if (text.substr(0, kUtf8Bom.size()) == kUtf8Bom) text.remove_prefix(kUtf8Bom.size());
   CsvTable table(source);
   io_detail::LineCursor cursor(text, source);
   std::string_view line;

@@ -60,7 +60,7 @@ class Welder {
 };
 
 bool starts_with_solid(std::string_view bytes) {
-  const std::string_view t = trim(bytes.substr(0, kHeaderBytes));
+  const std::string_view t = trim(bytes.substr(io_detail::bom_length(bytes), kHeaderBytes));
   return t.substr(0, 5) == "solid";
 }
 

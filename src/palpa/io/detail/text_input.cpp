@@ -47,7 +47,7 @@ void require_content(std::string_view text, const std::string& file) {
 }
 
 LineCursor::LineCursor(std::string_view text, std::string file)
-    : text_(text), file_(std::move(file)) {}
+    : text_(text), file_(std::move(file)), pos_(bom_length(text)) {}
 
 bool LineCursor::next(std::string_view& line) {
   if (pos_ >= text_.size()) return false;

@@ -27,7 +27,16 @@ std::string read_file_bytes(const std::filesystem::path& path, bool allow_empty 
 // Throws "file is empty" if `text` holds nothing but white space.
 void require_content(std::string_view text, const std::string& file);
 
-// Walks the lines of a text, 1-based line numbers; CR before LF is dropped.
+// A UTF-8 byte-order mark, which editors on Windows put before a text: every
+// text reader skips one at the start (it is never part of the first token).
+inline constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+inline std::size_t bom_length(std::string_view text) noexcept {
+  return text.starts_with(kUtf8Bom) ? kUtf8Bom.size() : 0;
+}
+
+// Walks the lines of a text, 1-based line numbers; CR before LF is dropped; a
+// leading byte-order mark is skipped (offsets still count from the text's
+// first byte).
 class LineCursor {
  public:
   LineCursor(std::string_view text, std::string file);

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "palpa/core/error.hpp"
+#include "palpa/io/detail/text_input.hpp"
 
 namespace palpa::io_detail {
 
@@ -58,7 +59,7 @@ const std::string* XmlTag::attribute(std::string_view key) const noexcept {
 }
 
 XmlScanner::XmlScanner(std::string_view text, std::string file)
-    : text_(text), file_(std::move(file)) {}
+    : text_(text), file_(std::move(file)), pos_(bom_length(text)) {}
 
 std::size_t XmlScanner::line_of(std::size_t offset) const noexcept {
   offset = std::min(offset, text_.size());
