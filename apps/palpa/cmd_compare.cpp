@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // palpa compare: the error between two pressure maps on the same support.
 
+#include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -36,9 +37,11 @@ void run_compare_command(const CompareArgs& a) {
              c.b.peak_pressure_index * 1e-3);
   fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "p95 [kPa]", c.a.p95 * 1e-3, c.b.p95 * 1e-3);
   fmt::print("{:<16}{:>14.4g}{:>14.4g}\n", "dispersion", c.a.dispersion_index, c.b.dispersion_index);
+  const bool correlated = std::isfinite(c.correlation);
   fmt::print("over the {} vertices in either contact: RMS difference {:.4g} kPa ({:.1f}% of the reference's mean), "
-             "largest {:.4g} kPa, correlation {:.3f}\n",
-             c.vertices, c.rms_difference * 1e-3, 100.0 * c.relative_rms, c.max_difference * 1e-3, c.correlation);
+             "largest {:.4g} kPa, correlation {}\n",
+             c.vertices, c.rms_difference * 1e-3, 100.0 * c.relative_rms, c.max_difference * 1e-3,
+             correlated ? fmt::format("{:.3f}", c.correlation) : std::string("undefined (a map is uniform there)"));
   if (!a.json.empty()) {
     write_json_file(a.json, {{"map", a.map},
                              {"reference", a.reference},
@@ -46,7 +49,7 @@ void run_compare_command(const CompareArgs& a) {
                              {"rms_difference_Pa", c.rms_difference},
                              {"relative_rms", c.relative_rms},
                              {"max_difference_Pa", c.max_difference},
-                             {"correlation", c.correlation},
+                             {"correlation", correlated ? Json(c.correlation) : Json(nullptr)},
                              {"map_side", report::to_json(c.a)},
                              {"reference_side", report::to_json(c.b)}});
   }

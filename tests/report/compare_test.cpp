@@ -4,6 +4,8 @@
 // with a bad field are refused.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 
 #include "common/test_support.hpp"
@@ -46,6 +48,18 @@ TEST(CompareMaps, IdenticalMapsAgree) {
   EXPECT_NEAR(c.a.contact_area, 1.0, 1e-12);
   EXPECT_NEAR(c.a.force, 1500.0, 1e-9);
   EXPECT_DOUBLE_EQ(c.a.peak, 2000.0);
+}
+
+TEST(CompareMaps, AUniformMapHasNoCorrelation) {
+  // Pearson's correlation needs both maps to vary over the contact: against
+  // a uniform map it is undefined (NaN), not 0.
+  const PressureMap b = square();
+  PressureMap a = b;
+  a.pressure.setConstant(1500.0);
+  const MapComparison c = compare_pressure_maps(a, b);
+  EXPECT_TRUE(std::isnan(c.correlation));
+  EXPECT_GT(c.rms_difference, 0.0);
+  EXPECT_NEAR(c.a.force, c.b.force, 1e-9 * c.b.force);  // both 1500 N on 1 m²
 }
 
 TEST(CompareMaps, AScaledMapHasItsRmsAndFullCorrelation) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <limits>
 
 #include "palpa/core/error.hpp"
 #include "palpa/geometry/surface_operators.hpp"
@@ -100,7 +101,7 @@ MapComparison compare_pressure_maps(const PressureMap& a, const PressureMap& b) 
   }
   c.rms_difference = std::sqrt(sd / w);
   c.relative_rms = mb > 0.0 ? c.rms_difference / mb : 0.0;
-  c.correlation = caa > 0.0 && cbb > 0.0 ? cab / std::sqrt(caa * cbb) : 0.0;
+  c.correlation = caa > 0.0 && cbb > 0.0 ? cab / std::sqrt(caa * cbb) : std::numeric_limits<double>::quiet_NaN();
   return c;
 }
 

@@ -12,7 +12,8 @@
 //   rms_difference      sqrt(Σ_U A_i (a_i − b_i)² / Σ_U A_i)          [Pa]
 //   relative_rms        rms_difference / (Σ_U A_i b_i / Σ_U A_i)      (b: the reference)
 //   max_difference      max_U |a_i − b_i|                             [Pa]
-//   correlation         area-weighted Pearson correlation over U
+//   correlation         area-weighted Pearson correlation over U (NaN where a
+//                       map is uniform over U: no correlation is defined)
 // and each map's own figures, as every rest and design summary reports them
 // (pressure_metrics.hpp: force Σ A_i p_i, contact area, mean, peak, Peak
 // Pressure Index, 95th percentile, centre of pressure, dispersion index).
