@@ -13,6 +13,7 @@
 #include "palpa/geometry/boundary.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/body/contact_term.hpp"
+#include "palpa/tet/system.hpp"
 #include "palpa/tet/mesh.hpp"
 
 namespace palpa::body {
@@ -74,10 +75,9 @@ TEST_P(ContactTermRegions, SystemDerivativesMatchFiniteDifferences) {
   contact::Obstacle obstacle(notched_cube(), "notch");
   obstacle.set_pose({Eigen::Matrix3d::Identity(), -c.corner});  // obstacle frame origin at −corner
   ContactTerm term(obstacle, box.mesh.V, geometry::boundary_of(box.mesh).faces, 2e3);
-  tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0));
+  tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0), PsdProjection::None);
   sys.add_term(&term);
   sys.set_gravity(Eigen::Vector3d(0.0, 0.0, -9.81));
-  sys.set_true_hessian(true);
   auto rng = palpa::test::make_rng(21);
   std::uniform_real_distribution<double> du(-5e-5, 5e-5);
   Eigen::VectorXd x(sys.num_dofs());
@@ -113,10 +113,9 @@ TEST(ContactTermSurface, SystemDerivativesMatchFiniteDifferencesAndForcesBalance
   obstacle.set_pose({Eigen::Matrix3d::Identity(), -Eigen::Vector3d(0.3 * kA, 0.4 * kA, kA - 4e-4)});
   ContactTerm term(obstacle, box.mesh.V, geometry::boundary_of(box.mesh).faces, 4e6, ContactSampling::Surface, 2);
   EXPECT_FALSE(term.vertex_pairs().empty());
-  tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0));
+  tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0), PsdProjection::None);
   sys.add_term(&term);
   sys.set_gravity(Eigen::Vector3d(0.0, 0.0, -9.81));
-  sys.set_true_hessian(true);
   auto rng = palpa::test::make_rng(22);
   std::uniform_real_distribution<double> du(-5e-5, 5e-5);
   Eigen::VectorXd x(sys.num_dofs());

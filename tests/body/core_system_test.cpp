@@ -35,15 +35,16 @@ TEST(So3, ExponentialAndLeftJacobian) {
 }
 
 // A spring energy on some vertices (a stand-in for contact).
-class Springs final : public tet::VertexTerm {
+class Springs final : public Term {
  public:
   std::vector<std::pair<int, Eigen::Vector3d>> springs;
   double k = 30.0;
-  double energy(const Eigen::VectorXd& x) const override {
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
-    return add_gradient(x, g);
+  double energy(const VertexState& s) const override {
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(s.p.size());
+    return add_gradient(s, g);
   }
-  double add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override {
+  double add_gradient(const VertexState& s, Eigen::VectorXd& g) const override {
+    const Eigen::VectorXd& x = s.p;
     double e = 0.0;
     for (const auto& [v, p] : springs) {
       const Eigen::Vector3d d = x.segment<3>(3 * v) - p;
@@ -52,7 +53,7 @@ class Springs final : public tet::VertexTerm {
     }
     return e;
   }
-  void add_hessian(const Eigen::VectorXd&, bool, std::vector<tet::VertexBlock>& b) const override {
+  void add_blocks(const VertexState&, PsdProjection, std::vector<VertexBlock>& b) const override {
     for (const auto& [v, p] : springs) b.push_back({v, v, k * Eigen::Matrix3d::Identity()});
   }
 };
@@ -106,9 +107,8 @@ TEST_P(CoreDerivatives, GradientAnywhereAndHessianAtTheCommittedPose) {
   const bool lock_some = GetParam();
   Layer l = make_layer();
   if (lock_some) l.core.locked = {true, true, false, true, false, true};  // vertical + pitch only
-  CoreSystem sys(*l.model, l.core);
+  CoreSystem sys(*l.model, l.core, PsdProjection::None);
   sys.set_gravity(Eigen::Vector3d(0.0, 0.0, -9.81));
-  sys.set_true_hessian(true);
   Springs springs;
   springs.springs = {{l.box.vertex_sets.at("top")[4], Eigen::Vector3d(0.0, 0.001, 0.0085)},
                      {l.box.vertex_sets.at("bottom")[2], Eigen::Vector3d(0.0, 0.0, -0.001)}};  // an attached one

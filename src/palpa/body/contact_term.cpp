@@ -63,19 +63,21 @@ void ContactTerm::rescale() {
   potential_.set_scale(std::move(scale));
 }
 
-double ContactTerm::energy(const Eigen::VectorXd& x) const {
+double ContactTerm::energy(const VertexState& s) const { return detected_energy(*obstacle_, s.p); }
+
+double ContactTerm::detected_energy(const contact::Obstacle& obstacle, const Eigen::VectorXd& p) const {
   const Timer t(detection_ns_, detections_);
-  return potential_.detected_energy(*obstacle_, as_points(x));
+  return potential_.detected_energy(obstacle, as_points(p));
 }
 
-double ContactTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
+double ContactTerm::add_gradient(const VertexState& s, Eigen::VectorXd& g) const {
   if (potential_.empty()) return 0.0;
   Eigen::Map<Eigen::Matrix3Xd> grad(g.data(), 3, g.size() / 3);
-  potential_.add_gradient(*obstacle_, as_points(x), grad);
-  return potential_.energy(*obstacle_, as_points(x));
+  potential_.add_gradient(*obstacle_, as_points(s.p), grad);
+  return potential_.energy(*obstacle_, as_points(s.p));
 }
 
-void ContactTerm::add_hessian(const Eigen::VectorXd&, bool, std::vector<tet::VertexBlock>& blocks) const {
+void ContactTerm::add_blocks(const VertexState&, PsdProjection, std::vector<VertexBlock>& blocks) const {
   // N_a N_b 2k P⊥ is the true Hessian of the committed energy over the skin
   // (positive semi-definite), so both modes use it.
   potential_.for_each_surface_hessian(*obstacle_, [&](int a, int b, const Eigen::Matrix3d& block) {
@@ -98,9 +100,9 @@ std::vector<std::array<int, 2>> ContactTerm::vertex_pairs() const {
   return pairs;
 }
 
-void ContactTerm::prepare(const Eigen::VectorXd& x) {
+void ContactTerm::prepare(const VertexState& s) {
   const Timer t(detection_ns_, detections_);
-  potential_.commit(*obstacle_, as_points(x));
+  potential_.commit(*obstacle_, as_points(s.p));
 }
 
 int ContactTerm::anchor(const Eigen::VectorXd& x, const Eigen::VectorXd& reference,

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // Penalty contact of a tet body's skin with one obstacle (thesis §7.3.4–7.3.5,
-// Appendix A), as a vertex term of the tet systems: the forward pass of
+// Appendix A), as a term (solve/term.hpp) of the tet systems: the forward pass of
 // contact::PenaltyContact, sampled on the skin in one of two ways:
 //  * Vertices: node-to-surface, each skin vertex a spring k·A_i/Ā with
 //    A_i from contact::SpringAreas (k [N/m]; the thesis's model).
@@ -27,13 +27,13 @@
 #include "palpa/contact/obstacle.hpp"
 #include "palpa/contact/penalty_contact.hpp"
 #include "palpa/contact/spring_areas.hpp"
-#include "palpa/tet/system.hpp"
+#include "palpa/solve/term.hpp"
 
 namespace palpa::body {
 
 enum class ContactSampling { Vertices, Surface };
 
-class ContactTerm final : public tet::VertexTerm {
+class ContactTerm final : public Term {
  public:
   // obstacle: must outlive the term; its pose may change between solves.
   // rest: the body's rest positions (#V×3) [m]; faces: its skin triangles
@@ -63,11 +63,16 @@ class ContactTerm final : public tet::VertexTerm {
   // skin vertex surface()[s].
   const contact::PenaltyContact& potential() const noexcept { return potential_; }
 
-  double energy(const Eigen::VectorXd& x) const override;
-  double add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
-  void add_hessian(const Eigen::VectorXd& x, bool true_hessian, std::vector<tet::VertexBlock>& blocks) const override;
+  // The energy at positions p (3N) against `obstacle` in place of the
+  // term's own (a deformed copy of it: rest/coupled.hpp), detected afresh.
+  double detected_energy(const contact::Obstacle& obstacle, const Eigen::VectorXd& p) const;
+
+  // Term (the positions s.p only).
+  double energy(const VertexState& s) const override;
+  double add_gradient(const VertexState& s, Eigen::VectorXd& g) const override;
+  void add_blocks(const VertexState& s, PsdProjection projection, std::vector<VertexBlock>& blocks) const override;
   std::vector<std::array<int, 2>> vertex_pairs() const override;
-  void prepare(const Eigen::VectorXd& x) override;
+  void prepare(const VertexState& s) override;
   bool active() const override { return !potential_.empty(); }
 
   // The spring-area law (contact/spring_areas.hpp) over the committed

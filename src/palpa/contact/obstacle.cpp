@@ -344,6 +344,7 @@ Obstacle::Obstacle(const SurfaceMesh& mesh, std::string name, const ObstacleOpti
   m.build_tree(false);
 }
 
+Obstacle::Obstacle(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Obstacle::~Obstacle() = default;
 Obstacle::Obstacle(Obstacle&&) noexcept = default;
 Obstacle& Obstacle::operator=(Obstacle&&) noexcept = default;
@@ -381,6 +382,12 @@ void Obstacle::set_pose(const Pose& pose) {
 
 Eigen::Vector3d Obstacle::world_vertex(int i) const {
   return impl_->pose.R * impl_->V.row(i).transpose() + impl_->pose.t;
+}
+
+Obstacle Obstacle::deformed(const Eigen::MatrixX3d& body_vertices) const {
+  Obstacle out(std::make_unique<Impl>(*impl_));
+  out.set_vertices(body_vertices, true);
+  return out;
 }
 
 void Obstacle::set_vertices(const Eigen::MatrixX3d& body_vertices, bool refit) {

@@ -116,6 +116,10 @@ class Obstacle {
   // the constructor are not redone (triangles may degenerate or intersect
   // while a body deforms; queries stay defined).
   void set_vertices(const Eigen::MatrixX3d& body_vertices, bool refit = true);
+  // A copy of this obstacle with its vertices moved (as set_vertices with a
+  // refit), this one untouched: a deforming obstacle at a line-search trial,
+  // evaluated from several threads at once. O(#F).
+  Obstacle deformed(const Eigen::MatrixX3d& body_vertices) const;
 
   // Closest surface point to x [m, world], its feature, and the inside test.
   ClosestPoint closest_point(const Eigen::Vector3d& x) const;
@@ -127,6 +131,7 @@ class Obstacle {
 
  private:
   struct Impl;
+  explicit Obstacle(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
 

@@ -20,6 +20,7 @@
 #include <string>
 #include <string_view>
 
+#include "palpa/core/psd_projection.hpp"
 #include "palpa/core/units.hpp"
 
 namespace palpa::material {
@@ -27,10 +28,9 @@ namespace palpa::material {
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
-// How an indefinite stretch-space Hessian is made positive semi-definite for
-// Newton's method: None keeps the true Hessian (sensitivities, adjoints), Clamp
-// sets negative eigenvalues to zero, Abs flips their sign.
-enum class PsdProjection { None, Clamp, Abs };
+// How an indefinite stretch-space Hessian is made positive semi-definite
+// (core/psd_projection.hpp).
+using palpa::PsdProjection;
 
 // Which derivatives evaluate() computes.
 enum class EvalOrder { Energy = 0, Gradient = 1, Hessian = 2 };

@@ -149,34 +149,39 @@ Eigen::MatrixX3d CoupledSystem::surface_positions(const Eigen::VectorXd& y) cons
   return P;
 }
 
-void CoupledSystem::place_obstacle(const Eigen::VectorXd& y) const {
+void CoupledSystem::place_obstacle(const Eigen::VectorXd& y) {
   obstacle_->set_vertices(surface_positions(y));
   body_surface_->set_vertices(boundary_points(body_->positions(y.head(num_body_dofs()))).transpose());
 }
 
+CoupledSystem::Surfaces CoupledSystem::surfaces_at(const Eigen::VectorXd& y) const {
+  return {obstacle_->deformed(surface_positions(y)),
+          body_surface_->deformed(boundary_points(body_->positions(y.head(num_body_dofs()))).transpose())};
+}
+
 void CoupledSystem::contact_forces(const Eigen::VectorXd& y, Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const {
-  place_obstacle(y);
+  const Surfaces at = surfaces_at(y);
   const Eigen::VectorXd p = body_->positions(y.head(num_body_dofs()));
   const contact::Points P = Eigen::Map<const Eigen::Matrix3Xd>(p.data(), 3, p.size() / 3);
   body = Eigen::Matrix3Xd::Zero(3, body_->model().num_vertices());
   support = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(surface_.size()));
-  term_->potential().add_forces(*obstacle_, P, body, support);
+  term_->potential().add_forces(at.support, P, body, support);
   Eigen::Matrix3Xd on_boundary = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(body_vertex_.size()));
-  reverse_.add_forces(*body_surface_, support_points(y), support, on_boundary);
+  reverse_.add_forces(at.body, support_points(y), support, on_boundary);
   scatter_boundary(on_boundary, body);
 }
 
 void CoupledSystem::contact_hessian_product(const Eigen::VectorXd& y, const Eigen::Matrix3Xd& v_body,
                                             const Eigen::Matrix3Xd& v_support, Eigen::Matrix3Xd& body,
                                             Eigen::Matrix3Xd& support) const {
-  place_obstacle(y);
+  const Surfaces at = surfaces_at(y);
   const Eigen::VectorXd p = body_->positions(y.head(num_body_dofs()));
   const contact::Points P = Eigen::Map<const Eigen::Matrix3Xd>(p.data(), 3, p.size() / 3);
   body = Eigen::Matrix3Xd::Zero(3, v_body.cols());
   support = Eigen::Matrix3Xd::Zero(3, v_support.cols());
-  term_->potential().add_hessian_product(*obstacle_, P, v_body, v_support, body, support);
+  term_->potential().add_hessian_product(at.support, P, v_body, v_support, body, support);
   Eigen::Matrix3Xd on_boundary = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(body_vertex_.size()));
-  reverse_.add_hessian_product(*body_surface_, support_points(y), v_support, gather_boundary(v_body), support,
+  reverse_.add_hessian_product(at.body, support_points(y), v_support, gather_boundary(v_body), support,
                                on_boundary);
   scatter_boundary(on_boundary, body);
 }
@@ -193,38 +198,37 @@ Eigen::VectorXd CoupledSystem::support_free_part(const Eigen::MatrixX3d& per_sur
 }
 
 double CoupledSystem::evaluate(const Eigen::VectorXd& y, Eigen::VectorXd* g) const {
-  place_obstacle(y);
   const Eigen::Index nb = num_body_dofs(), ns = num_support_dofs();
   const Eigen::VectorXd x = y.head(nb), v = y.tail(ns);
+  const Surfaces at = surfaces_at(y);
+  const Eigen::VectorXd p = body_->positions(x);
   const Eigen::Matrix3Xd S = support_points(y);
   if (g == nullptr) {
     const double e = body_->energy(x) + support_->energy(v);
     if (!std::isfinite(e)) return e;
-    // The reverse pass, detected afresh at this (trial) point.
-    return e + reverse_.detected_energy(*body_surface_, S);
+    // Both passes, detected afresh at this (trial) point.
+    return e + term_->detected_energy(at.support, p) + reverse_.detected_energy(at.body, S);
   }
   Eigen::VectorXd gb, gs;
   double e = body_->energy_gradient(x, gb) + support_->energy_gradient(v, gs);
   g->resize(nb + ns);
   if (!std::isfinite(e)) return e;
-  // The reactions of the committed contacts on the support's surface, then
-  // the reverse pass with its committed features.
-  const Eigen::VectorXd p = body_->positions(x);
+  // Both passes with their committed features: the forces on the body's
+  // vertices (pulled back through its core) and on the support's surface.
+  const contact::Points P = Eigen::Map<const Eigen::Matrix3Xd>(p.data(), 3, p.size() / 3);
+  Eigen::Matrix3Xd body_grad = Eigen::Matrix3Xd::Zero(3, p.size() / 3);
   Eigen::Matrix3Xd G = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(surface_.size()));
-  term_->potential().add_obstacle_gradient(*obstacle_, Eigen::Map<const Eigen::Matrix3Xd>(p.data(), 3, p.size() / 3), G);
-  e += reverse_.energy(*body_surface_, S);
-  reverse_.add_gradient(*body_surface_, S, G);
-  Eigen::Matrix3Xd on_boundary = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(body_vertex_.size()));
-  reverse_.add_obstacle_gradient(*body_surface_, S, on_boundary);
-  g->head(nb) = gb;
-  for (std::size_t i = 0; i < body_vertex_.size(); ++i) {
-    for (int c = 0; c < 3; ++c) {
-      const double d = on_boundary(c, static_cast<Eigen::Index>(i));
-      if (d == 0.0) continue;
-      const int r = body_full_to_free_[static_cast<std::size_t>(3 * body_vertex_[i] + c)];
-      if (r >= 0) (*g)[r] += d;
-    }
+  if (!term_->potential().empty()) {
+    term_->potential().add_gradient(at.support, P, body_grad);
+    e += term_->potential().energy(at.support, P);
   }
+  term_->potential().add_obstacle_gradient(at.support, P, G);
+  e += reverse_.energy(at.body, S);
+  reverse_.add_gradient(at.body, S, G);
+  Eigen::Matrix3Xd on_boundary = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(body_vertex_.size()));
+  reverse_.add_obstacle_gradient(at.body, S, on_boundary);
+  scatter_boundary(on_boundary, body_grad);
+  g->head(nb) = gb + body_->pull_back(x, Eigen::Map<const Eigen::VectorXd>(body_grad.data(), p.size()));
   g->tail(ns) = gs + support_free_part(G.transpose());
   return e;
 }
@@ -235,20 +239,30 @@ void CoupledSystem::gradient(const Eigen::VectorXd& y, Eigen::VectorXd& g) const
 
 double CoupledSystem::energy_gradient(const Eigen::VectorXd& y, Eigen::VectorXd& g) const { return evaluate(y, &g); }
 
+template <class F>
+void CoupledSystem::for_each_contact_stencil(const Eigen::VectorXd& y, const contact::Obstacle& support,
+                                             const contact::Obstacle& body, F&& f) const {
+  const Eigen::VectorXd p = body_->positions(y.head(num_body_dofs()));
+  term_->potential().for_each_stencil_hessian(
+      support, Eigen::Map<const Eigen::Matrix3Xd>(p.data(), 3, p.size() / 3),
+      [&](const contact::Stencil& st, const contact::Matrix12d& K) { f(st, K, true); });
+  reverse_.for_each_stencil_hessian(body, support_points(y),
+                                    [&](const contact::Stencil& st, const contact::Matrix12d& K) { f(st, K, false); });
+}
+
 void CoupledSystem::hessian(const Eigen::VectorXd& y, Eigen::SparseMatrix<double>& H) const {
-  place_obstacle(y);
   const Eigen::Index nb = num_body_dofs(), ns = num_support_dofs();
   const Eigen::VectorXd x = y.head(nb);
-  body_->hessian(x, body_hessian_);
-  support_->hessian(y.tail(ns), support_hessian_);
-  const Eigen::VectorXd p = body_->positions(x);
+  Eigen::SparseMatrix<double> body_hessian, support_hessian;
+  body_->hessian(x, body_->newton_projection(), body_hessian);
+  if (!term_->active()) body_->regularize(x, body_hessian);  // K + αM until the body touches
+  support_->hessian(y.tail(ns), support_hessian);
 
   // Every block of a contact's stencil goes where its two vertices are: both
   // on the support (its lower triangle: a face's corners share a tet), both
-  // on the body (likewise; the forward pass's point block is in the body's
-  // Hessian already, through its term), or one on each (the coupling C,
-  // support rows, body columns). `surface_on_body`: whether the stencil's
-  // surface slots are the body's (forward) or the support's (reverse).
+  // on the body (likewise), or one on each (the coupling C, support rows,
+  // body columns). `surface_on_body`: whether the stencil's surface slots are
+  // the body's (forward) or the support's (reverse).
   const auto body_vertex = [&](const contact::Stencil& st, int slot, bool surface_on_body) {
     return surface_on_body ? st.vertex(slot) : body_vertex_[static_cast<std::size_t>(st.vertex(slot))];
   };
@@ -263,10 +277,8 @@ void CoupledSystem::hessian(const Eigen::VectorXd& y, Eigen::SparseMatrix<double
       const int a = a_body ? body_vertex(st, i, forward) : st.vertex(i);
       for (int j = 0; j < st.slots(); ++j) {
         const bool b_body = st.on_surface(j) == forward;
-        if (a_body && !b_body) continue;                // the upper triangle
-        if (forward && a_body && b_body) continue;      // the point block, in the body's Hessian
+        if (a_body && !b_body) continue;  // the upper triangle
         const int b = b_body ? body_vertex(st, j, forward) : st.vertex(j);
-        if (!a_body && b_body) pairs_.emplace(a, b);
         const Eigen::Matrix3d block = st.block(K, i, j);
         for (int c = 0; c < 3; ++c) {
           const int r = dof(a_body, a, c);
@@ -277,18 +289,15 @@ void CoupledSystem::hessian(const Eigen::VectorXd& y, Eigen::SparseMatrix<double
             if (a_body != b_body) {
               cross.emplace_back(r, s, block(c, d));
             } else if (s <= r) {
-              (a_body ? body_hessian_ : support_hessian_).coeffRef(r, s) += block(c, d);
+              (a_body ? body_hessian : support_hessian).coeffRef(r, s) += block(c, d);
             }
           }
         }
       }
     }
   };
-  term_->potential().for_each_stencil_hessian(
-      *obstacle_, Eigen::Map<const Eigen::Matrix3Xd>(p.data(), 3, p.size() / 3),
-      [&](const contact::Stencil& st, const contact::Matrix12d& K) { add(st, K, true); });
-  reverse_.for_each_stencil_hessian(*body_surface_, support_points(y),
-                                    [&](const contact::Stencil& st, const contact::Matrix12d& K) { add(st, K, false); });
+  const Surfaces at = surfaces_at(y);
+  for_each_contact_stencil(y, at.support, at.body, add);
   // Every pair seen so far stays in the pattern, as explicit zeros when apart.
   for (const auto& [q, b] : pairs_) {
     const int v = surface_[static_cast<std::size_t>(q)];
@@ -303,15 +312,34 @@ void CoupledSystem::hessian(const Eigen::VectorXd& y, Eigen::SparseMatrix<double
   }
   Eigen::SparseMatrix<double> C(ns, nb);
   C.setFromTriplets(cross.begin(), cross.end());
-  stack_lower(body_hessian_, C, support_hessian_, H);
+  stack_lower(body_hessian, C, support_hessian, H);
+}
+
+void CoupledSystem::add_pairs(const contact::Stencil& st, bool forward) {
+  for (int i = 0; i < st.slots(); ++i) {
+    if (st.on_surface(i) == forward) continue;  // support rows only
+    for (int j = 0; j < st.slots(); ++j) {
+      if (st.on_surface(j) != forward) continue;  // body columns only
+      const int b = forward ? st.vertex(j) : body_vertex_[static_cast<std::size_t>(st.vertex(j))];
+      pairs_.emplace(st.vertex(i), b);
+    }
+  }
 }
 
 void CoupledSystem::prepare(const Eigen::VectorXd& y) {
   place_obstacle(y);
   const Eigen::Index nb = num_body_dofs();
-  body_->prepare(y.head(nb));
+  const Eigen::VectorXd x = y.head(nb);
+  body_->prepare(x);
   support_->prepare(y.tail(num_support_dofs()));
+  const Eigen::VectorXd u = body_->full_displacement(x);
+  const Eigen::VectorXd p = body_->TermSystem::positions(u);
+  term_->prepare({u, p});
   reverse_.commit(*body_surface_, support_points(y));
+  // The coupling pattern grows by the pairs these contacts couple.
+  for_each_contact_stencil(y, *obstacle_, *body_surface_, [&](const contact::Stencil& st, const contact::Matrix12d&, bool forward) {
+    add_pairs(st, forward);
+  });
 }
 
 }  // namespace palpa::rest

@@ -9,11 +9,12 @@
 // tet mesh (its base is fixed). Energy:
 //   E(y) = E_body(x) + E_support(v) + E_contact(positions of the body's skin,
 //                                              deformed support surface).
-// The contact term is the body's own vertex term (body::ContactTerm, already
-// in the CoreSystem); its obstacle is the support's boundary surface, which
-// this system moves to the deformed positions at v before every call.
-// So calls must not run concurrently on one object (Newton's line searches
-// evaluate their trials one after the other).
+// The forward pass is the body's contact term (body::ContactTerm, not among
+// the CoreSystem's terms: this system evaluates it), whose obstacle is the
+// support's boundary surface. Every const call evaluates both passes against
+// copies of the two surfaces moved to y (contact::Obstacle::deformed), so
+// calls may run concurrently; prepare() moves the surfaces themselves and
+// commits both passes there.
 //
 // Two passes. The body's skin presses on the support's triangles, and — for
 // a deformable support — the support's surface presses on the body's skin
@@ -36,8 +37,8 @@
 //   [ K_body            ]
 //   [ C        K_support]   (lower triangle),
 // whose coupling pattern C holds every (support vertex, body vertex) pair that
-// has been in contact so far: it only grows, so the sparse factorization is
-// analysed again only when a new pair touches.
+// has been in contact at a prepare() so far: it only grows, so the sparse
+// factorization is analysed again only when a new pair touches.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -58,7 +59,7 @@ namespace palpa::rest {
 
 class CoupledSystem final : public System {
  public:
-  // body: the body, with `term` among its vertex terms; support: the support's
+  // body: the body (`term` not among its terms); support: the support's
   // static system (base fixed, nothing else attached); obstacle: the support's
   // boundary surface, whose vertex j is vertex surface[j] of the support's tet
   // mesh, and the obstacle of `term`. All must outlive this system. The
@@ -70,15 +71,17 @@ class CoupledSystem final : public System {
 
   // k of each pass [N/m] (the forward term's and the reverse pass's).
   void set_stiffness(double k);
+  // The forward term (the body's skin on the support's surface).
+  const body::ContactTerm& forward_term() const noexcept { return *term_; }
 
   Eigen::Index num_body_dofs() const noexcept { return body_->num_dofs(); }
   Eigen::Index num_support_dofs() const noexcept { return support_->num_dofs(); }
   const std::vector<int>& surface() const noexcept { return surface_; }
 
   // The support's deformed boundary at y (#surface × 3) [m], and the obstacle
-  // moved there.
+  // (and the body's surface) moved there.
   Eigen::MatrixX3d surface_positions(const Eigen::VectorXd& y) const;
-  void place_obstacle(const Eigen::VectorXd& y) const;
+  void place_obstacle(const Eigen::VectorXd& y);
   // The reverse pass (the support's surface in the body's skin) with the
   // contacts committed at the last prepare().
   const contact::PenaltyContact& reverse_contacts() const noexcept { return reverse_; }
@@ -107,6 +110,20 @@ class CoupledSystem final : public System {
 
  private:
   double evaluate(const Eigen::VectorXd& y, Eigen::VectorXd* g) const;
+  // Copies of the support's surface and of the body's at y.
+  struct Surfaces {
+    contact::Obstacle support;
+    contact::Obstacle body;
+  };
+  Surfaces surfaces_at(const Eigen::VectorXd& y) const;
+  // Calls f(stencil, K, forward) for every committed contact stencil of both
+  // passes at y (the surfaces there given), with its Hessian K.
+  template <class F>
+  void for_each_contact_stencil(const Eigen::VectorXd& y, const contact::Obstacle& support,
+                                const contact::Obstacle& body, F&& f) const;
+  // The support surface vertex and body vertex of each coupling block of a
+  // stencil (support rows, body columns).
+  void add_pairs(const contact::Stencil& st, bool forward);
   // The support's deformed surface (3×#surface) and the body's deformed
   // boundary (3×#boundary, its vertex i is body vertex body_vertex_[i]) at y.
   Eigen::Matrix3Xd support_points(const Eigen::VectorXd& y) const;
@@ -131,11 +148,7 @@ class CoupledSystem final : public System {
   contact::PenaltyContact reverse_;
   std::vector<int> full_to_free_;         // support full DOF -> free index or −1
   std::vector<int> body_full_to_free_;    // body full DOF -> CoreSystem DOF or −1
-  // Scratch kept between Hessians so the sub-patterns are built once (calls
-  // are serial, see above).
-  mutable Eigen::SparseMatrix<double> body_hessian_;
-  mutable Eigen::SparseMatrix<double> support_hessian_;
-  mutable std::set<std::pair<int, int>> pairs_;  // (support surface vertex, body vertex) ever in contact
+  std::set<std::pair<int, int>> pairs_;  // (support surface vertex, body vertex) ever in contact
 };
 
 }  // namespace palpa::rest

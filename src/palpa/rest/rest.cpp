@@ -67,10 +67,9 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
     }
     core.centre = c / static_cast<double>(core.attached.size());
   }
-  system_ = std::make_unique<body::CoreSystem>(*model_, core);
+  system_ = std::make_unique<body::CoreSystem>(*model_, core, PsdProjection::None);
   system_->set_gravity(options_.gravity);
   system_->set_regularization(options_.regularization);
-  system_->set_true_hessian(true);
 
   boundary_faces_ = geometry::boundary_of(mesh).faces;
   surface_faces_ = skin_faces(mesh, body_.attached);
@@ -129,7 +128,7 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
   // Two passes on a deformable support share the spring law: each at k/2.
   term_ = std::make_unique<body::ContactTerm>(*support_, mesh.V, surface_faces_, k / contact_passes(), options_.sampling,
                                               options_.subdivisions);
-  system_->add_term(term_.get());
+  if (!support_model_) system_->add_term(term_.get());  // else the coupled system evaluates it
   if (support_model_) {
     std::vector<int> surface(static_cast<std::size_t>(support_rest_.rows()));
     for (std::size_t j = 0; j < surface.size(); ++j) surface[j] = static_cast<int>(j);
@@ -192,8 +191,7 @@ void RestSimulation::build_deformable_support() {
                                               "along gravity): it needs a flat base to stand on",
                                               name, held, format_quantity(d.base_tolerance, Dimension::Length)));
   }
-  support_system_ = std::make_unique<tet::StaticSystem>(*support_model_, std::move(fixed));
-  support_system_->set_true_hessian(true);
+  support_system_ = std::make_unique<tet::StaticSystem>(*support_model_, std::move(fixed), PsdProjection::None);
   support_x_ = Eigen::VectorXd::Zero(support_system_->num_dofs());
   spdlog::info("rest: {} is deformable: {} tets, {} vertices, {} of them held at its base", name,
                support_model_->num_elements(), support_model_->num_vertices(), held);

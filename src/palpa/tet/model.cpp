@@ -200,26 +200,6 @@ double ElasticModel::elastic_energy(const Eigen::VectorXd& u, Eigen::VectorXd* g
   return total;
 }
 
-void ElasticModel::element_hessians(const Eigen::VectorXd& u, material::PsdProjection projection,
-                                    std::vector<Mat12>& blocks) const {
-  const auto n_el = static_cast<std::size_t>(mesh_.T.rows());
-  blocks.resize(n_el);
-  std::atomic<bool> admissible{true};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_el, kGrain), [&](const auto& range) {
-    TetResult r;
-    for (std::size_t e = range.begin(); e != range.end(); ++e) {
-      const auto ei = static_cast<Eigen::Index>(e);
-      if (!tet_evaluate(material_of(ei), geometry_[e], element_positions(u, ei), material::EvalOrder::Hessian,
-                        projection, r)) {
-        admissible = false;
-        return;
-      }
-      blocks[e] = r.hessian;
-    }
-  });
-  if (!admissible) throw Error(ErrorKind::Internal, "Hessian requested at an inverted configuration");
-}
-
 Eigen::MatrixXd ElasticModel::gradient_param_jacobian(const Eigen::VectorXd& u, std::size_t k) const {
   const auto& m = *materials_.at(k).material;
   const Eigen::Index p = m.num_params();

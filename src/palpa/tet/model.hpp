@@ -6,8 +6,8 @@
 // DOFs. The model works on the full nodal displacement u (3N, u = x − X,
 // vertex-major: u[3v + c]). Which DOFs are free, and what other energies act
 // on the vertices (contact), is the business of the systems built on it
-// (system.hpp); they call the assembly functions here, which are parallel
-// (TBB), allocate nothing per element and write into caller-owned storage.
+// (system.hpp); its energy and gradient here are parallel (TBB), its element
+// Hessians are the ElasticTerm's stencils (elastic_term.hpp).
 //
 // Units: positions [m], density [kg/m³], energies [J], forces [N].
 
@@ -60,11 +60,6 @@ class ElasticModel {
   // Elastic energy [J] at u; +infinity when an element is inverted. When g is
   // given it is set to ∂E/∂u (3N) [N] (left unspecified for +infinity).
   double elastic_energy(const Eigen::VectorXd& u, Eigen::VectorXd* g = nullptr) const;
-
-  // Element Hessians ∂²E_e/∂x_e² at u into blocks (#T, resized), PSD-projected
-  // or not. Throws palpa::Error (Internal) at an inverted element.
-  void element_hessians(const Eigen::VectorXd& u, material::PsdProjection projection,
-                        std::vector<Mat12>& blocks) const;
 
   // ∂g/∂θ for the parameters of materials[k]: 3N × p_k (dense).
   Eigen::MatrixXd gradient_param_jacobian(const Eigen::VectorXd& u, std::size_t k) const;
