@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // The System contract (solve/system.hpp), checked on every term palpa sums
-// (solve/term.hpp: the tet elastic energy, a constant load, penalty contact
-// sampled at vertices and over the skin), each alone over a DOF map with held
+// (solve/term.hpp: the tet elastic energy, its deviatoric and nodal-volume
+// parts, a constant load, penalty contact sampled at vertices and over the
+// skin), each alone over a DOF map with held
 // DOFs and over one with a rigid core, and on every system palpa builds from
 // them: a tet body with gravity and surface contact (tet::StaticSystem), its
 // implicit-Euler step (tet::BackwardEulerSystem), the body on its rigid core
@@ -32,6 +33,7 @@
 #include "palpa/material/models.hpp"
 #include "palpa/solve/term_system.hpp"
 #include "palpa/tet/elastic_term.hpp"
+#include "palpa/tet/nodal_pressure.hpp"
 #include "palpa/rest/coupled.hpp"
 #include "palpa/rest/rest.hpp"
 #include "palpa/sim3d/run.hpp"
@@ -196,6 +198,10 @@ TEST(SystemConformance, EveryTermAloneWithHeldDofsAndOnARigidCore) {
   for (const bool core : {false, true}) {
     tet::ElasticTerm elastic(f.model);
     check_term(elastic, f, core, "tet::ElasticTerm");
+    tet::DeviatoricTerm deviatoric(f.model);
+    check_term(deviatoric, f, core, "tet::DeviatoricTerm");
+    tet::NodalVolumeTerm nodal(f.model);
+    check_term(nodal, f, core, "tet::NodalVolumeTerm");
     LinearTerm gravity(f.model.gravity_gradient(Eigen::Vector3d(0.3, -0.2, -9.81)));
     check_term(gravity, f, core, "LinearTerm");
     const Eigen::MatrixX3i skin = geometry::boundary_of(f.model.mesh()).faces;

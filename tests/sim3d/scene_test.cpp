@@ -75,6 +75,13 @@ TEST(Scene, ReadsACylinderWithARingOfNodesAtTheRim) {
   p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm"}, "box": {"size": ["1 mm", "1 mm", "1 mm"], "cells": [1, 1, 1]})";
   EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
                            {"more than one of \"box\", \"cylinder\""}));
+  // The element, by name.
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16}, "element": "nodal-pressure")";
+  p.fixed = R"([{"set": "bottom"}])";
+  EXPECT_EQ(read_scene(write_punch_scene(dir, p)).element, tet::TetElement::NodalPressure);
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16}, "element": "quadratic")";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"body.element", "unknown element 'quadratic'", "\"nodal-pressure\""}));
   // A whole cylinder has no cut planes.
   p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16})";
   p.fixed = R"([{"set": "sector_start"}])";

@@ -43,9 +43,9 @@ CoreSystem::CoreSystem(const tet::ElasticModel& model, CoreSpec core, PsdProject
     : TermSystem(core_map(model, core), newton),
       model_(&model),
       core_(std::move(core)),
-      elastic_(model),
+      elastic_(tet::make_elastic_terms(model)),
       gravity_(Eigen::VectorXd::Zero(model.num_dofs())) {
-  add_term(&elastic_);
+  for (const auto& t : elastic_) add_term(t.get());
   add_term(&gravity_);
   set_gravity(Eigen::Vector3d::Zero());
 }

@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "palpa/solve/so3.hpp"
@@ -95,7 +96,7 @@ class CoreSystem final : public TermSystem {
  private:
   const tet::ElasticModel* model_;
   CoreSpec core_;
-  tet::ElasticTerm elastic_;
+  std::vector<std::unique_ptr<Term>> elastic_;
   LinearTerm gravity_;
 };
 

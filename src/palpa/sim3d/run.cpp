@@ -58,6 +58,7 @@ Simulation::Simulation(const Scene& scene) : scene_(&scene) {
     for (std::size_t v = 0; v < vertex_map_.size(); ++v) vertex_map_[v] = static_cast<int>(v);
   }
   model_ = std::make_unique<tet::ElasticModel>(*mesh, scene.materials, element_material);
+  model_->set_element(scene.element);
 
   // Supports (and the cut boundary of a local simulation).
   const Eigen::Index nv = model_->num_vertices();

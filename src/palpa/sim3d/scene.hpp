@@ -15,6 +15,8 @@
 //     // or "mesh": "body.vtu" (.vtu/.msh/.node/.ele), "unit": "mm"
 //     "materials": [{"material": "foam.json", "density": "1000 kg/m^3",
 //                    "regions": [0, 2]}],        // regions: omit for all tets
+//     "element": "linear",    // or "nodal-pressure": volume change averaged
+//                             // over each vertex's tets, for ν near 0.5
 //     "fixed": [{"set": "bottom", "components": "xyz"},
 //               {"below": "-19 mm", "axis": "z"}]
 //   },
@@ -127,6 +129,7 @@ struct Scene {
   bool is_box = false;
   std::vector<tet::BodyMaterial> materials;
   Eigen::VectorXi element_material;
+  tet::TetElement element = tet::TetElement::Linear;
   std::vector<FixedSpec> fixed;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   std::vector<ObstacleSpec> obstacles;

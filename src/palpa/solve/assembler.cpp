@@ -18,8 +18,10 @@ std::uint64_t pair_key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
-// Stencil Hessians are evaluated this many at a time into one buffer.
+// Stencil Hessians are evaluated this many at a time into one buffer, of at
+// most kBuffer doubles.
 constexpr Eigen::Index kChunk = 2048;
+constexpr Eigen::Index kBuffer = Eigen::Index{1} << 22;
 constexpr std::size_t kGrain = 64;
 
 }  // namespace
@@ -62,9 +64,10 @@ Assembler::Assembler(const DofMap& map, std::vector<const Term*> terms) : map_(&
       const Term& t = *terms_[ti];
       const int K = t.stencil_size();
       if (K == 0) continue;
-      std::vector<int> v(static_cast<std::size_t>(K));
+      std::vector<int> v;
       for (Eigen::Index s = 0; s < t.num_stencils(); ++s) {
-        t.stencil(s, v.data());
+        v.resize(static_cast<std::size_t>(K));
+        v.resize(static_cast<std::size_t>(t.stencil(s, v.data())));
         const bool core = std::any_of(v.begin(), v.end(), [&](int w) { return map.attached(w); });
         visit_stencil_entry(ti, s, core, v);
       }
@@ -246,13 +249,14 @@ void Assembler::assemble(const Eigen::VectorXd& x, const VertexState& s, PsdProj
   std::vector<double> buffer;
   std::vector<int> vertices;
   for (const Stencils& st : stencils_) {
-    const int K = st.size;
-    const Eigen::Index m = 3 * K;
+    // Room for the largest stencil; stencil i's Hessian is (3K_i)², K_i ≤ K.
+    const Eigen::Index m = 3 * st.size;
     const Eigen::Index count = st.term->num_stencils();
-    buffer.resize(static_cast<std::size_t>(std::min(count, kChunk) * m * m));
-    vertices.resize(static_cast<std::size_t>(K));
-    for (Eigen::Index begin = 0; begin < count; begin += kChunk) {
-      const Eigen::Index end = std::min(count, begin + kChunk);
+    const Eigen::Index chunk = std::clamp(kBuffer / (m * m), Eigen::Index{1}, kChunk);
+    buffer.resize(static_cast<std::size_t>(std::min(count, chunk) * m * m));
+    vertices.resize(static_cast<std::size_t>(st.size));
+    for (Eigen::Index begin = 0; begin < count; begin += chunk) {
+      const Eigen::Index end = std::min(count, begin + chunk);
       std::atomic<bool> admissible{true};
       tbb::parallel_for(tbb::blocked_range<Eigen::Index>(begin, end, kGrain), [&](const auto& range) {
         for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
@@ -266,14 +270,15 @@ void Assembler::assemble(const Eigen::VectorXd& x, const VertexState& s, PsdProj
       for (Eigen::Index i = begin; i < end; ++i) {
         const double* h = buffer.data() + (i - begin) * m * m;
         const int* slots = slots_.data() + st.offset[static_cast<std::size_t>(i)];
+        const int K = st.term->stencil(i, vertices.data());
+        const Eigen::Index mi = 3 * K;
         if (!st.on_core[static_cast<std::size_t>(i)]) {
-          for (Eigen::Index k = 0; k < m * m; ++k) {
+          for (Eigen::Index k = 0; k < mi * mi; ++k) {
             if (slots[k] >= 0) values[slots[k]] += h[k];
           }
           continue;
         }
-        st.term->stencil(i, vertices.data());
-        const Eigen::Map<const Eigen::MatrixXd> hm(h, m, m);
+        const Eigen::Map<const Eigen::MatrixXd> hm(h, mi, mi);
         int la[6];
         for (int b = 0; b < K; ++b) {
           for (int a = 0; a < K; ++a) {

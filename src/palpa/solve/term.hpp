@@ -12,9 +12,10 @@
 //
 // Hessians come in one of two shapes, both on fixed stencils so that the
 // sparsity pattern is built once:
-//  * element stencils: num_stencils() lists of stencil_size() vertices each
-//    (a tet's four corners), each with a dense (3K)×(3K) Hessian that the
-//    assembler evaluates in parallel and adds in stencil order;
+//  * element stencils: num_stencils() lists of at most stencil_size()
+//    vertices each (a tet's four corners, a vertex's patch of tets), each
+//    with a dense (3K)×(3K) Hessian that the assembler evaluates in parallel
+//    and adds in stencil order;
 //  * vertex-pair blocks: 3×3 blocks on single vertices and on the pairs the
 //    term names up front (vertex_pairs(): the corners of a skin triangle whose
 //    traction is integrated over it), for terms whose active stencils change
@@ -56,13 +57,14 @@ class Term {
   // E, and adds ∂E/∂p into g (3N) [N] (g untouched past a +infinity).
   virtual double add_gradient(const VertexState& s, Eigen::VectorXd& g) const = 0;
 
-  // Element stencils: K = stencil_size() vertices per stencil (0: none), the
-  // vertices of stencil i into `vertices` (K entries), and its Hessian
-  // (3K × 3K, column-major, rows 3a + c for vertex a, component c) into h.
-  // stencil_hessian returns false where the state is not admissible there.
+  // Element stencils: at most stencil_size() vertices per stencil (0: none);
+  // stencil(i, vertices) writes the K vertices of stencil i and returns K,
+  // and stencil_hessian its Hessian (3K × 3K, column-major, rows 3a + c for
+  // vertex a, component c) into h; it returns false where the state is not
+  // admissible there.
   virtual int stencil_size() const noexcept { return 0; }
   virtual Eigen::Index num_stencils() const noexcept { return 0; }
-  virtual void stencil(Eigen::Index i, int* vertices) const;
+  virtual int stencil(Eigen::Index i, int* vertices) const;
   virtual bool stencil_hessian(const VertexState& s, Eigen::Index i, PsdProjection projection, double* h) const;
 
   // Vertex-pair blocks: the pairs of distinct vertices whose blocks

@@ -8,7 +8,7 @@
 namespace palpa {
 
 Term::~Term() = default;
-void Term::stencil(Eigen::Index /*i*/, int* /*vertices*/) const {}
+int Term::stencil(Eigen::Index /*i*/, int* /*vertices*/) const { return 0; }
 bool Term::stencil_hessian(const VertexState& /*s*/, Eigen::Index /*i*/, PsdProjection /*projection*/,
                            double* /*h*/) const {
   return true;

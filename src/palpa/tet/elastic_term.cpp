@@ -12,8 +12,9 @@ double ElasticTerm::add_gradient(const VertexState& s, Eigen::VectorXd& g) const
   return e;
 }
 
-void ElasticTerm::stencil(Eigen::Index e, int* vertices) const {
+int ElasticTerm::stencil(Eigen::Index e, int* vertices) const {
   for (int a = 0; a < 4; ++a) vertices[a] = model_->mesh().T(e, a);
+  return 4;
 }
 
 bool ElasticTerm::stencil_hessian(const VertexState& s, Eigen::Index e, PsdProjection projection, double* h) const {

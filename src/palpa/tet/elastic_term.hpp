@@ -19,7 +19,7 @@ class ElasticTerm final : public Term {
 
   int stencil_size() const noexcept override { return 4; }
   Eigen::Index num_stencils() const noexcept override { return model_->num_elements(); }
-  void stencil(Eigen::Index e, int* vertices) const override;
+  int stencil(Eigen::Index e, int* vertices) const override;
   bool stencil_hessian(const VertexState& s, Eigen::Index e, PsdProjection projection, double* h) const override;
 
  private:

@@ -22,6 +22,12 @@
 
 namespace palpa::tet {
 
+// The element of the body's energy: the linear tet (constant F per tet), or
+// the linear tet with nodally averaged volume change (nodal_pressure.hpp),
+// which does not lock as ν → 0.5. The systems built on a model read it when
+// they are built.
+enum class TetElement { Linear, NodalPressure };
+
 // One material of the body, with its mass density.
 struct BodyMaterial {
   std::shared_ptr<const material::Material> material;
@@ -47,6 +53,8 @@ class ElasticModel {
     return *materials_[static_cast<std::size_t>(element_material_[e])].material;
   }
   const TetGeometry& geometry(Eigen::Index e) const { return geometry_[static_cast<std::size_t>(e)]; }
+  TetElement element() const noexcept { return element_; }
+  void set_element(TetElement element) noexcept { element_ = element; }
 
   // Lumped mass per vertex (ρV/4 from each tet) [kg], N.
   const Eigen::VectorXd& lumped_mass() const noexcept { return lumped_mass_; }
@@ -110,6 +118,7 @@ class ElasticModel {
   Eigen::VectorXi element_material_;
   std::vector<TetGeometry> geometry_;
   Eigen::VectorXd lumped_mass_;
+  TetElement element_ = TetElement::Linear;
 };
 
 }  // namespace palpa::tet

@@ -8,8 +8,20 @@
 #include <limits>
 
 #include "palpa/core/error.hpp"
+#include "palpa/tet/nodal_pressure.hpp"
 
 namespace palpa::tet {
+
+std::vector<std::unique_ptr<Term>> make_elastic_terms(const ElasticModel& model) {
+  std::vector<std::unique_ptr<Term>> terms;
+  if (model.element() == TetElement::NodalPressure) {
+    terms.push_back(std::make_unique<DeviatoricTerm>(model));
+    terms.push_back(std::make_unique<NodalVolumeTerm>(model));
+  } else {
+    terms.push_back(std::make_unique<ElasticTerm>(model));
+  }
+  return terms;
+}
 
 std::vector<char> hold_unused_vertices(const TetMesh& mesh, std::vector<char> fixed) {
   std::vector<char> used(static_cast<std::size_t>(mesh.V.rows()), 0);
@@ -36,10 +48,10 @@ std::vector<char> checked_flags(const ElasticModel& model, std::vector<char> fix
 StaticSystem::StaticSystem(const ElasticModel& model, std::vector<char> fixed, PsdProjection newton)
     : TermSystem(DofMap(model.mesh().V, checked_flags(model, std::move(fixed))), newton),
       model_(&model),
-      elastic_(model),
+      elastic_(make_elastic_terms(model)),
       gravity_(Eigen::VectorXd::Zero(model.num_dofs())),
       external_(Eigen::VectorXd::Zero(model.num_dofs())) {
-  add_term(&elastic_);
+  for (const auto& t : elastic_) add_term(t.get());
   add_term(&gravity_);
   add_term(&external_);
 }

@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <memory>
 #include <vector>
 
 #include "palpa/solve/term_system.hpp"
@@ -29,6 +30,11 @@
 #include "palpa/tet/model.hpp"
 
 namespace palpa::tet {
+
+// The terms of the body's elastic energy for its element (model.element()):
+// an ElasticTerm, or the deviatoric and nodal-volume terms of
+// nodal_pressure.hpp. The model must outlive them.
+std::vector<std::unique_ptr<Term>> make_elastic_terms(const ElasticModel& model);
 
 // The fixed flags (3N) with every DOF of a vertex that no tet uses set: such
 // a vertex has no stiffness at all and is held where it is.
@@ -71,7 +77,7 @@ class StaticSystem : public TermSystem {
 
  private:
   const ElasticModel* model_;
-  ElasticTerm elastic_;
+  std::vector<std::unique_ptr<Term>> elastic_;
   LinearTerm gravity_;
   LinearTerm external_;
 };

@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+// The tet with nodally averaged volume change (tet/nodal_pressure.hpp): the
+// tet volume and dilatation energy against finite differences, the patch test
+// (a homogeneous deformation gives the linear tet's energy and forces
+// exactly). What it is for is in locking_physics_test.cpp.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <random>
+
+#include "common/finite_difference.hpp"
+#include "common/test_support.hpp"
+#include "palpa/material/models.hpp"
+#include "palpa/tet/elastic_term.hpp"
+#include "palpa/tet/mesh.hpp"
+#include "palpa/tet/nodal_pressure.hpp"
+#include "palpa/tet/system.hpp"
+
+namespace palpa::tet {
+namespace {
+
+using test::derivatives_match;
+using test::fd_gradient;
+using test::fd_jacobian;
+
+TEST(NodalPressure, TetVolumeGradientAndHessianMatchFiniteDifferences) {
+  auto rng = test::make_rng(41);
+  std::uniform_real_distribution<double> du(-0.3, 0.3);
+  Mat34 x;
+  x << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
+  for (int i = 0; i < 12; ++i) x.data()[i] += du(rng);
+  Vec12 g;
+  Mat12 H;
+  const double v = tet_volume(x, &g, &H);
+  Mat34 X;
+  X << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
+  EXPECT_NEAR(tet_volume(X), 1.0 / 6.0, 1e-15);
+  const auto volume = [&](const Eigen::VectorXd& y) { return tet_volume(Eigen::Map<const Mat34>(y.data())); };
+  const auto gradient = [&](const Eigen::VectorXd& y) {
+    Vec12 out;
+    tet_volume(Eigen::Map<const Mat34>(y.data()), &out);
+    return Eigen::VectorXd(out);
+  };
+  const Eigen::VectorXd x0 = Eigen::Map<const Vec12>(x.data());
+  EXPECT_NEAR(volume(x0), v, 1e-15);
+  EXPECT_TRUE(derivatives_match(g, fd_gradient(volume, x0, 1e-6), 1e-8));
+  EXPECT_TRUE(derivatives_match(H, fd_jacobian(gradient, x0, 1e-6), 1e-8));
+}
+
+TEST(NodalPressure, DilatationDerivativesMatchFiniteDifferencesForEveryKindOfModel) {
+  const std::vector<std::shared_ptr<const material::Material>> models = {
+      std::make_shared<material::NeoHookean>(10e3, 0.49),
+      std::make_shared<material::Ogden>(std::vector<double>{4e3, -1e3}, std::vector<double>{5.0, -2.0}, 0.45),
+      std::make_shared<material::StVenantKirchhoff>(10e3, 0.3)};
+  for (const auto& m : models) {
+    for (const double J : {0.7, 1.0, 1.3}) {
+      const Dilatation d = dilatation(*m, J);
+      const double h = 1e-6;
+      EXPECT_NEAR(d.du, (dilatation(*m, J + h).u - dilatation(*m, J - h).u) / (2 * h), 1e-6 * std::abs(d.du) + 1e-6)
+          << m->model() << " J " << J;
+      EXPECT_NEAR(d.d2u, (dilatation(*m, J + h).du - dilatation(*m, J - h).du) / (2 * h), 1e-6 * std::abs(d.d2u) + 1e-3)
+          << m->model() << " J " << J;
+      EXPECT_GT(d.d2u, 0.0) << m->model();
+    }
+    EXPECT_NEAR(dilatation(*m, 1.0).u, 0.0, 1e-12);
+    EXPECT_NEAR(dilatation(*m, 1.0).du, 0.0, 1e-9);
+    // At rest U'' is the bulk modulus.
+    EXPECT_NEAR(dilatation(*m, 1.0).d2u, material::small_strain_constants(*m).bulk(),
+                1e-6 * material::small_strain_constants(*m).bulk())
+        << m->model();
+  }
+}
+
+ElasticModel box_model(const Eigen::Vector3i& cells, const Eigen::Vector3d& size, double nu,
+                       TetElement element = TetElement::Linear) {
+  const BoxMesh box = make_box_mesh(Eigen::Vector3d::Zero(), size, cells);
+  ElasticModel model(box.mesh, {BodyMaterial{std::make_shared<material::NeoHookean>(20e3, nu), 1000.0}});
+  model.set_element(element);
+  return model;
+}
+
+TEST(NodalPressure, AHomogeneousDeformationGivesTheLinearTetsEnergyAndForces) {
+  const ElasticModel model = box_model(Eigen::Vector3i(3, 2, 2), Eigen::Vector3d(0.03, 0.02, 0.02), 0.49);
+  Eigen::Matrix3d F;
+  F << 1.1, 0.05, -0.02, 0.03, 0.92, 0.04, -0.01, 0.02, 0.97;
+  Eigen::VectorXd u(model.num_dofs());
+  for (Eigen::Index v = 0; v < model.num_vertices(); ++v) {
+    const Eigen::Vector3d X = model.mesh().V.row(v).transpose();
+    u.segment<3>(3 * v) = F * X - X;
+  }
+  Eigen::VectorXd p(u.size());
+  for (Eigen::Index v = 0; v < model.num_vertices(); ++v) p.segment<3>(3 * v) = model.mesh().V.row(v).transpose() + u.segment<3>(3 * v);
+  const VertexState s{u, p};
+  const ElasticTerm linear(model);
+  const DeviatoricTerm deviatoric(model);
+  const NodalVolumeTerm nodal(model);
+  Eigen::VectorXd g_linear = Eigen::VectorXd::Zero(u.size()), g_averaged = Eigen::VectorXd::Zero(u.size());
+  const double e_linear = linear.add_gradient(s, g_linear);
+  const double e_averaged = deviatoric.add_gradient(s, g_averaged) + nodal.add_gradient(s, g_averaged);
+  EXPECT_GT(e_linear, 0.0);
+  EXPECT_NEAR(e_averaged, e_linear, 1e-12 * e_linear);
+  EXPECT_LE((g_averaged - g_linear).cwiseAbs().maxCoeff(), 1e-10 * g_linear.cwiseAbs().maxCoeff());
+  EXPECT_NEAR(nodal.nodal_jacobians(u).minCoeff(), F.determinant(), 1e-13);
+  EXPECT_NEAR(nodal.nodal_jacobians(u).maxCoeff(), F.determinant(), 1e-13);
+}
+
+}  // namespace
+}  // namespace palpa::tet
