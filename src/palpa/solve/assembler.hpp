@@ -58,9 +58,6 @@ class Assembler {
   void add_rotation_block(const Eigen::Matrix3d& c, Eigen::SparseMatrix<double>& H) const;
 
  private:
-  // Slots of one (a, b) vertex block at offset `at`, rows the DOFs of a,
-  // columns those of b (|L_a|·|L_b| entries, −1 where upper or fixed).
-  std::int64_t add_block_slots(int a, int b, std::vector<Eigen::Triplet<double>>* pattern_entries);
   // The DOFs a vertex's block lands on: its own three (−1 if fixed), or the
   // core's (attached).
   int local_dofs(int v, int* out) const;
