@@ -12,11 +12,6 @@ double ElasticTerm::add_gradient(const VertexState& s, Eigen::VectorXd& g) const
   return e;
 }
 
-int ElasticTerm::stencil(Eigen::Index e, int* vertices) const {
-  for (int a = 0; a < 4; ++a) vertices[a] = model_->mesh().T(e, a);
-  return 4;
-}
-
 bool ElasticTerm::stencil_hessian(const VertexState& s, Eigen::Index e, PsdProjection projection, double* h) const {
   TetResult r;
   if (!tet_evaluate(model_->material_of(e), model_->geometry(e), model_->element_positions(s.u, e),

@@ -9,6 +9,12 @@
 
 namespace palpa::tet {
 
+// The four corners of tet e into `vertices`; returns 4 (a tet term's stencil).
+inline int tet_corners(const ElasticModel& model, Eigen::Index e, int* vertices) {
+  for (int a = 0; a < 4; ++a) vertices[a] = model.mesh().T(e, a);
+  return 4;
+}
+
 class ElasticTerm final : public Term {
  public:
   // model: must outlive the term.
@@ -19,7 +25,7 @@ class ElasticTerm final : public Term {
 
   int stencil_size() const noexcept override { return 4; }
   Eigen::Index num_stencils() const noexcept override { return model_->num_elements(); }
-  int stencil(Eigen::Index e, int* vertices) const override;
+  int stencil(Eigen::Index e, int* vertices) const override { return tet_corners(*model_, e, vertices); }
   bool stencil_hessian(const VertexState& s, Eigen::Index e, PsdProjection projection, double* h) const override;
 
  private:

@@ -126,11 +126,6 @@ double DeviatoricTerm::add_gradient(const VertexState& s, Eigen::VectorXd& g) co
   return total;
 }
 
-int DeviatoricTerm::stencil(Eigen::Index e, int* vertices) const {
-  for (int a = 0; a < 4; ++a) vertices[a] = model_->mesh().T(e, a);
-  return 4;
-}
-
 bool DeviatoricTerm::stencil_hessian(const VertexState& s, Eigen::Index e, PsdProjection projection,
                                      double* h) const {
   const Mat34 x = model_->element_positions(s.u, e);
@@ -219,13 +214,15 @@ Dilatation NodalVolumeTerm::nodal(Eigen::Index a, double J) const {
   return w;
 }
 
-bool NodalVolumeTerm::volumes(const Eigen::VectorXd& u, std::vector<double>& v) const {
+bool NodalVolumeTerm::volumes(const Eigen::VectorXd& u, std::vector<double>& v, std::vector<Vec12>* gradients) const {
   const auto n = static_cast<std::size_t>(model_->num_elements());
   v.resize(n);
+  if (gradients != nullptr) gradients->resize(n);
   std::atomic<bool> admissible{true};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kNodalGrain), [&](const auto& range) {
     for (std::size_t e = range.begin(); e != range.end(); ++e) {
-      v[e] = tet_volume(model_->element_positions(u, static_cast<Eigen::Index>(e)));
+      v[e] = tet_volume(model_->element_positions(u, static_cast<Eigen::Index>(e)),
+                        gradients != nullptr ? &(*gradients)[e] : nullptr);
       if (!(v[e] > 0.0) || !std::isfinite(v[e])) admissible = false;
     }
   });
@@ -268,7 +265,8 @@ double NodalVolumeTerm::energy(const VertexState& s) const {
 
 double NodalVolumeTerm::add_gradient(const VertexState& s, Eigen::VectorXd& g) const {
   std::vector<double> v;
-  if (!volumes(s.u, v)) return kInfinity;
+  std::vector<Vec12> dv;
+  if (!volumes(s.u, v, &dv)) return kInfinity;
   const Eigen::VectorXd J = jacobians(v);
   const Eigen::Index nv = J.size();
   std::vector<double> energies(static_cast<std::size_t>(nv), 0.0);
@@ -283,22 +281,13 @@ double NodalVolumeTerm::add_gradient(const VertexState& s, Eigen::VectorXd& g) c
   });
   // ∂E/∂x = Σ_e (Σ_{a∈e} W_a'/(4V̂_a)) ∂v_e.
   const TetMesh& mesh = model_->mesh();
-  const auto nt = static_cast<std::size_t>(model_->num_elements());
-  std::vector<Vec12> local(nt);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, kNodalGrain), [&](const auto& range) {
-    for (std::size_t e = range.begin(); e != range.end(); ++e) {
-      const auto ei = static_cast<Eigen::Index>(e);
-      double c = 0.0;
-      for (int a = 0; a < 4; ++a) c += slope[static_cast<std::size_t>(mesh.T(ei, a))];
-      Vec12 dv;
-      tet_volume(model_->element_positions(s.u, ei), &dv);
-      local[e] = c * dv;
-    }
-  });
   double total = 0.0;
   for (double e : energies) total += e;
-  for (std::size_t e = 0; e < nt; ++e) {
-    for (int a = 0; a < 4; ++a) g.segment<3>(3 * mesh.T(static_cast<Eigen::Index>(e), a)) += local[e].segment<3>(3 * a);
+  for (std::size_t e = 0; e < dv.size(); ++e) {
+    const auto ei = static_cast<Eigen::Index>(e);
+    double c = 0.0;
+    for (int a = 0; a < 4; ++a) c += slope[static_cast<std::size_t>(mesh.T(ei, a))];
+    for (int a = 0; a < 4; ++a) g.segment<3>(3 * mesh.T(ei, a)) += c * dv[e].segment<3>(3 * a);
   }
   return total;
 }

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "palpa/solve/term.hpp"
+#include "palpa/tet/elastic_term.hpp"
 #include "palpa/tet/model.hpp"
 
 namespace palpa::tet {
@@ -57,7 +58,7 @@ class DeviatoricTerm final : public Term {
   double add_gradient(const VertexState& s, Eigen::VectorXd& g) const override;
   int stencil_size() const noexcept override { return 4; }
   Eigen::Index num_stencils() const noexcept override { return model_->num_elements(); }
-  int stencil(Eigen::Index e, int* vertices) const override;
+  int stencil(Eigen::Index e, int* vertices) const override { return tet_corners(*model_, e, vertices); }
   bool stencil_hessian(const VertexState& s, Eigen::Index e, PsdProjection projection, double* h) const override;
 
  private:
@@ -85,8 +86,9 @@ class NodalVolumeTerm final : public Term {
   Eigen::VectorXd nodal_jacobians(const Eigen::VectorXd& u) const;
 
  private:
-  // Current tet volumes at u (#T); false if one is not positive.
-  bool volumes(const Eigen::VectorXd& u, std::vector<double>& v) const;
+  // Current tet volumes at u (#T), and their gradients if asked; false if
+  // one is not positive.
+  bool volumes(const Eigen::VectorXd& u, std::vector<double>& v, std::vector<Vec12>* gradients = nullptr) const;
   // J_a of every vertex from the tet volumes.
   Eigen::VectorXd jacobians(const std::vector<double>& v) const;
   // W_a and its derivatives at J (J > 0).
