@@ -202,6 +202,12 @@ TEST(SystemConformance, EveryTermAloneWithHeldDofsAndOnARigidCore) {
     check_term(deviatoric, f, core, "tet::DeviatoricTerm");
     tet::NodalVolumeTerm nodal(f.model);
     check_term(nodal, f, core, "tet::NodalVolumeTerm");
+    tet::ElasticModel stabilized = f.model;
+    stabilized.set_element(tet::TetElement::NodalPressure, 0.3);
+    tet::DeviatoricTerm stabilized_deviatoric(stabilized);
+    check_term(stabilized_deviatoric, f, core, "tet::DeviatoricTerm (β 0.3)");
+    tet::NodalVolumeTerm stabilized_nodal(stabilized);
+    check_term(stabilized_nodal, f, core, "tet::NodalVolumeTerm (β 0.3)");
     LinearTerm gravity(f.model.gravity_gradient(Eigen::Vector3d(0.3, -0.2, -9.81)));
     check_term(gravity, f, core, "LinearTerm");
     const Eigen::MatrixX3i skin = geometry::boundary_of(f.model.mesh()).faces;

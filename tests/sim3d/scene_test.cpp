@@ -78,10 +78,18 @@ TEST(Scene, ReadsACylinderWithARingOfNodesAtTheRim) {
   // The element, by name.
   p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16}, "element": "nodal-pressure")";
   p.fixed = R"([{"set": "bottom"}])";
-  EXPECT_EQ(read_scene(write_punch_scene(dir, p)).element, tet::TetElement::NodalPressure);
+  EXPECT_EQ(read_scene(write_punch_scene(dir, p)).element.element, tet::TetElement::NodalPressure);
   p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16}, "element": "quadratic")";
   EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
                            {"body.element", "unknown element 'quadratic'", "\"nodal-pressure\""}));
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16}, "element": "nodal-pressure", "stabilization": 0.25)";
+  EXPECT_EQ(read_scene(write_punch_scene(dir, p)).element.stabilization, 0.25);
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16}, "element": "nodal-pressure", "stabilization": 1)";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"body.stabilization", "outside [0, 1)"}));
+  p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16}, "stabilization": 0.1)";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"body.stabilization", "nodal-pressure"}));
   // A whole cylinder has no cut planes.
   p.body = R"("cylinder": {"radius": "20 mm", "height": "10 mm", "rim": "4 mm", "level": 0, "segments": 16})";
   p.fixed = R"([{"set": "sector_start"}])";

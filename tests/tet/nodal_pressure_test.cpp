@@ -80,29 +80,43 @@ ElasticModel box_model(const Eigen::Vector3i& cells, const Eigen::Vector3d& size
   return model;
 }
 
+TEST(NodalPressure, AStabilizationMustBeAShareAndNeedsTheNodalPressureTet) {
+  ElasticModel model = box_model(Eigen::Vector3i(1, 1, 1), Eigen::Vector3d(0.01, 0.01, 0.01), 0.45);
+  EXPECT_TRUE(palpa::test::throws_error([&] { model.set_element(TetElement::NodalPressure, 1.0); }, ErrorKind::Input,
+                                        {"stabilization of 1", "[0, 1)"}));
+  EXPECT_TRUE(palpa::test::throws_error([&] { model.set_element(TetElement::Linear, 0.1); }, ErrorKind::Input,
+                                        {"nodal-pressure"}));
+  EXPECT_EQ(model.element(), TetElement::Linear);
+  model.set_element(TetElement::NodalPressure, 0.25);
+  EXPECT_EQ(model.stabilization(), 0.25);
+}
+
 TEST(NodalPressure, AHomogeneousDeformationGivesTheLinearTetsEnergyAndForces) {
-  const ElasticModel model = box_model(Eigen::Vector3i(3, 2, 2), Eigen::Vector3d(0.03, 0.02, 0.02), 0.49);
-  Eigen::Matrix3d F;
-  F << 1.1, 0.05, -0.02, 0.03, 0.92, 0.04, -0.01, 0.02, 0.97;
-  Eigen::VectorXd u(model.num_dofs());
-  for (Eigen::Index v = 0; v < model.num_vertices(); ++v) {
-    const Eigen::Vector3d X = model.mesh().V.row(v).transpose();
-    u.segment<3>(3 * v) = F * X - X;
+  for (const double beta : {0.0, 0.3}) {
+    ElasticModel model = box_model(Eigen::Vector3i(3, 2, 2), Eigen::Vector3d(0.03, 0.02, 0.02), 0.49);
+    model.set_element(TetElement::NodalPressure, beta);
+    Eigen::Matrix3d F;
+    F << 1.1, 0.05, -0.02, 0.03, 0.92, 0.04, -0.01, 0.02, 0.97;
+    Eigen::VectorXd u(model.num_dofs());
+    for (Eigen::Index v = 0; v < model.num_vertices(); ++v) {
+      const Eigen::Vector3d X = model.mesh().V.row(v).transpose();
+      u.segment<3>(3 * v) = F * X - X;
+    }
+    Eigen::VectorXd p(u.size());
+    for (Eigen::Index v = 0; v < model.num_vertices(); ++v) p.segment<3>(3 * v) = model.mesh().V.row(v).transpose() + u.segment<3>(3 * v);
+    const VertexState s{u, p};
+    const ElasticTerm linear(model);
+    const DeviatoricTerm deviatoric(model);
+    const NodalVolumeTerm nodal(model);
+    Eigen::VectorXd g_linear = Eigen::VectorXd::Zero(u.size()), g_averaged = Eigen::VectorXd::Zero(u.size());
+    const double e_linear = linear.add_gradient(s, g_linear);
+    const double e_averaged = deviatoric.add_gradient(s, g_averaged) + nodal.add_gradient(s, g_averaged);
+    EXPECT_GT(e_linear, 0.0);
+    EXPECT_NEAR(e_averaged, e_linear, 1e-12 * e_linear);
+    EXPECT_LE((g_averaged - g_linear).cwiseAbs().maxCoeff(), 1e-10 * g_linear.cwiseAbs().maxCoeff());
+    EXPECT_NEAR(nodal.nodal_jacobians(u).minCoeff(), F.determinant(), 1e-13);
+    EXPECT_NEAR(nodal.nodal_jacobians(u).maxCoeff(), F.determinant(), 1e-13);
   }
-  Eigen::VectorXd p(u.size());
-  for (Eigen::Index v = 0; v < model.num_vertices(); ++v) p.segment<3>(3 * v) = model.mesh().V.row(v).transpose() + u.segment<3>(3 * v);
-  const VertexState s{u, p};
-  const ElasticTerm linear(model);
-  const DeviatoricTerm deviatoric(model);
-  const NodalVolumeTerm nodal(model);
-  Eigen::VectorXd g_linear = Eigen::VectorXd::Zero(u.size()), g_averaged = Eigen::VectorXd::Zero(u.size());
-  const double e_linear = linear.add_gradient(s, g_linear);
-  const double e_averaged = deviatoric.add_gradient(s, g_averaged) + nodal.add_gradient(s, g_averaged);
-  EXPECT_GT(e_linear, 0.0);
-  EXPECT_NEAR(e_averaged, e_linear, 1e-12 * e_linear);
-  EXPECT_LE((g_averaged - g_linear).cwiseAbs().maxCoeff(), 1e-10 * g_linear.cwiseAbs().maxCoeff());
-  EXPECT_NEAR(nodal.nodal_jacobians(u).minCoeff(), F.determinant(), 1e-13);
-  EXPECT_NEAR(nodal.nodal_jacobians(u).maxCoeff(), F.determinant(), 1e-13);
 }
 
 }  // namespace

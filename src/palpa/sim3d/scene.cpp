@@ -116,15 +116,8 @@ Scene read_scene(const fs::path& path) {
 
   // ---- body
   const JsonView body = root.at("body");
-  body.expect_only({"box", "cylinder", "mesh", "unit", "materials", "element", "fixed"});
-  if (const auto el = body.find("element")) {
-    const std::string name = el->as_string();
-    if (name == "nodal-pressure") {
-      s.element = tet::TetElement::NodalPressure;
-    } else if (name != "linear") {
-      el->fail(fmt::format("unknown element '{}'", name), "\"linear\" or \"nodal-pressure\"");
-    }
-  }
+  body.expect_only({"box", "cylinder", "mesh", "unit", "materials", "element", "stabilization", "fixed"});
+  s.element = read_element(body);
   std::map<std::string, std::vector<int>> sets;
   if (int(body.has("box")) + int(body.has("cylinder")) + int(body.has("mesh")) > 1) {
     body.fail("more than one of \"box\", \"cylinder\" and \"mesh\" given", "one of them");

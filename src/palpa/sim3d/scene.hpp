@@ -17,6 +17,8 @@
 //                    "regions": [0, 2]}],        // regions: omit for all tets
 //     "element": "linear",    // or "nodal-pressure": volume change averaged
 //                             // over each vertex's tets, for ν near 0.5
+//     "stabilization": 0.1,   // nodal-pressure: share β of each tet's own
+//                             // volume change kept (default 0)
 //     "fixed": [{"set": "bottom", "components": "xyz"},
 //               {"below": "-19 mm", "axis": "z"}]
 //   },
@@ -129,7 +131,7 @@ struct Scene {
   bool is_box = false;
   std::vector<tet::BodyMaterial> materials;
   Eigen::VectorXi element_material;
-  tet::TetElement element = tet::TetElement::Linear;
+  tet::ElementChoice element;
   std::vector<FixedSpec> fixed;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   std::vector<ObstacleSpec> obstacles;

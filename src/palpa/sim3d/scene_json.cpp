@@ -57,4 +57,26 @@ body::ContactSampling read_contact_sampling(const JsonView& v) {
   v.fail(fmt::format("unknown contact sampling '{}'", s), "\"vertices\" or \"surface\"");
 }
 
+tet::ElementChoice read_element(const JsonView& body) {
+  tet::ElementChoice c;
+  if (const auto el = body.find("element")) {
+    const std::string name = el->as_string();
+    if (name == "nodal-pressure") {
+      c.element = tet::TetElement::NodalPressure;
+    } else if (name != "linear") {
+      el->fail(fmt::format("unknown element '{}'", name), "\"linear\" or \"nodal-pressure\"");
+    }
+  }
+  if (const auto st = body.find("stabilization")) {
+    if (c.element != tet::TetElement::NodalPressure) {
+      st->fail("a stabilization without \"element\": \"nodal-pressure\"", "no stabilization for the linear tet");
+    }
+    c.stabilization = st->as_number();
+    if (!(c.stabilization >= 0.0 && c.stabilization < 1.0)) {
+      st->fail(fmt::format("{} is outside [0, 1)", c.stabilization), "a share β with 0 ≤ β < 1");
+    }
+  }
+  return c;
+}
+
 }  // namespace palpa::sim3d

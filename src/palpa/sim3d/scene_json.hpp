@@ -10,6 +10,7 @@
 #include "palpa/body/contact_term.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/solve/newton.hpp"
+#include "palpa/tet/model.hpp"
 
 namespace palpa::sim3d {
 
@@ -29,5 +30,9 @@ LineSearchKind read_line_search(const JsonView& v);
 int read_count(const JsonView& v, int lo, int hi);
 // "vertices" | "surface" (body/contact_term.hpp).
 body::ContactSampling read_contact_sampling(const JsonView& v);
+
+// The tet element of a body: its optional "element" ("linear" |
+// "nodal-pressure") and "stabilization" (β in [0, 1), nodal-pressure only).
+tet::ElementChoice read_element(const JsonView& body);
 
 }  // namespace palpa::sim3d

@@ -49,6 +49,17 @@ ElasticModel::ElasticModel(TetMesh mesh, std::vector<BodyMaterial> materials,
   }
 }
 
+void ElasticModel::set_element(TetElement element, double stabilization) {
+  if (!(stabilization >= 0.0 && stabilization < 1.0)) {
+    throw Error(ErrorKind::Input, fmt::format("a stabilization of {} is outside [0, 1)", stabilization));
+  }
+  if (element == TetElement::Linear && stabilization != 0.0) {
+    throw Error(ErrorKind::Input, "a stabilization needs the nodal-pressure element");
+  }
+  element_ = element;
+  stabilization_ = stabilization;
+}
+
 Eigen::Index ElasticModel::compute_rest_data(const Eigen::MatrixX3d& V, std::vector<TetGeometry>& geometry,
                                              Eigen::VectorXd& lumped_mass) const {
   geometry.resize(static_cast<std::size_t>(mesh_.T.rows()));

@@ -24,9 +24,16 @@ namespace palpa::tet {
 
 // The element of the body's energy: the linear tet (constant F per tet), or
 // the linear tet with nodally averaged volume change (nodal_pressure.hpp),
-// which does not lock as ν → 0.5. The systems built on a model read it when
+// which does not lock as ν → 0.5, optionally stabilized by keeping a share β
+// of each tet's own volume change. The systems built on a model read it when
 // they are built.
 enum class TetElement { Linear, NodalPressure };
+
+// An element as scene files name it: the element and its stabilization β.
+struct ElementChoice {
+  TetElement element = TetElement::Linear;
+  double stabilization = 0.0;
+};
 
 // One material of the body, with its mass density.
 struct BodyMaterial {
@@ -54,7 +61,12 @@ class ElasticModel {
   }
   const TetGeometry& geometry(Eigen::Index e) const { return geometry_[static_cast<std::size_t>(e)]; }
   TetElement element() const noexcept { return element_; }
-  void set_element(TetElement element) noexcept { element_ = element; }
+  // β in [0, 1): the share of the volumetric energy left on each tet's own
+  // J with NodalPressure (0: pure nodal averaging). Throws palpa::Error
+  // (Input) for β outside [0, 1) or β > 0 with the linear tet.
+  void set_element(TetElement element, double stabilization = 0.0);
+  void set_element(const ElementChoice& c) { set_element(c.element, c.stabilization); }
+  double stabilization() const noexcept { return stabilization_; }
 
   // Lumped mass per vertex (ρV/4 from each tet) [kg], N.
   const Eigen::VectorXd& lumped_mass() const noexcept { return lumped_mass_; }
@@ -119,6 +131,7 @@ class ElasticModel {
   std::vector<TetGeometry> geometry_;
   Eigen::VectorXd lumped_mass_;
   TetElement element_ = TetElement::Linear;
+  double stabilization_ = 0.0;
 };
 
 }  // namespace palpa::tet

@@ -86,8 +86,8 @@ bool DeviatoricTerm::element(const VertexState& s, Eigen::Index e, double& energ
   Vec12 dv;
   const double J = tet_volume(x, gradient != nullptr ? &dv : nullptr) / V;
   const Dilatation d = dilatation(model_->material_of(e), J);
-  energy = r.energy - V * d.u;
-  if (gradient != nullptr) *gradient = r.gradient - d.du * dv;
+  energy = r.energy - nodal_share_ * V * d.u;
+  if (gradient != nullptr) *gradient = r.gradient - (nodal_share_ * d.du) * dv;
   return std::isfinite(energy);
 }
 
@@ -139,7 +139,7 @@ bool DeviatoricTerm::stencil_hessian(const VertexState& s, Eigen::Index e, PsdPr
   Mat12 hv;
   const double J = tet_volume(x, &dv, &hv) / V;
   const Dilatation d = dilatation(model_->material_of(e), J);
-  Mat12 H = r.hessian - (d.d2u / V) * (dv * dv.transpose()) - d.du * hv;
+  Mat12 H = r.hessian - (nodal_share_ * d.d2u / V) * (dv * dv.transpose()) - (nodal_share_ * d.du) * hv;
   if (projection != PsdProjection::None) H = projected(H, projection);
   Eigen::Map<Mat12> out(h);
   out = H;
@@ -174,12 +174,13 @@ NodalVolumeTerm::NodalVolumeTerm(const ElasticModel& model) : model_(&model) {
       for (int a = 0; a < 4; ++a) patch.push_back(mesh.T(e, a));
       const double quarter = model.geometry(e).volume / 4.0;
       rest_[v] += quarter;
+      const double share = (1.0 - model.stabilization()) * quarter;
       const int mat = model.element_material()[e];
       auto it = std::find_if(shares.begin(), shares.end(), [&](const auto& p) { return p.first == mat; });
       if (it == shares.end()) {
-        shares.emplace_back(mat, quarter);
+        shares.emplace_back(mat, share);
       } else {
-        it->second += quarter;
+        it->second += share;
       }
     }
     std::sort(patch.begin(), patch.end());

@@ -18,10 +18,17 @@
 // deformation J_a = J_e and E is the linear tet's energy exactly (the patch
 // test holds); the first sum keeps the shear stiffness, which does not lock.
 //
+// Stabilized (ElasticModel::stabilization() = β > 0): a share β of the
+// volumetric energy stays on each tet's own J_e,
+//   E = Σ_e V_e [Ψ_e(F_e) − (1−β) U_e(J_e)] + (1−β) Σ_a Σ_{e∋a} (V_e/4) U_e(J_a),
+// which stiffens the modes that nodal averaging leaves too soft (a patch's
+// tets may trade volume among themselves at no cost) and brings back a
+// fraction β of the locking; the patch test still holds.
+//
 // Two terms (solve/term.hpp), with exact derivatives:
 //  * DeviatoricTerm: per tet, V(Ψ(F) − U(J)); its 12×12 Hessian, projected
 //    to PSD by its eigenvalues when a projection is asked.
-//  * NodalVolumeTerm: per vertex a, W_a(J_a) with W_a = Σ_{e∋a} (V_e/4) U_e;
+//  * NodalVolumeTerm: per vertex a, W_a(J_a) with W_a = (1−β) Σ_{e∋a} (V_e/4) U_e;
 //    its stencil is the vertex's patch (every vertex of its tets). Gradient
 //    W_a' ∂J_a; Hessian W_a'' ∂J_a ∂J_aᵀ + W_a' ∂²J_a. With a projection
 //    asked, the Gauss–Newton part max(W_a'', 0) ∂J_a ∂J_aᵀ alone (PSD; the
@@ -52,7 +59,7 @@ double tet_volume(const Mat34& x, Vec12* gradient = nullptr, Mat12* hessian = nu
 
 class DeviatoricTerm final : public Term {
  public:
-  explicit DeviatoricTerm(const ElasticModel& model) : model_(&model) {}
+  explicit DeviatoricTerm(const ElasticModel& model) : model_(&model), nodal_share_(1.0 - model.stabilization()) {}
 
   double energy(const VertexState& s) const override;
   double add_gradient(const VertexState& s, Eigen::VectorXd& g) const override;
@@ -66,6 +73,7 @@ class DeviatoricTerm final : public Term {
   bool element(const VertexState& s, Eigen::Index e, double& energy, Vec12* gradient) const;
 
   const ElasticModel* model_;
+  double nodal_share_;  // 1 − β
 };
 
 class NodalVolumeTerm final : public Term {
