@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <utility>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "common/test_support.hpp"
@@ -59,6 +60,49 @@ TEST(RestCli, WritesPressureMapsAndASummary) {
     EXPECT_NEAR(std::stod(pic.bar_labels.back()), peak_kpa, 5e-3 * peak_kpa) << file;
     EXPECT_NEAR(test::number_after(pic.caption_text(), "map force "), force, 5e-3 * force) << pic.caption_text();
   }
+}
+
+TEST(RestCli, ComparesTheBodySideWithATemplateAndTakesTheElement) {
+  // The sphere on the nodal-pressure tet, its body-side map against a round
+  // template on a 5 mm grid (a disc of pressure, highest at its centre).
+  ScratchDir dir;
+  std::string grid;
+  for (int r = 0; r < 12; ++r) {
+    for (int c = 0; c < 12; ++c) {
+      const double d2 = (r - 5.5) * (r - 5.5) + (c - 5.5) * (c - 5.5);
+      grid += fmt::format("{}{:.1f}", c == 0 ? "" : ",", d2 < 25.0 ? 10.0 * (1.0 - d2 / 25.0) : 0.0);
+    }
+    grid += "\n";
+  }
+  dir.write("disc.csv", grid);
+  std::string scene = kRestScene;
+  scene.replace(scene.find("\"position\""), 0, "\"element\": \"nodal-pressure\", ");
+  scene.replace(scene.rfind('}'), 0, R"(, "template": {"grid": "disc.csv", "unit": "kPa", "pixel": "5 mm", "title": "a disc"})");
+  dir.write("scene.json", scene);
+  const auto r = run_palpa("rest scene.json -o out", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto s = nlohmann::json::parse(test::read_text(dir / "out" / "summary.json"));
+  EXPECT_GT(s["template"]["correlation"].get<double>(), 0.8) << s["template"].dump();
+  EXPECT_EQ(s["template"]["title"], "a disc");
+  const std::string svg = test::read_text(dir / "out" / "template_comparison.svg");
+  EXPECT_NE(svg.find("a disc"), std::string::npos);
+  EXPECT_NE(svg.find("correlation r = "), std::string::npos);
+  // Bad grids and elements are refused before anything is written.
+  dir.write("bad.csv", "0,1\n2\n");
+  std::string bad = scene;
+  bad.replace(bad.find("disc.csv"), 8, "bad.csv");
+  dir.write("bad.json", bad);
+  const auto b = run_palpa("rest bad.json -o bad", dir.path());
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("bad.csv"), std::string::npos) << b.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+  std::string element = scene;
+  element.replace(element.find("nodal-pressure"), 14, "quadratic");
+  dir.write("element.json", element);
+  const auto e = run_palpa("rest element.json -o element", dir.path());
+  EXPECT_EQ(e.exit_code, 2);
+  EXPECT_NE(e.err.find("body.element"), std::string::npos) << e.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "element"));
 }
 
 TEST(RestCli, RefusesABodyInsideTheSupportAndUnknownDofs) {

@@ -11,6 +11,7 @@
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
 #include "palpa/report/plot.hpp"
+#include "palpa/report/pressure_template.hpp"
 #include "palpa/rest/measurements.hpp"
 
 namespace palpa::rest {
@@ -233,6 +234,20 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
                                   {"min_det_F", r.support_min_det_f},
                                   {"base_force_N", vec(r.support_base_force)},
                                   {"reverse_contacts", r.reverse_contacts}};
+  }
+  if (scene.reference_map) {
+    const TemplateSpec& t = *scene.reference_map;
+    const report::TemplateComparison c = report::compare_with_template(deformed_skin(sim), r.body_pressure, toward_body, t.grid);
+    report::write_template_comparison_svg(out / "template_comparison.svg", c, t.grid, "simulated, body side", t.title);
+    s["template"] = {{"grid", t.file.string()},
+                     {"title", t.title},
+                     {"correlation", c.correlation},
+                     {"pixels", c.pixels},
+                     {"peak_pressure_Pa", {{"simulated", c.simulated_peak}, {"template", c.template_peak}}},
+                     {"length_scale", c.length_scale},
+                     {"width_scale", c.width_scale},
+                     {"length_reversed", c.length_reversed},
+                     {"width_reversed", c.width_reversed}};
   }
   if (!r.message.empty()) s["note"] = r.message;
   write_json_file(out / "summary.json", s);

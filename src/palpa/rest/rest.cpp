@@ -56,6 +56,7 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
     : body_(std::move(body)), options_(std::move(options)) {
   tet::prepare_tet_mesh(body_.mesh, "body");
   model_ = std::make_unique<tet::ElasticModel>(body_.mesh, body_.materials, body_.element_material);
+  model_->set_element(body_.element);
   const TetMesh& mesh = model_->mesh();
 
   body::CoreSpec core = options_.core;

@@ -45,6 +45,7 @@ struct RestBody {
   std::vector<int> attached;                // vertices on the core surface
   std::vector<tet::BodyMaterial> materials;
   Eigen::VectorXi element_material;         // empty: all materials[0]
+  tet::ElementChoice element;
 };
 
 // The body's skin: the boundary faces of the layer with no corner on the core

@@ -46,7 +46,7 @@ double unit_of(const JsonView& parent) {
 void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   b.expect_only({"surface", "layer", "generate", "unit", "scale", "remove_self_intersections", "clip", "cut", "depth",
                  "clamp_depth", "core_offset",
-                 "edge", "material", "density", "position", "rotation"});
+                 "edge", "material", "density", "position", "rotation", "element", "stabilization"});
   const int sources = int(b.has("surface")) + int(b.has("layer")) + int(b.has("generate"));
   if (sources != 1) b.fail("give exactly one of \"surface\", \"layer\", \"generate\"");
   if (const auto layer = b.find("layer")) {
@@ -165,6 +165,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   bm.density = b.has("density") ? b.at("density").as_quantity(Dimension::Density) : 1000.0;
   if (!(bm.density >= 0.0)) b.at("density").fail("must be ≥ 0", "a density such as \"1000 kg/m^3\"");
   s.body.materials = {bm};
+  s.body.element = sim3d::read_element(b);
 }
 
 // A box support with its top face centred at the origin; "bevel" rounds the
@@ -309,7 +310,7 @@ RestScene read_rest_scene(const fs::path& path, const std::string& version_key,
                           const std::vector<std::string>& extra_keys) {
   const Json doc = read_json_file(path);
   const JsonView root(doc, path.string());
-  std::vector<std::string> keys{version_key, "body", "core", "support", "gravity", "contact", "solver"};
+  std::vector<std::string> keys{version_key, "body", "core", "support", "gravity", "contact", "solver", "template"};
   keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
   root.expect_only(keys);
   if (root.at(version_key).as_integer() != 1) root.at(version_key).fail("unsupported version", "1");
@@ -319,6 +320,16 @@ RestScene read_rest_scene(const fs::path& path, const std::string& version_key,
   if (const auto g = root.find("gravity")) o.gravity = read_quantity3(*g, Dimension::Acceleration);
   read_body(root.at("body"), path, s);
   read_scene_support(root.at("support"), path, s);
+  if (const auto t = root.find("template")) {
+    t->expect_only({"grid", "unit", "pixel", "title"});
+    TemplateSpec spec;
+    spec.file = resolve_scene_path(path, t->at("grid").as_string());
+    const std::string unit = t->has("unit") ? t->at("unit").as_string() : "Pa";
+    const double to_pa = parse_quantity("1 " + unit, Dimension::Pressure, t->has("unit") ? t->at("unit").context() : t->context());
+    spec.grid = report::read_pressure_grid(spec.file, read_positive(t->at("pixel"), Dimension::Length), to_pa);
+    spec.title = t->has("title") ? t->at("title").as_string() : spec.file.filename().string();
+    s.reference_map = std::move(spec);
+  }
   o.support_name = fmt::format("{}: support", path.filename().string());
   if (const auto core = root.find("core")) {
     core->expect_only({"mass", "free", "force", "torque", "centre"});

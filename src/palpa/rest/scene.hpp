@@ -14,6 +14,9 @@
 //        // or "generate": {"shape": "foot", "length": "260 mm"}, "depth", "edge"
 //     "material": "tissue.json",          // or an inline material object
 //     "density": "1000 kg/m^3",
+//     "element": "linear",                // or "nodal-pressure" for ν near 0.5
+//                                         // (tet/model.hpp), with an optional
+//                                         // "stabilization": β (default 0)
 //     "position": ["0 mm", "0 mm", "2 mm"],             // moves the body
 //     "rotation": {"axis": [0, 0, 1], "angle": "0 deg"}
 //   },
@@ -36,14 +39,25 @@
 // Relative paths resolve against the scene's folder.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "palpa/core/json.hpp"
 #include "palpa/geometry/mesh.hpp"
+#include "palpa/report/pressure_template.hpp"
 #include "palpa/rest/rest.hpp"
 
 namespace palpa::rest {
+
+// A measured pressure map to compare the body side with
+// (report/pressure_template.hpp): "template": {"grid": "MUN104L.csv",
+// "unit": "kPa", "pixel": "5 mm", "title": "MUN104, left foot"}.
+struct TemplateSpec {
+  std::filesystem::path file;
+  report::PressureGrid grid;  // read with the scene
+  std::string title;
+};
 
 struct RestScene {
   std::filesystem::path file;
@@ -55,6 +69,7 @@ struct RestScene {
   Eigen::Vector3d body_shift = Eigen::Vector3d::Zero();  // the body moved into a negative image [m]
   std::string support_source;
   RestOptions options;
+  std::optional<TemplateSpec> reference_map;
 };
 
 // Reads a scene and builds the body (meshing a surface with mesh::make_layer
