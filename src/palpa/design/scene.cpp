@@ -40,6 +40,7 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
   s.rest = rest::read_rest_scene(path, "palpa_design", {"design", "baselines"});
   const Json doc = read_json_file(path);
   const JsonView root(doc, path.string());
+  if (const auto t = root.find("template")) t->fail("a template is compared by palpa rest", "no \"template\" in a design");
   if (const auto bl = root.find("baselines")) {
     for (std::size_t i = 0; i < bl->size(); ++i) {
       const JsonView b = bl->at(i);

@@ -5,8 +5,8 @@
 // sensor grid), compared where neither shares a mesh with the other:
 //
 //   const report::PressureGrid t = report::read_pressure_grid("MUN104L.csv", 5e-3, 1e3);
-//   const report::TemplateComparison c = report::compare_with_template(skin, pressure, {0, 0, 1}, t);
-//   report::write_template_comparison_svg("template.svg", c, t, "simulated", "MUN104 (left)");
+//   const report::TemplateComparison c = report::compare_with_template(skin, pressure, {0, 0, 1},
+//   t); report::write_template_comparison_svg("template.svg", c, t, "simulated", "MUN104 (left)");
 //
 // Alignment: each footprint (the template's pixels with a pressure; the
 // simulated skin triangles with a pressure at any corner, seen along the
@@ -48,9 +48,9 @@ struct PressureGrid {
 PressureGrid read_pressure_grid(const std::filesystem::path& path, double pixel, double to_pa);
 
 struct TemplateComparison {
-  PressureGrid simulated;   // the simulated map on the template's grid, aligned
-  double correlation = 0.0; // Pearson r over `pixels`
-  Eigen::Index pixels = 0;  // pixels where either map has a pressure
+  PressureGrid simulated;    // the simulated map on the template's grid, aligned
+  double correlation = 0.0;  // Pearson r over `pixels`
+  Eigen::Index pixels = 0;   // pixels where either map has a pressure
   double template_peak = 0.0, simulated_peak = 0.0;  // [Pa], on the grid
   bool length_reversed = false;  // the simulated major axis runs against the template's
   bool width_reversed = false;   // ... and the minor axis
@@ -63,13 +63,15 @@ struct TemplateComparison {
 // Throws palpa::Error (Input) when either map has no pressure, or a footprint
 // has no area seen along the normal.
 TemplateComparison compare_with_template(const SurfaceMesh& skin, const Eigen::VectorXd& pressure,
-                                         const Eigen::Vector3d& normal, const PressureGrid& reference);
+                                         const Eigen::Vector3d& normal,
+                                         const PressureGrid& reference);
 
 // The two grids side by side as an SVG picture, each coloured on its own
 // scale (viridis from 0 to its peak; grey where there is no pressure), with
 // the peaks, the correlation and the alignment in the caption.
 void write_template_comparison_svg(const std::filesystem::path& path, const TemplateComparison& c,
-                                   const PressureGrid& reference, const std::string& simulated_title,
+                                   const PressureGrid& reference,
+                                   const std::string& simulated_title,
                                    const std::string& reference_title);
 
 }  // namespace palpa::report
