@@ -235,7 +235,9 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
                                   {"base_force_N", vec(r.support_base_force)},
                                   {"reverse_contacts", r.reverse_contacts}};
   }
-  if (scene.reference_map) {
+  if (scene.reference_map && !(r.body_pressure.maxCoeff() > 0.0)) {
+    s["template"] = {{"grid", scene.reference_map->file.string()}, {"note", "no contact to compare"}};
+  } else if (scene.reference_map) {
     const TemplateSpec& t = *scene.reference_map;
     const report::TemplateComparison c = report::compare_with_template(deformed_skin(sim), r.body_pressure, toward_body, t.grid);
     report::write_template_comparison_svg(out / "template_comparison.svg", c, t.grid, "simulated, body side", t.title);
