@@ -116,7 +116,51 @@ TEST(NodalPressure, AHomogeneousDeformationGivesTheLinearTetsEnergyAndForces) {
     EXPECT_LE((g_averaged - g_linear).cwiseAbs().maxCoeff(), 1e-10 * g_linear.cwiseAbs().maxCoeff());
     EXPECT_NEAR(nodal.nodal_jacobians(u).minCoeff(), F.determinant(), 1e-13);
     EXPECT_NEAR(nodal.nodal_jacobians(u).maxCoeff(), F.determinant(), 1e-13);
+    // The stress too is the linear tet's.
+    ElasticModel plain = model;
+    plain.set_element(TetElement::Linear);
+    const Eigen::MatrixXd sigma = model.cauchy_stress(u), sigma_linear = plain.cauchy_stress(u);
+    EXPECT_LE((sigma - sigma_linear).cwiseAbs().maxCoeff(), 1e-9 * sigma_linear.cwiseAbs().maxCoeff()) << beta;
   }
+}
+
+TEST(NodalPressure, StressCarriesThePatchPressureThatTheForcesAre) {
+  // A bent block: each tet's stress is σ(F_e) with its own pressure share
+  // swapped for its corners' patch pressures: the stress whose divergence
+  // the element's forces are, and smoother in pressure than the linear
+  // tet's (the scatter of J_e from tet to tet averaged out).
+  ElasticModel model = box_model(Eigen::Vector3i(4, 2, 2), Eigen::Vector3d(0.04, 0.02, 0.02), 0.49);
+  model.set_element(TetElement::NodalPressure);
+  Eigen::VectorXd u(model.num_dofs());
+  for (Eigen::Index v = 0; v < model.num_vertices(); ++v) {
+    const Eigen::Vector3d X = model.mesh().V.row(v).transpose();
+    u.segment<3>(3 * v) = Eigen::Vector3d(0.0, 0.0, -2.0 * X.x() * X.x() + 0.3 * X.y() * X.z());
+  }
+  ElasticModel plain = model;
+  plain.set_element(TetElement::Linear);
+  const Eigen::MatrixXd sigma = model.cauchy_stress(u), sigma_linear = plain.cauchy_stress(u);
+  // Shear is the same; the pressures differ.
+  EXPECT_LE((sigma.rightCols(3) - sigma_linear.rightCols(3)).cwiseAbs().maxCoeff(),
+            1e-9 * sigma_linear.cwiseAbs().maxCoeff());
+  const Eigen::VectorXd p = sigma.leftCols(3).rowwise().sum() / 3.0, p_linear = sigma_linear.leftCols(3).rowwise().sum() / 3.0;
+  EXPECT_GT((p - p_linear).cwiseAbs().maxCoeff(), 1e-3 * p_linear.cwiseAbs().maxCoeff());
+  const auto spread = [](const Eigen::VectorXd& x) { return (x.array() - x.mean()).square().mean(); };
+  EXPECT_LT(spread(p), spread(p_linear));
+  // The element's forces are the divergence of this stress: Σ_e σ_e ∂v_e/∂x.
+  Eigen::VectorXd x(u.size());
+  for (Eigen::Index v = 0; v < model.num_vertices(); ++v) x.segment<3>(3 * v) = model.mesh().V.row(v).transpose() + u.segment<3>(3 * v);
+  const VertexState state{u, x};
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(u.size()), from_stress = Eigen::VectorXd::Zero(u.size());
+  DeviatoricTerm(model).add_gradient(state, g);
+  NodalVolumeTerm(model).add_gradient(state, g);
+  for (Eigen::Index e = 0; e < model.num_elements(); ++e) {
+    Vec12 dv;
+    tet_volume(model.element_positions(u, e), &dv);
+    Eigen::Matrix3d S;
+    S << sigma(e, 0), sigma(e, 5), sigma(e, 4), sigma(e, 5), sigma(e, 1), sigma(e, 3), sigma(e, 4), sigma(e, 3), sigma(e, 2);
+    for (int a = 0; a < 4; ++a) from_stress.segment<3>(3 * model.mesh().T(e, a)) += S * dv.segment<3>(3 * a);
+  }
+  EXPECT_LE((from_stress - g).cwiseAbs().maxCoeff(), 1e-8 * g.cwiseAbs().maxCoeff());
 }
 
 }  // namespace

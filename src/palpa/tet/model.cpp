@@ -11,6 +11,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "palpa/core/error.hpp"
+#include "palpa/tet/nodal_pressure.hpp"
 
 namespace palpa::tet {
 
@@ -234,6 +235,36 @@ Eigen::VectorXd ElasticModel::gravity_gradient(const Eigen::Vector3d& gravity) c
 
 Eigen::MatrixXd ElasticModel::cauchy_stress(const Eigen::VectorXd& u) const {
   Eigen::MatrixXd s(mesh_.T.rows(), 6);
+  // With nodal pressure, the share (1−β) of each tet's pressure U'(J_e) is
+  // replaced by the pressure its corners' patches exert on it: the nodal
+  // term's force on the tet is c_e ∂v_e, c_e = Σ_{a∈e} W_a'(J_a)/(4 V̂_a).
+  const double nodal_share = element_ == TetElement::NodalPressure ? 1.0 - stabilization_ : 0.0;
+  Eigen::VectorXd nodal_pressure;
+  if (nodal_share > 0.0) {
+    const Eigen::Index nv = mesh_.V.rows(), nt = mesh_.T.rows();
+    Eigen::VectorXd rest = Eigen::VectorXd::Zero(nv), current = Eigen::VectorXd::Zero(nv);
+    for (Eigen::Index e = 0; e < nt; ++e) {
+      const double v = tet_volume(element_positions(u, e));
+      for (int a = 0; a < 4; ++a) {
+        rest[mesh_.T(e, a)] += geometry_[static_cast<std::size_t>(e)].volume / 4.0;
+        current[mesh_.T(e, a)] += v / 4.0;
+      }
+    }
+    Eigen::VectorXd slope = Eigen::VectorXd::Zero(nv);
+    for (Eigen::Index e = 0; e < nt; ++e) {
+      for (int a = 0; a < 4; ++a) {
+        const int va = mesh_.T(e, a);
+        const double J = current[va] / rest[va];
+        if (!(J > 0.0)) continue;
+        slope[va] += nodal_share * geometry_[static_cast<std::size_t>(e)].volume / 4.0 *
+                     dilatation(material_of(e), J).du / (4.0 * rest[va]);
+      }
+    }
+    nodal_pressure.resize(nt);
+    for (Eigen::Index e = 0; e < nt; ++e) {
+      nodal_pressure[e] = slope[mesh_.T(e, 0)] + slope[mesh_.T(e, 1)] + slope[mesh_.T(e, 2)] + slope[mesh_.T(e, 3)];
+    }
+  }
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh_.T.rows(), kGrain), [&](const auto& range) {
     for (Eigen::Index e = range.begin(); e != range.end(); ++e) {
       const Mat34 x = element_positions(u, e);
@@ -242,7 +273,10 @@ Eigen::MatrixXd ElasticModel::cauchy_stress(const Eigen::VectorXd& u) const {
         s.row(e).setZero();  // undefined; the caller reports det F (no NaN in any output)
         continue;
       }
-      const material::Mat3 c = tet::cauchy_stress(material_of(e), geometry_[static_cast<std::size_t>(e)], x);
+      material::Mat3 c = tet::cauchy_stress(material_of(e), geometry_[static_cast<std::size_t>(e)], x);
+      if (nodal_share > 0.0) {
+        c.diagonal().array() += nodal_pressure[e] - nodal_share * dilatation(material_of(e), J).du;
+      }
       s.row(e) << c(0, 0), c(1, 1), c(2, 2), c(1, 2), c(0, 2), c(0, 1);
     }
   });

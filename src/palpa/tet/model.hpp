@@ -91,7 +91,10 @@ class ElasticModel {
 
   // Per element: Cauchy stress (rows: σxx σyy σzz σyz σxz σxy) [Pa] and its von
   // Mises value, at u. An inverted element (det F ≤ 0), where the stress is
-  // undefined, gets 0: its det F says what happened there.
+  // undefined, gets 0: its det F says what happened there. With the
+  // nodal-pressure element, the averaged share of the pressure is the mean
+  // of the tet's corners' patch pressures (the stress whose divergence the
+  // element's forces are).
   Eigen::MatrixXd cauchy_stress(const Eigen::VectorXd& u) const;  // #T×6
   static Eigen::VectorXd von_mises(const Eigen::MatrixXd& stress6);
 
