@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "palpa/core/error.hpp"
+#include "palpa/core/pearson.hpp"
 #include "palpa/core/units.hpp"
 
 namespace palpa::acquire {
@@ -61,19 +62,6 @@ std::vector<double> window_spread(std::span<const double> v, std::size_t w) {
     }
   }
   return spread;
-}
-
-double pearson(std::span<const double> a, std::span<const double> b) {
-  const double n = static_cast<double>(a.size());
-  const double ma = std::accumulate(a.begin(), a.end(), 0.0) / n;
-  const double mb = std::accumulate(b.begin(), b.end(), 0.0) / n;
-  double sab = 0.0, saa = 0.0, sbb = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  return saa > 0.0 && sbb > 0.0 ? sab / std::sqrt(saa * sbb) : 0.0;
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/pearson.hpp"
 #include "palpa/io/grid.hpp"
 #include "palpa/report/colormap.hpp"
 #include "palpa/report/svg_text.hpp"
@@ -59,25 +60,6 @@ struct FlatTriangle {
   Eigen::Vector2d a, b, c;
   Eigen::Vector3d p;
 };
-
-// Pearson's correlation of two equally long samples (0 when either is constant).
-double pearson(const std::vector<double>& x, const std::vector<double>& y) {
-  const auto n = static_cast<double>(x.size());
-  double mx = 0.0, my = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    mx += x[i];
-    my += y[i];
-  }
-  mx /= n;
-  my /= n;
-  double sxy = 0.0, sxx = 0.0, syy = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sxy += (x[i] - mx) * (y[i] - my);
-    sxx += (x[i] - mx) * (x[i] - mx);
-    syy += (y[i] - my) * (y[i] - my);
-  }
-  return sxx > 0.0 && syy > 0.0 ? sxy / std::sqrt(sxx * syy) : 0.0;
-}
 
 // The simulated pressure at plane points: linear over the triangle that holds
 // the point, the largest over overlapping triangles, 0 off them. Triangles
