@@ -42,6 +42,10 @@ TEST(RestCli, WritesPressureMapsAndASummary) {
   EXPECT_NE(summary.find("\"balance_error\""), std::string::npos);
   EXPECT_NE(test::read_text(dir / "out" / "skin.ply").find("pressure_Pa"), std::string::npos);
   EXPECT_NE(r.err.find("rest: contact force"), std::string::npos) << r.err;
+  // The body's element by default: the stabilized nodal-pressure tet.
+  const auto element = nlohmann::json::parse(summary)["body"]["element"];
+  EXPECT_EQ(element["element"], "nodal-pressure") << element.dump();
+  EXPECT_EQ(element["stabilization"], 0.1) << element.dump();
   // Each side's map as a picture: coloured polygons, the colour bar up to
   // the summary's peak, the caption with the map's force.
   const auto s = nlohmann::json::parse(summary);
@@ -76,12 +80,13 @@ TEST(RestCli, ComparesTheBodySideWithATemplateAndTakesTheElement) {
   }
   dir.write("disc.csv", grid);
   std::string scene = kRestScene;
-  scene.replace(scene.find("\"position\""), 0, "\"element\": \"nodal-pressure\", ");
+  scene.replace(scene.find("\"position\""), 0, "\"element\": \"nodal-pressure\", \"stabilization\": 0, ");
   scene.replace(scene.rfind('}'), 0, R"(, "template": {"grid": "disc.csv", "unit": "kPa", "pixel": "5 mm", "title": "a disc"})");
   dir.write("scene.json", scene);
   const auto r = run_palpa("rest scene.json -o out", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto s = nlohmann::json::parse(test::read_text(dir / "out" / "summary.json"));
+  EXPECT_EQ(s["body"]["element"]["stabilization"], 0.0) << s["body"].dump();
   EXPECT_GT(s["template"]["correlation"].get<double>(), 0.8) << s["template"].dump();
   EXPECT_EQ(s["template"]["title"], "a disc");
   const std::string svg = test::read_text(dir / "out" / "template_comparison.svg");

@@ -9,7 +9,7 @@ std::string punch_scene_json(const PunchScene& p) {
   return fmt::format(R"({{
   "palpa_scene": 1,
   "body": {{
-    {},
+    {}{},
     "materials": [{{"material": {}, "density": "1000 kg/m^3"}}],
     "fixed": {}
   }},
@@ -18,6 +18,7 @@ std::string punch_scene_json(const PunchScene& p) {
   "contact": {}{}
 }})",
                      p.body.empty() ? fmt::format(R"("box": {{"size": {}, "cells": {}}})", p.size_mm, p.cells) : p.body,
+                     p.element,
                      p.material, p.fixed, p.shape, p.depth, p.steps, p.contact, p.extra);
 }
 

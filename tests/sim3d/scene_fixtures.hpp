@@ -13,6 +13,7 @@ struct PunchScene {
   std::string size_mm = "[\"40 mm\", \"40 mm\", \"10 mm\"]";
   std::string cells = "[8, 8, 3]";
   std::string body;  // the body's shape member instead of the box (e.g. "\"cylinder\": {...}")
+  std::string element;  // the body's element members, with a leading comma (empty: the default)
   std::string fixed = R"([{"set": "bottom"}])";
   std::string material = R"({"model": "neo-hookean", "parameters": {"E": "10 kPa", "nu": 0.3}})";
   std::string shape = R"({"cylinder": {"radius": "5 mm", "height": "10 mm", "segments": 32}})";

@@ -18,6 +18,7 @@
 #include "palpa/report/plot.hpp"
 #include "palpa/report/pressure_map_svg.hpp"
 #include "palpa/rest/output.hpp"
+#include "palpa/sim3d/scene_json.hpp"
 
 namespace palpa::design {
 
@@ -238,6 +239,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
             {"body", {{"source", scene.rest.body_source},
                       {"vertices", sim.model().num_vertices()},
                       {"tetrahedra", sim.model().num_elements()},
+                      {"element", sim3d::element_json(sim.model())},
                       {"skin_vertices", sim.surface_vertices().size()}}},
             {"support", {{"source", scene.rest.support_source}, {"vertices", r.initial.support.rows()}}},
             {"design", {{"region", scene.region},

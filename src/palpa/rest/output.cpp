@@ -11,6 +11,7 @@
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
 #include "palpa/report/plot.hpp"
+#include "palpa/sim3d/scene_json.hpp"
 #include "palpa/report/pressure_template.hpp"
 #include "palpa/rest/measurements.hpp"
 
@@ -198,6 +199,7 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
             {"body", {{"source", scene.body_source},
                       {"vertices", sim.model().num_vertices()},
                       {"tetrahedra", sim.model().num_elements()},
+                      {"element", sim3d::element_json(sim.model())},
                       {"skin_vertices", sim.surface_vertices().size()},
                       {"attached_vertices", scene.body.attached.size()},
                       {"self_intersections_removed", scene.body_repaired_pairs},

@@ -495,6 +495,7 @@ Json run(const Scene& scene, const RunOptions& options) {
       mesh["cut_vertices"] = sim.region()->cut.size();
     }
     mesh["free_dofs"] = sim.system().num_dofs();
+    mesh["element"] = element_json(sim.model());
     return Json{{"palpa_sim3d", 1},
                 {"scene", scene.file.string()},
                 {"complete", complete},

@@ -61,15 +61,15 @@ tet::ElementChoice read_element(const JsonView& body) {
   tet::ElementChoice c;
   if (const auto el = body.find("element")) {
     const std::string name = el->as_string();
-    if (name == "nodal-pressure") {
-      c.element = tet::TetElement::NodalPressure;
-    } else if (name != "linear") {
+    if (name == "linear") {
+      c = {tet::TetElement::Linear, 0.0};
+    } else if (name != "nodal-pressure") {
       el->fail(fmt::format("unknown element '{}'", name), "\"linear\" or \"nodal-pressure\"");
     }
   }
   if (const auto st = body.find("stabilization")) {
     if (c.element != tet::TetElement::NodalPressure) {
-      st->fail("a stabilization without \"element\": \"nodal-pressure\"", "no stabilization for the linear tet");
+      st->fail("a stabilization with \"element\": \"linear\"", "no stabilization for the linear tet");
     }
     c.stabilization = st->as_number();
     if (!(c.stabilization >= 0.0 && c.stabilization < 1.0)) {
@@ -77,6 +77,11 @@ tet::ElementChoice read_element(const JsonView& body) {
     }
   }
   return c;
+}
+
+Json element_json(const tet::ElasticModel& model) {
+  if (model.element() == tet::TetElement::Linear) return {{"element", "linear"}};
+  return {{"element", "nodal-pressure"}, {"stabilization", model.stabilization()}};
 }
 
 }  // namespace palpa::sim3d

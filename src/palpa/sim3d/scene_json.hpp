@@ -32,7 +32,10 @@ int read_count(const JsonView& v, int lo, int hi);
 body::ContactSampling read_contact_sampling(const JsonView& v);
 
 // The tet element of a body: its optional "element" ("linear" |
-// "nodal-pressure") and "stabilization" (β in [0, 1), nodal-pressure only).
+// "nodal-pressure", the default) and "stabilization" (β in [0, 1),
+// nodal-pressure only, default tet::kDefaultStabilization).
 tet::ElementChoice read_element(const JsonView& body);
+// The element a model uses, as summaries report it: {"element", "stabilization"}.
+Json element_json(const tet::ElasticModel& model);
 
 }  // namespace palpa::sim3d

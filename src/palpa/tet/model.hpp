@@ -29,10 +29,18 @@ namespace palpa::tet {
 // they are built.
 enum class TetElement { Linear, NodalPressure };
 
+// The stabilization β of the nodal-pressure tet when a scene names none: the
+// smallest share that converged on every shipped scan (pure averaging, β 0,
+// does not on the foot's; β 0.05 takes 77 Newton iterations there, β 0.1 31).
+inline constexpr double kDefaultStabilization = 0.1;
+
 // An element as scene files name it: the element and its stabilization β.
+// A body's default is the stabilized nodal-pressure tet: tissue is nearly
+// incompressible and the linear tet locks (at ν 0.45 the seated body's peak
+// comes out 24% high, a Hertz force 24% stiff at ν 0.49).
 struct ElementChoice {
-  TetElement element = TetElement::Linear;
-  double stabilization = 0.0;
+  TetElement element = TetElement::NodalPressure;
+  double stabilization = kDefaultStabilization;
 };
 
 // One material of the body, with its mass density.
