@@ -219,8 +219,7 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
   equilibrium_seconds_ = seconds_since(t0);
   first.freeze_contact_model();
   const rest::RestState s0 = first.state();
-  baseline_options_ = rest;
-  baseline_options_.stiffness = r0.stiffness;
+  rest_options_ = rest;
   rest::RestOptions frozen = rest;
   frozen.stiffness = r0.stiffness;
   frozen.update_areas = false;
@@ -309,10 +308,10 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestS
   return ev;
 }
 
-Evaluation ShapeOptimizer::score_support(const rest::RestBody& body, const SurfaceMesh& support,
-                                         std::unique_ptr<rest::RestSimulation>* keep) const {
+Evaluation ShapeOptimizer::solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support,
+                                              std::unique_ptr<rest::RestSimulation>* keep) const {
   const auto t0 = Clock::now();
-  auto sim = std::make_unique<rest::RestSimulation>(body, support, baseline_options_);
+  auto sim = std::make_unique<rest::RestSimulation>(body, support, rest_options_);
   Evaluation ev;
   ev.support = sim->support_rest_vertices();
   try {

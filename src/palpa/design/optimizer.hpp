@@ -177,12 +177,14 @@ class ShapeOptimizer {
   // `gradient`. A failed equilibrium gives ok = false; Ctrl-C propagates.
   Evaluation evaluate(const Eigen::MatrixX3d& X, const rest::RestState& warm, bool gradient, int slot = 0);
 
-  // ζ of another support (a baseline) under the same physics: the contact
-  // stiffness of the initial shape, spring areas following the contact as in
-  // palpa rest. φ = ζ. With `keep`, the solved simulation is handed over
-  // (for its fields).
-  Evaluation score_support(const rest::RestBody& body, const SurfaceMesh& support,
-                           std::unique_ptr<rest::RestSimulation>* keep = nullptr) const;
+  // ζ of a support solved from scratch, as `palpa rest` solves it: the
+  // scene's contact settings with the stiffness chosen for this support, the
+  // body lowered from where the scene places it, a deformable support meshed
+  // anew from its rest surface. How every reported result is checked (the
+  // initial and optimized shapes, the baselines). φ = ζ. With `keep`, the
+  // solved simulation is handed over (for its fields).
+  Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support,
+                                std::unique_ptr<rest::RestSimulation>* keep = nullptr) const;
 
   // The optimization. progress: called after every iteration.
   DesignResult run(const std::function<void(const IterationRecord&)>& progress = {});
@@ -199,7 +201,7 @@ class ShapeOptimizer {
   Evaluation initial_;
   double gamma_ = 0.0;
   double equilibrium_seconds_ = 0.0;
-  rest::RestOptions baseline_options_;
+  rest::RestOptions rest_options_;  // the scene's, as `palpa rest` takes them
   double unit_move_ = 1.5e-4;  // L-BFGS: the largest vertex move of a unit step along −∇ [m]
 };
 
