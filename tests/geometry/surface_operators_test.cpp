@@ -203,6 +203,29 @@ TEST(Umbrella, NeighboursAreSymmetricAndRowsAreMeans) {
   for (Eigen::Index i = 0; i < 5; ++i) EXPECT_NEAR(W.row(i).sum(), 1.0, 1e-15);
 }
 
+TEST(Umbrella, TheLargestSpikeIsTheLoneVertexThatMoved) {
+  // A 6 × 6-cell grid of 60 mm; its interior vertices.
+  const SurfaceMesh grid = square_grid(6, 0.06);
+  std::vector<int> inside;
+  for (Eigen::Index v = 0; v < grid.V.rows(); ++v) {
+    if (grid.V.row(v).head<2>().cwiseAbs().maxCoeff() < 0.029) inside.push_back(static_cast<int>(v));
+  }
+  ASSERT_EQ(inside.size(), 25u);
+  // A tilt and a lift are no spike.
+  Eigen::MatrixX3d D = Eigen::MatrixX3d::Zero(grid.V.rows(), 3);
+  D.col(2) = 0.1 * grid.V.col(0) + 0.05 * grid.V.col(1) + Eigen::VectorXd::Constant(grid.V.rows(), 2e-3);
+  EXPECT_LT(largest_spike(D, grid.F, inside).distance, 1e-15);
+  // One vertex raised 1 mm among still neighbours.
+  const int centre = inside[12];
+  ASSERT_LT(grid.V.row(centre).norm(), 1e-12);
+  D.setZero();
+  D(centre, 2) = 1e-3;
+  const Spike s = largest_spike(D, grid.F, inside);
+  EXPECT_EQ(s.vertex, centre);
+  EXPECT_NEAR(s.distance, 1e-3, 1e-15);
+  EXPECT_EQ(largest_spike(D, grid.F, {}).vertex, -1);
+}
+
 TEST(Submesh, NumbersVerticesInOrderOfFirstUse) {
   Eigen::MatrixX3d V(6, 3);
   for (Eigen::Index i = 0; i < V.rows(); ++i) V.row(i) << double(i), 0.0, 0.0;

@@ -37,4 +37,19 @@ Eigen::SparseMatrix<double> umbrella_matrix(const Eigen::MatrixX3i& F, Eigen::In
   return W;
 }
 
+Spike largest_spike(const Eigen::MatrixX3d& D, const Eigen::MatrixX3i& F, const std::vector<int>& vertices) {
+  const std::vector<std::vector<int>> ring = vertex_neighbours(F, D.rows());
+  Spike worst;
+  for (const int v : vertices) {
+    const std::vector<int>& n = ring[static_cast<std::size_t>(v)];
+    if (n.empty()) continue;
+    Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+    for (const int j : n) mean += D.row(j);
+    mean /= static_cast<double>(n.size());
+    const double d = (D.row(v) - mean).norm();
+    if (d > worst.distance || worst.vertex < 0) worst = {d, v};
+  }
+  return worst;
+}
+
 }  // namespace palpa::geometry

@@ -20,4 +20,15 @@ std::vector<std::vector<int>> vertex_neighbours(const Eigen::MatrixX3i& F, Eigen
 // is its own neighbour (W_ii = 1).
 Eigen::SparseMatrix<double> umbrella_matrix(const Eigen::MatrixX3i& F, Eigen::Index n);
 
+// The largest spike of a per-vertex field D (#V×3, e.g. a displacement):
+// over `vertices`, the largest distance ‖D_v − mean_{j ∈ N(v)} D_j‖ (0 for a
+// uniform field, and for an affine one where each ring is centred on its
+// vertex, as inside a regular grid; a lone vertex moved by h among still
+// neighbours gives h), and its vertex (−1 when `vertices` is empty).
+struct Spike {
+  double distance = 0.0;
+  int vertex = -1;
+};
+Spike largest_spike(const Eigen::MatrixX3d& D, const Eigen::MatrixX3i& F, const std::vector<int>& vertices);
+
 }  // namespace palpa::geometry
