@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <random>
 #include <thread>
 
@@ -361,6 +362,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   Eigen::VectorXd d = -g;
   bool steepest = true;
   int first = 1;
+  double earlier_seconds = 0.0;  // a resumed run: the seconds before the resume
 
   if (options_.resume) {
     if (options_.checkpoint.empty()) throw Error(ErrorKind::Input, "--resume needs a checkpoint file");
@@ -379,6 +381,16 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
       j.at("gamma").fail(fmt::format("γ = {:.6g} differs from this scene's {:.6g}", saved_gamma, gamma_),
                          "a checkpoint of the same scene and options");
     }
+    if (const auto mv = j.find("moves")) {
+      std::vector<double> saved;
+      for (std::size_t i = 0; i < mv->size(); ++i) saved.push_back(mv->at(i).as_number());
+      if (saved != options_.moves) {
+        mv->fail(fmt::format("step lengths [{}] differ from this scene's [{}]", fmt::join(saved, ", "),
+                             fmt::join(options_.moves, ", ")),
+                 "a checkpoint of the same scene and options");
+      }
+    }
+    if (const auto sec = j.find("seconds")) earlier_seconds = sec->as_number();
     theta = vector_of(j.at("theta"), space_->size());
     d = vector_of(j.at("direction"), space_->size());
     g = vector_of(j.at("gradient"), space_->size());
@@ -415,7 +427,9 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
                     {"state", state_json(base.state)},
                     {"history", hist},
                     {"evaluations", result.evaluations},
-                    {"newton_iterations", result.newton_iterations}};
+                    {"newton_iterations", result.newton_iterations},
+                    {"moves", options_.moves},
+                    {"seconds", earlier_seconds + seconds_since(t0)}};
     write_json_file(options_.checkpoint, j);
   };
 
@@ -601,7 +615,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     result.before_post_smoothing = std::move(result.final);
     result.final = std::move(smoothed);
   }
-  result.seconds = seconds_since(t0);
+  result.seconds = earlier_seconds + seconds_since(t0);
   return result;
 }
 

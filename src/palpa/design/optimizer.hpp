@@ -153,7 +153,7 @@ struct DesignResult {
   int iterations = 0;
   int evaluations = 0;        // equilibria solved (initial one included)
   int newton_iterations = 0;
-  double seconds = 0.0;       // this run (a resumed run: since the resume)
+  double seconds = 0.0;       // the whole run (a resumed run: with the seconds before the resume)
   double equilibrium_seconds = 0.0;  // the initial equilibrium from scratch
   std::string stop_reason;
   bool resumed = false;

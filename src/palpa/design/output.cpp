@@ -14,6 +14,7 @@
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
 #include "palpa/design/baselines.hpp"
+#include "palpa/geometry/umbrella.hpp"
 #include "palpa/report/compare.hpp"
 #include "palpa/report/plot.hpp"
 #include "palpa/report/pressure_map_svg.hpp"
@@ -130,6 +131,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   const Evaluation after = optimizer.evaluate(r.final.support, r.final.state, false, 0);
   if (!after.ok) throw Error(ErrorKind::Solver, "re-solving the optimized shape: " + after.failure);
   const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
+  const geometry::Spike spike =
+      geometry::largest_spike(displacement, sim.support().triangles(), optimizer.space().vertices());
   const Json pts_after = write_state(out, "after", sim, after, &displacement, threshold);
   body_maps.push_back(rest::body_pressure_panel(sim, after.rest, "body side, optimized support"));
   support_maps.push_back(rest::support_pressure_panel(sim, after.rest, "support side, optimized shape"));
@@ -205,7 +208,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   report::Plot scores;
   scores.title = "objective per iteration";
   scores.x.label = "iteration";
-  scores.y.label = "score [Pa^e m^2]";
+  scores.y.label = fmt::format("score [Pa^{} m^2]", scene.options.score.exponent);
   scores.y.log = true;
   report::Series phi{"φ = ζ + γψ", {}, {}, report::Mark::LineDots};
   report::Series zeta{"ζ (ergonomic score)", {}, {}, report::Mark::LineDots};
@@ -226,6 +229,19 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   }
   psi.dashed = true;
   scores.series = {phi, zeta, psi};
+  // What the summary reports: both shapes from scratch, and each baseline.
+  const double last = r.history.empty() ? 1.0 : static_cast<double>(r.history.back().iteration);
+  scores.series.push_back(report::Series{"ζ from scratch (initial, optimized)",
+                                         {0.0, last},
+                                         {checked_initial.zeta, checked_final.zeta},
+                                         report::Mark::Dots});
+  for (const Json& b : baselines) {
+    report::Series line{fmt::format("ζ of the baseline '{}' (from scratch)", b["name"].get<std::string>()),
+                        {0.0, last},
+                        {b["zeta"].get<double>(), b["zeta"].get<double>()}};
+    line.dashed = true;
+    scores.series.push_back(line);
+  }
   report::Figure score_fig;
   score_fig.plots.push_back(scores);
   report::write_svg(out / "score.svg", score_fig);
@@ -306,6 +322,9 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                 {"zeta_body", checked_final.score.zeta_body / after.score.zeta_body},
                 {"body_peak", checked_final.score.body_pressure.maxCoeff() / after.score.body_pressure.maxCoeff()}}}}},
             {"max_design_displacement_m", displacement.rowwise().norm().maxCoeff()},
+            {"largest_spike", {{"note", "a design vertex's move from its neighbours' mean move"},
+                               {"distance_m", spike.distance},
+                               {"vertex", spike.vertex}}},
             {"iterations", r.iterations},
             {"equilibrium_solves", r.evaluations},
             {"newton_iterations", r.newton_iterations},
