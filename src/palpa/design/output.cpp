@@ -156,8 +156,9 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   body_maps.push_back(rest::body_pressure_panel(*fresh, checked_final.rest, "body side, optimized, from scratch"));
   support_maps.push_back(rest::support_pressure_panel(*fresh, checked_final.rest, "support side, optimized, from scratch"));
 
-  // Baselines, scored alike (simulation 0 is used for Sit & Relax's fit at
-  // the initial equilibrium, so they come after the optimized shape's files).
+  // Baselines, solved from scratch alike (simulation 0 is used for Sit &
+  // Relax's fit at the initial equilibrium, so they come after the optimized
+  // shape's files).
   Json baselines = Json::array();
   Json worse_than = Json::array();  // baselines that beat the optimized shape on what the body feels
   for (const Baseline& b : scene.baselines) {
