@@ -481,6 +481,51 @@ TEST(Newton, ReportsAFailedLineSearch) {
   EXPECT_NE(r.message.find("no step"), std::string::npos);
 }
 
+// E = ½x² + ε|x| with a committed feature, as a penalty contact on the fold
+// of a concave support: prepare(x) commits the side s = sign(x) and the
+// gradient x + εs uses it (a trial's gradient sees the side of the last
+// commit). The minimum sits on the kink at 0, where no gradient is below ε:
+// Newton's full steps hop across it. Every step's predicted decrease is
+// below E's rounding (energy_noise_abs), so the noise test judges them.
+class KinkSystem final : public System {
+ public:
+  static constexpr double kEps = 1e-3;
+  Eigen::Index num_dofs() const override { return 1; }
+  double energy(const Eigen::VectorXd& x) const override { return 0.5 * x[0] * x[0] + kEps * std::abs(x[0]); }
+  void gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override { g = Eigen::VectorXd::Constant(1, x[0] + kEps * side_); }
+  void hessian(const Eigen::VectorXd&, SpMat& H) const override { H = Eigen::MatrixXd::Identity(1, 1).sparseView(); }
+  void prepare(const Eigen::VectorXd& x) override { side_ = x[0] >= 0.0 ? 1.0 : -1.0; }
+
+ private:
+  double side_ = 1.0;
+};
+
+TEST(Newton, StopsAtAContactKinkWhereTheNoiseTestWasMisled) {
+  NewtonOptions o;
+  o.gradient_abs_tol = 1e-12;
+  o.gradient_rel_tol = 0.0;
+  o.energy_noise_abs = 1.0;
+  o.max_iterations = 40;
+  // Without an acceptable gradient the hops never end.
+  {
+    KinkSystem system;
+    Eigen::VectorXd x = Eigen::VectorXd::Constant(1, 0.3);
+    const NewtonResult r = NewtonSolver(o).solve(system, x);
+    EXPECT_FALSE(r.converged()) << r.message;
+    EXPECT_EQ(r.iterations, o.max_iterations);
+  }
+  // With one, Newton stops after the first misleading step, within it.
+  o.gradient_accept_tol = 3.0 * KinkSystem::kEps;
+  KinkSystem system;
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(1, 0.3);
+  const NewtonResult r = NewtonSolver(o).solve(system, x);
+  EXPECT_TRUE(r.converged()) << r.message;
+  EXPECT_LE(r.iterations, 4);
+  EXPECT_LE(r.gradient_norm, o.gradient_accept_tol);
+  EXPECT_LE(std::abs(x[0]), KinkSystem::kEps * (1 + 1e-12));
+  EXPECT_NE(r.message.find("contact kink"), std::string::npos) << r.message;
+}
+
 // A Hessian that cannot be factored whatever the shift.
 class NanHessianSystem final : public System {
  public:

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -109,6 +110,7 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
 
   const double load = options_.gravity.norm() * (model_->total_mass() + core.mass) + core.force.norm();
   automatic_ = !(options_.stiffness > 0.0);
+  update_areas_ = options_.update_areas;
   double k = options_.stiffness;
   if (automatic_) {
     if (!(load > 0.0)) {
@@ -144,6 +146,11 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
   tolerance.tolerance = options_.force_tolerance > 0.0
                             ? options_.force_tolerance
                             : 1e-6 * std::max(load, 1e-6) / static_cast<double>(surface_.size());
+  // By default, where rounding stops progress (a contact kink on a curved
+  // support), an out-of-balance force up to 1e-6 of the load is accepted.
+  if (!(options_.force_tolerance > 0.0)) {
+    tolerance.accept_factor = std::max(tolerance.accept_factor, static_cast<double>(surface_.size()));
+  }
   tolerance.apply(opt);
   newton_ = std::make_unique<NewtonSolver>(opt);
   x_ = Eigen::VectorXd::Zero(system_->num_dofs());
@@ -277,6 +284,25 @@ RestResult RestSimulation::solve() {
   r.detection_seconds = term_->detection_seconds();
   r.seconds = seconds_since(t0);
   return r;
+}
+
+RestResult RestSimulation::refreeze_contact_model() {
+  if (!stiffness_) throw Error(ErrorKind::Input, "the contact stiffness was given: there is no rule to choose it anew");
+  automatic_ = true;
+  options_.update_areas = update_areas_;
+  try {
+    RestResult r = solve();
+    freeze_contact_model();
+    return r;
+  } catch (...) {
+    freeze_contact_model();
+    throw;
+  }
+}
+
+std::pair<double, double> RestSimulation::accepted_penetration() const noexcept {
+  if (!stiffness_) return {0.0, std::numeric_limits<double>::infinity()};
+  return {stiffness_->policy().low, stiffness_->policy().high};
 }
 
 RestState RestSimulation::state() const {

@@ -25,6 +25,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "palpa/body/contact_term.hpp"
@@ -77,7 +78,7 @@ struct RestOptions {
   double stiffness = 0.0;
   LineSearchKind line_search = LineSearchKind::BacktrackingThenBrent;
   int max_iterations = 300;
-  double force_tolerance = 0.0;      // [N]; 0: 1e-6 of the load over the surface vertices
+  double force_tolerance = 0.0;      // [N]; 0: 1e-6 of the load over the surface vertices (accepted up to 1e-6 of the load where rounding stops progress)
   double regularization = 1e4;       // α [1/s²] before landing
   // Where the contact springs sit on the skin (body/contact_term.hpp):
   // Surface integrates the tractions over the skin's triangles
@@ -216,6 +217,16 @@ class RestSimulation {
     automatic_ = false;
     options_.update_areas = false;
   }
+  // Chooses the contact model anew at the current state and freezes it
+  // again: a solve warm-started from the state with the automatic stiffness
+  // rule (k corrected until the deepest penetration is on target) and, as
+  // the options had it, spring-area updates. For a simulation built with the
+  // automatic stiffness: palpa::Error (Input) if k was given; a failed solve
+  // throws (Solver) and leaves the model frozen.
+  RestResult refreeze_contact_model();
+  // The depth-to-target ratios the automatic rule accepts ([low, high]);
+  // {0, ∞} when k was given.
+  std::pair<double, double> accepted_penetration() const noexcept;
   const Eigen::MatrixX3i& surface_faces() const noexcept { return surface_faces_; }  // outer skin, tet-mesh rows
 
  private:
@@ -237,6 +248,7 @@ class RestSimulation {
   Eigen::VectorXd support_area_;      // per support vertex [m²]
   Eigen::VectorXd x_;
   bool automatic_ = true;
+  bool update_areas_ = true;  // the options' spring-area updates, before any freeze
   // The automatic stiffness rule (set when automatic_).
   std::optional<contact::StiffnessController> stiffness_;
   // The support at rest, and a deformable support's tets, system and DOFs.

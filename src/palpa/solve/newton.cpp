@@ -293,6 +293,12 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
     message = fmt::format("energy {} or its gradient is not finite at the starting point", energy);
   }
   bool projection_helps = options_.use_projected_hessian;
+  // A full step taken on the noise test below whose committed ‖g‖∞ came out
+  // no lower: the trial's gradient, taken before the step's contact set was
+  // committed, misled it. Newton then cycles between two contact sets at a
+  // kink of E (a sample on the fold of a concave support), below E's rounding.
+  bool noise_step_misled = false;
+  bool noise_step = false;
   while (status != NewtonStatus::NonFiniteEnergy) {
     check_interrupt();
     if (gnorm <= r.gradient_tolerance) {
@@ -348,7 +354,17 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
 
     const double slope = g.dot(d);
     LineSearchResult ls;
-    if (std::abs(slope) <= std::max(options_.energy_noise * std::abs(energy), options_.energy_noise_abs)) {
+    const bool at_noise = std::abs(slope) <= std::max(options_.energy_noise * std::abs(energy), options_.energy_noise_abs);
+    if (at_noise && noise_step_misled && gnorm <= options_.gradient_accept_tol) {
+      status = NewtonStatus::Converged;
+      message = fmt::format(
+          "converged to rounding in {} iterations: |g| = {:.3e} <= {:.3e} (acceptable); the step a Newton model "
+          "predicts lowers E by less than its rounding, and such a step raised |g| before (a contact kink)",
+          r.iterations, gnorm, options_.gradient_accept_tol);
+      break;
+    }
+    noise_step = false;
+    if (at_noise) {
       // The decrease the quadratic model predicts is below the rounding error
       // of E, so no line search can see it: judge the full step by the gradient.
       const double e1 = phi(1.0);
@@ -359,6 +375,7 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
           ls.step = 1.0;
           ls.value = e1;
           ls.success = true;
+          noise_step = true;
         }
       }
     }
@@ -392,6 +409,7 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
     const std::optional<Known> known =
         ls.step == 1.0 && have_full ? std::optional<Known>(Known{energy_full, &g_full}) : std::nullopt;
     if (!commit_step(it, dir.projected ? "projected step" : "step", known)) break;
+    if (noise_step && gnorm >= gnorm_before) noise_step_misled = true;
     // Near a saddle or an instability the stand-in, blind to the negative
     // curvature, creeps (‖g‖ falling by a constant factor near 1 per step):
     // from then on this solve shifts H, which can move along that curvature.
