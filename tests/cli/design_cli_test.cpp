@@ -166,6 +166,13 @@ TEST(DesignCli, ResumesAnInterruptedRun) {
   EXPECT_EQ(other.exit_code, 2);
   EXPECT_NE(other.err.find("moves"), std::string::npos) << other.err;
   EXPECT_NE(other.err.find("a checkpoint of the same scene and options"), std::string::npos) << other.err;
+  // So is one of another design filter: its θ would mean other shapes.
+  std::string filter = kDesignScene;
+  filter.replace(filter.find("\"iterations\": 4"), 15, R"("iterations": 4, "filter": "0 mm")");
+  dir.write("filter.json", filter);
+  const auto unfiltered = run_palpa("design filter.json -o out --resume", dir.path());
+  EXPECT_EQ(unfiltered.exit_code, 2);
+  EXPECT_NE(unfiltered.err.find("a design filter of radius"), std::string::npos) << unfiltered.err;
   // Without --resume a used folder is refused.
   const auto refused = run_palpa("design scene.json -o out", dir.path());
   EXPECT_EQ(refused.exit_code, 2);
@@ -239,6 +246,12 @@ TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {
   const auto b = run_palpa("design direction.json -o out", dir.path());
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("unknown direction 'sideways'"), std::string::npos) << b.err;
+  std::string filter = kDesignScene;
+  filter.replace(filter.find("\"iterations\": 4"), 15, "\"filter\": \"-1 mm\"");
+  dir.write("filter.json", filter);
+  const auto f = run_palpa("design filter.json -o out", dir.path());
+  EXPECT_EQ(f.exit_code, 2);
+  EXPECT_NE(f.err.find("design.filter"), std::string::npos) << f.err;
   std::string rest = kDesignScene;
   rest.replace(rest.find("palpa_design"), 12, "palpa_rest");
   dir.write("rest.json", rest);
@@ -257,7 +270,8 @@ namespace {
 TEST(DesignCli, TheFlatChairLosesMostOfItsScore) {
   // The seated body on the flat block chair (examples/design/chair), 6
   // L-BFGS iterations: the thesis's chair lost 72% of its score in a full
-  // run; palpa's, checked from scratch, 41% in 6 (ζ_body 48%).
+  // run; palpa's, checked from scratch, 42% in 6 (ζ_body 44%; 73% and 76%
+  // in the scene's 30).
   test::ScratchDir dir;
   const std::filesystem::path scene =
       std::filesystem::path(PALPA_SOURCE_DIR) / "examples" / "design" / "chair" / "scene.json";
@@ -278,8 +292,9 @@ TEST(DesignCli, TheFlatChairLosesMostOfItsScore) {
     EXPECT_NEAR(m["body"].get<double>(), load, (std::string(when) == "initial" ? 0.01 : 0.02) * load) << when;
     EXPECT_NEAR(m["support"].get<double>(), m["body"].get<double>(), 0.01 * load) << when;
   }
-  // The optimizer's view (contact stiffness frozen on the flat seat) against
-  // the optimized seat solved from scratch, the stiffness chosen anew.
+  // The optimizer's view (contact stiffness frozen, chosen anew whenever the
+  // penetration leaves the target's band) against the optimized seat solved
+  // from scratch.
   const auto& agreement = s["optimizer"]["from_scratch_over_optimizer"];
   std::printf("[design] chair, 6 iterations: from scratch ζ %.1f%% lower (optimizer %.1f%%), ζ_body %.1f%% lower, "
               "body peak %.3gx lower; from scratch over the optimizer's: ζ %.4f, ζ_body %.4f, body peak %.4f\n",
@@ -287,11 +302,10 @@ TEST(DesignCli, TheFlatChairLosesMostOfItsScore) {
               s["zeta_body_reduction_percent"].get<double>(), s["body_peak_ratio"].get<double>(),
               agreement["zeta"].get<double>(), agreement["zeta_body"].get<double>(),
               agreement["body_peak"].get<double>());
-  // Measured: ζ 1.047, ζ_body 1.007, body peak 0.986.
-  for (const char* k : {"zeta", "zeta_body", "body_peak"}) EXPECT_NEAR(agreement[k].get<double>(), 1.0, 0.05) << k;
-  // From scratch the deepest skin sample is back near the 0.3 mm target
-  // (the optimizer's frozen stiffness lets the reshaped seat's creases press
-  // in about 2.6× deeper).
+  // Measured: ζ 1.0008, ζ_body 1.0009, body peak 1.0003 (with the stiffness
+  // frozen on the flat seat for the whole run: 1.047, 1.007, 0.986).
+  for (const char* k : {"zeta", "zeta_body", "body_peak"}) EXPECT_NEAR(agreement[k].get<double>(), 1.0, 0.02) << k;
+  // From scratch the deepest skin sample is near the 0.3 mm target.
   EXPECT_LT(s["final"]["max_penetration_m"].get<double>(), 0.45e-3);
   EXPECT_GT(s["final"]["min_det_F"].get<double>(), 0.0);
 }

@@ -38,9 +38,10 @@ constexpr int kTrialNewtonIterations = 50;
 
 const char* method_name(DesignMethod m) { return m == DesignMethod::Lbfgs ? "lbfgs" : "cg"; }
 
-// φ/φ0 over u = θ/c for Ceres, each evaluation warm-started from the last
-// one that succeeded. Exceptions (Ctrl-C) are kept and the evaluation
-// reported as failed; the callback then stops the solver.
+// φ/φ0 over u = θ/c for Ceres. Exceptions (Ctrl-C) are kept and the
+// evaluation reported as failed; the callback then stops the solver. The
+// last few evaluations are kept, so that the callback can take the point
+// the line search accepted (not always the last one it tried).
 class ScaledObjective final : public ceres::FirstOrderFunction {
  public:
   using Evaluate_fn = std::function<Evaluation(const Eigen::VectorXd& theta, bool gradient)>;
@@ -58,8 +59,8 @@ class ScaledObjective final : public ceres::FirstOrderFunction {
       }
       *cost = e.phi / phi0_;
       if (gradient != nullptr) Eigen::Map<Eigen::VectorXd>(gradient, n_) = grad_of_(e) * (c_ / phi0_);
-      last_theta_ = theta;
-      last_ = std::move(e);
+      if (recent_.size() == kKept) recent_.erase(recent_.begin());
+      recent_.push_back({Eigen::Map<const Eigen::VectorXd>(u, n_), theta, std::move(e)});
       return true;
     } catch (...) {
       error_ = std::current_exception();
@@ -68,8 +69,17 @@ class ScaledObjective final : public ceres::FirstOrderFunction {
   }
   int NumParameters() const override { return static_cast<int>(n_); }
   void set_gradient_map(std::function<Eigen::VectorXd(const Evaluation&)> g) { grad_of_ = std::move(g); }
-  mutable Evaluation last_;
-  mutable Eigen::VectorXd last_theta_;
+  // The newest evaluation with a gradient at exactly u, or null.
+  struct Kept {
+    Eigen::VectorXd u, theta;
+    Evaluation evaluation;
+  };
+  Kept* find(const Eigen::VectorXd& u) const {
+    for (auto it = recent_.rbegin(); it != recent_.rend(); ++it) {
+      if (it->u == u && it->evaluation.gradient.rows() > 0) return &*it;
+    }
+    return nullptr;
+  }
   mutable std::exception_ptr error_;
   mutable int evaluations_ = 0;
 
@@ -78,6 +88,8 @@ class ScaledObjective final : public ceres::FirstOrderFunction {
   std::function<Eigen::VectorXd(const Evaluation&)> grad_of_;
   Eigen::Index n_;
   double c_, phi0_;
+  static constexpr std::size_t kKept = 6;
+  mutable std::vector<Kept> recent_;
 };
 
 class LbfgsCallback final : public ceres::IterationCallback {
@@ -129,7 +141,7 @@ rest::RestState state_of(const JsonView& j, const rest::RestState& like) {
 Json record_json(const IterationRecord& r) {
   return {{"iteration", r.iteration}, {"phi", r.phi},   {"zeta", r.zeta},         {"psi", r.psi},
           {"move_m", r.move},         {"evaluations", r.evaluations}, {"restarted", r.restarted},
-          {"seconds", r.seconds}};
+          {"seconds", r.seconds},     {"stiffness", r.stiffness},     {"refrozen", r.refrozen}};
 }
 
 IterationRecord record_of(const JsonView& j) {
@@ -142,13 +154,15 @@ IterationRecord record_of(const JsonView& j) {
   r.evaluations = static_cast<int>(j.at("evaluations").as_integer());
   r.restarted = j.at("restarted").as_bool();
   r.seconds = j.at("seconds").as_number();
+  if (const auto k = j.find("stiffness")) r.stiffness = k->as_number();
+  if (const auto f = j.find("refrozen")) r.refrozen = f->as_bool();
   return r;
 }
 
 }  // namespace
 
 DesignSpace::DesignSpace(const Eigen::MatrixX3d& X0, const Eigen::MatrixX3i& F, std::vector<int> vertices,
-                         bool normal_only)
+                         bool normal_only, double filter_radius)
     : X0_(X0), normals_(geometry::vertex_normals(SurfaceMesh{X0, F}, geometry::NormalWeighting::Area)), vertices_(std::move(vertices)), normal_only_(normal_only) {
   if (vertices_.empty()) {
     throw Error(ErrorKind::Input, "the design region holds no support vertex: nothing to optimize",
@@ -159,14 +173,22 @@ DesignSpace::DesignSpace(const Eigen::MatrixX3d& X0, const Eigen::MatrixX3i& F, 
       throw Error(ErrorKind::Input, fmt::format("design vertex {} is not a support vertex (0…{})", v, X0_.rows() - 1));
     }
   }
+  filter_ = std::make_unique<DesignFilter>(SurfaceMesh{X0, F}, vertices_, filter_radius);
 }
 
+DesignSpace::~DesignSpace() = default;
+
+double DesignSpace::filter_radius() const noexcept { return filter_->radius(); }
+
 Eigen::MatrixX3d DesignSpace::moves(const Eigen::VectorXd& d) const {
+  const auto n = static_cast<Eigen::Index>(vertices_.size());
+  // θ as one row per design vertex, then filtered.
+  const Eigen::MatrixXd S = filter_->apply(normal_only_ ? Eigen::MatrixXd(d)
+                                                        : Eigen::MatrixXd(Eigen::Map<const Eigen::MatrixXd>(d.data(), 3, n).transpose()));
   Eigen::MatrixX3d M = Eigen::MatrixX3d::Zero(X0_.rows(), 3);
-  for (std::size_t i = 0; i < vertices_.size(); ++i) {
-    const int v = vertices_[i];
-    const auto k = static_cast<Eigen::Index>(i);
-    M.row(v) = normal_only_ ? Eigen::RowVector3d(d[k] * normals_.row(v)) : Eigen::RowVector3d(d.segment<3>(3 * k).transpose());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const int v = vertices_[static_cast<std::size_t>(i)];
+    M.row(v) = normal_only_ ? Eigen::RowVector3d(S(i, 0) * normals_.row(v)) : Eigen::RowVector3d(S.row(i));
   }
   return M;
 }
@@ -174,23 +196,26 @@ Eigen::MatrixX3d DesignSpace::moves(const Eigen::VectorXd& d) const {
 Eigen::MatrixX3d DesignSpace::shape(const Eigen::VectorXd& theta) const { return X0_ + moves(theta); }
 
 Eigen::VectorXd DesignSpace::restrict(const Eigen::MatrixX3d& G) const {
-  Eigen::VectorXd g(size());
-  for (std::size_t i = 0; i < vertices_.size(); ++i) {
-    const int v = vertices_[i];
-    const auto k = static_cast<Eigen::Index>(i);
+  const auto n = static_cast<Eigen::Index>(vertices_.size());
+  Eigen::MatrixXd R(n, normal_only_ ? 1 : 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const int v = vertices_[static_cast<std::size_t>(i)];
     if (normal_only_) {
-      g[k] = G.row(v).dot(normals_.row(v));
+      R(i, 0) = G.row(v).dot(normals_.row(v));
     } else {
-      g.segment<3>(3 * k) = G.row(v).transpose();
+      R.row(i) = G.row(v);
     }
   }
-  return g;
+  const Eigen::MatrixXd T = filter_->apply_transpose(R);
+  if (normal_only_) return T.col(0);
+  const Eigen::MatrixXd Tt = T.transpose();  // 3 × n: θ's order, x y z per vertex
+  return Eigen::Map<const Eigen::VectorXd>(Tt.data(), Tt.size());
 }
 
 double DesignSpace::max_move(const Eigen::VectorXd& d) const {
-  if (normal_only_) return d.size() ? d.cwiseAbs().maxCoeff() : 0.0;
+  const Eigen::MatrixX3d M = moves(d);
   double m = 0.0;
-  for (Eigen::Index k = 0; k < d.size() / 3; ++k) m = std::max(m, d.segment<3>(3 * k).norm());
+  for (int v : vertices_) m = std::max(m, M.row(v).norm());
   return m;
 }
 
@@ -244,7 +269,8 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
     throw Error(ErrorKind::Input, "no support vertex may move: the design region holds only the support's fixed base");
   }
   const Eigen::MatrixX3i& F = first.support().triangles();
-  space_ = std::make_unique<DesignSpace>(X0, F, std::move(design_vertices), options_.normal_only);
+  const double radius = options_.filter_radius.value_or(kFilterEdges * design_edge_length(SurfaceMesh{X0, F}, design_vertices));
+  space_ = std::make_unique<DesignSpace>(X0, F, std::move(design_vertices), options_.normal_only, radius);
   score_ = std::make_unique<ErgonomicScore>(first, options_.score);
   smoothness_ = std::make_unique<Smoothness>(F, X0.rows(), space_->vertices(), options_.taubin_iterations);
 
@@ -255,7 +281,9 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
   std::uniform_real_distribution<double> noise(-1e-4, 1e-4);
   Eigen::VectorXd rough(space_->size());
   for (Eigen::Index i = 0; i < rough.size(); ++i) rough[i] = noise(rng);
-  const double psi_ref = smoothness_->evaluate(space_->shape(rough));
+  // Per-vertex noise, not filtered: a roughness, whatever the filter.
+  const DesignSpace raw(X0, F, space_->vertices(), options_.normal_only, 0.0);
+  const double psi_ref = smoothness_->evaluate(raw.shape(rough));
   if (psi0 < 1e-3 * psi_ref) psi0 = psi_ref;
   if (options_.gamma) {
     if (!(*options_.gamma >= 0.0) || !std::isfinite(*options_.gamma)) {
@@ -390,6 +418,16 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
                  "a checkpoint of the same scene and options");
       }
     }
+    if (const auto fr = j.find("filter_radius")) {
+      const double saved = fr->as_number();
+      if (std::abs(saved - space_->filter_radius()) > 1e-12) {
+        fr->fail(fmt::format("a design filter of radius {:.6g} m differs from this scene's {:.6g} m", saved,
+                             space_->filter_radius()),
+                 "a checkpoint of the same scene and options");
+      }
+    } else if (space_->filter_radius() > 0.0) {
+      j.fail("a checkpoint of per-vertex moves", "one of this scene's filtered design (its θ means other shapes)");
+    }
     if (const auto sec = j.find("seconds")) earlier_seconds = sec->as_number();
     theta = vector_of(j.at("theta"), space_->size());
     d = vector_of(j.at("direction"), space_->size());
@@ -400,6 +438,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     base.phi = j.at("phi").as_number();
     base.zeta = j.at("zeta").as_number();
     base.psi = j.at("psi").as_number();
+    if (const auto p = j.find("max_penetration")) base.rest.max_penetration = p->as_number();
     const JsonView h = j.at("history");
     for (std::size_t i = 0; i < h.size(); ++i) result.history.push_back(record_of(h.at(i)));
     result.evaluations = static_cast<int>(j.at("evaluations").as_integer());
@@ -424,13 +463,64 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
                     {"phi", base.phi},
                     {"zeta", base.zeta},
                     {"psi", base.psi},
+                    {"max_penetration", base.rest.max_penetration},
                     {"state", state_json(base.state)},
                     {"history", hist},
                     {"evaluations", result.evaluations},
                     {"newton_iterations", result.newton_iterations},
                     {"moves", options_.moves},
+                    {"filter_radius", space_->filter_radius()},
                     {"seconds", earlier_seconds + seconds_since(t0)}};
     write_json_file(options_.checkpoint, j);
+  };
+
+  // The contact model follows the design: when an accepted shape's deepest
+  // penetration leaves the band the automatic stiffness rule accepts, k (and
+  // the spring areas) are chosen anew there, as a solve from scratch chooses
+  // them, and φ and its gradient are measured again with them; the search
+  // direction restarts. So the optimizer's φ stays the from-scratch φ within
+  // that band, and it cannot gain by letting the frozen springs sink deeper.
+  bool refreeze_failed = false;
+  auto out_of_band = [&](const Evaluation& e) {
+    const auto [low, high] = sims_.front()->accepted_penetration();
+    const double ratio = e.rest.max_penetration / rest_options_.target_penetration;
+    return !refreeze_failed && e.rest.max_penetration > 0.0 && (ratio < low || ratio > high);
+  };
+  auto refreeze = [&](int it) {
+    rest::RestSimulation& sim = *sims_.front();
+    const double k0 = base.state.stiffness, ratio0 = base.rest.max_penetration / rest_options_.target_penetration;
+    try {
+      sim.restore(base.state);
+      sim.set_support_vertices(base.support);
+      const rest::RestResult r = sim.refreeze_contact_model();
+      ++result.evaluations;
+      result.newton_iterations += r.newton_iterations;
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::Solver) throw;
+      spdlog::warn("design: the contact model could not be chosen anew at iteration {} ({}); it stays frozen", it, e.what());
+      refreeze_failed = true;
+      return;
+    }
+    Evaluation again = evaluate(base.support, sim.state(), true, 0);
+    ++result.evaluations;
+    if (!again.ok) {
+      spdlog::warn("design: the contact model chosen anew at iteration {} fails ({}); it stays frozen", it, again.failure);
+      refreeze_failed = true;
+      return;
+    }
+    result.newton_iterations += again.rest.newton_iterations;
+    spdlog::info("design: iteration {}: penetration {:.2f}× the target, contact stiffness chosen anew: k {:.4g} → {:.4g}, "
+                 "φ {:.6g} → {:.6g}", it, ratio0, k0, again.state.stiffness, base.phi, again.phi);
+    base = std::move(again);
+    g = space_->restrict(base.gradient);
+    d = -g;
+    steepest = true;
+    ++result.refreezes;
+    if (!result.history.empty()) {
+      result.history.back().refrozen = true;
+      result.history.back().stiffness = base.state.stiffness;
+    }
+    save(it);
   };
 
   result.stop_reason = fmt::format("the iteration limit ({})", options_.max_iterations);
@@ -497,6 +587,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     rec.phi = base.phi;
     rec.zeta = base.zeta;
     rec.psi = base.psi;
+    rec.stiffness = base.state.stiffness;
     rec.seconds = seconds_since(ti);
     result.history.push_back(rec);
     iteration = it;
@@ -532,8 +623,9 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
             refused.failure = "longer than the longest step";
             return refused;
           }
+          // Every trial starts from the accepted point: φ of a shape does
+          // not depend on the trials before it.
           Evaluation e = evaluate(space_->shape(th), warm, with_gradient, 0);
-          if (e.ok) warm = e.state;
           ++result.evaluations;
           if (e.ok) result.newton_iterations += e.rest.newton_iterations;
           return e;
@@ -544,13 +636,24 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     Eigen::VectorXd u = theta / c;
     auto ti = Clock::now();
     int evaluations_before = 0;
+    bool refreeze_pending = false;
     const int start = iteration;
     LbfgsCallback callback([&](const ceres::IterationSummary& sum) {
       if (objective->error_) return false;
       if (sum.iteration == 0 || !sum.step_is_successful) return true;
       ++iteration;
-      base = objective->last_;
-      theta = objective->last_theta_;
+      // The accepted point: Ceres has written it to u.
+      if (ScaledObjective::Kept* k = objective->find(u)) {
+        base = std::move(k->evaluation);
+        theta = k->theta;
+      } else {
+        theta = c * u;
+        base = evaluate(space_->shape(theta), warm, true, 0);
+        ++result.evaluations;
+        if (!base.ok) throw Error(ErrorKind::Solver, "the point L-BFGS accepted: " + base.failure);
+        result.newton_iterations += base.rest.newton_iterations;
+      }
+      warm = base.state;
       g = space_->restrict(base.gradient);
       d = -g;
       IterationRecord rec;
@@ -558,6 +661,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
       rec.phi = base.phi;
       rec.zeta = base.zeta;
       rec.psi = base.psi;
+      rec.stiffness = base.state.stiffness;
       rec.move = sum.step_norm * c;
       rec.evaluations = objective->evaluations_ - evaluations_before;
       rec.restarted = iteration == start + 1 && start > first - 1;
@@ -569,6 +673,10 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
       spdlog::info("design: iteration {} (L-BFGS): φ = {:.6g} (ζ = {:.6g}, γψ = {:.3g}), {} evaluations, {:.1f} s",
                    iteration, base.phi, base.zeta, gamma_ * base.psi, rec.evaluations, rec.seconds);
       if (progress) progress(rec);
+      if (out_of_band(base)) {
+        refreeze_pending = true;
+        return false;
+      }
       return !interrupt_requested();
     });
     ceres::GradientProblemSolver::Options so;
@@ -578,11 +686,16 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     so.gradient_tolerance = 1e-14;
     so.parameter_tolerance = 1e-14;
     so.logging_type = ceres::SILENT;
+    so.update_state_every_iteration = true;  // the callback reads the accepted point from u
     so.callbacks.push_back(&callback);
     ceres::GradientProblemSolver::Summary summary;
     ceres::Solve(so, problem, u.data(), &summary);
     if (objective->error_) std::rethrow_exception(objective->error_);
     check_interrupt();
+    if (refreeze_pending) {
+      refreeze(iteration);
+      continue;  // a fresh L-BFGS on the new contact model
+    }
     result.stop_reason = "L-BFGS: " + summary.message;
     if (summary.termination_type == ceres::CONVERGENCE &&
         summary.message.find("Function tolerance") != std::string::npos) {
@@ -594,12 +707,15 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     d = -g;
     steepest = true;
     if (ladder(iteration + 1) != 0) break;
+    if (out_of_band(base)) refreeze(iteration);
   }
   for (int it = first; options_.method == DesignMethod::ConjugateGradient && it <= options_.max_iterations; ++it) {
     if (ladder(it) != 0) break;
+    if (out_of_band(base)) refreeze(it);
   }
   result.iterations = iteration;
 
+  if (out_of_band(base)) refreeze(iteration);
   // The optimized shape, solved once more so that simulation 0 holds it.
   result.final = evaluate(base.support, base.state, false, 0);
   ++result.evaluations;

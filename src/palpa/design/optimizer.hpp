@@ -14,7 +14,10 @@
 // The contact model is frozen after the initial equilibrium: the penalty
 // stiffness k (chosen there for the target penetration) and the spring areas
 // stay as they are, so φ is one smooth function of X between changes of the
-// contact set.
+// contact set. When an accepted shape's deepest penetration leaves the band
+// the automatic rule accepts (0.85–1.15× the target), the model is chosen
+// anew there and frozen again, and the search restarts: the optimizer's φ is
+// then what a solve from scratch measures, not a softer frozen model's.
 //
 // Gradient (7.17–7.20), one extra linear solve per gradient. At the
 // equilibrium y(X) of the CoreSystem (body/core_system.hpp) g(y, X) = 0, so
@@ -32,9 +35,11 @@
 // (tet::ElasticModel::rest_gradient_product). Its fixed base never moves.
 // Both cases live in rest::RestSimulation::shape_derivative().
 //
-// Design variables θ: the positions of the design vertices (a region of the
+// Design variables θ: moves of the design vertices (a region of the
 // support), either free in 3D (3 per vertex) or only along their initial
-// normals (1 per vertex, so the outline stays put). X = X0 + B θ.
+// normals (1 per vertex, so the outline stays put), smoothed by the design
+// filter S (design/filter.hpp): X = X0 + B S θ. Its radius defaults to
+// 1.5 mean edge lengths of the region; 0 gives per-vertex moves.
 //
 // Optimizer: nonlinear conjugate gradients (Polak–Ribière+, restarted on a
 // non-descent direction). Each iteration tries a fixed ladder of step lengths,
@@ -48,8 +53,8 @@
 // L-BFGS (DesignMethod::Lbfgs, the default): the same φ and gradient handed
 // to Ceres' GradientProblemSolver, variables scaled so that a unit step along
 // the gradient moves the support by at most half the target penetration
-// (0.15 mm by default); each evaluation is warm-started from the previous
-// one. Trials longer than the longest ladder step are refused unsolved, and
+// (0.15 mm by default); every trial is warm-started from the accepted
+// point, and the iterate taken is the point the line search accepted. Trials longer than the longest ladder step are refused unsolved, and
 // a trial equilibrium that needs more than 50 Newton iterations counts as
 // failed (Ceres then tries a shorter step). When its line search stalls
 // (φ is only piecewise smooth), one ladder iteration along the steepest
@@ -65,6 +70,7 @@
 #include <string>
 #include <vector>
 
+#include "palpa/design/filter.hpp"
 #include "palpa/design/score.hpp"
 #include "palpa/rest/rest.hpp"
 
@@ -75,20 +81,23 @@ class DesignSpace {
   // X0: the support's vertices (world [m]); F: its outward triangles;
   // vertices: the design vertices (rows of X0). Throws palpa::Error (Input)
   // for no design vertex or one out of range.
-  DesignSpace(const Eigen::MatrixX3d& X0, const Eigen::MatrixX3i& F, std::vector<int> vertices, bool normal_only);
+  DesignSpace(const Eigen::MatrixX3d& X0, const Eigen::MatrixX3i& F, std::vector<int> vertices, bool normal_only,
+              double filter_radius = 0.0);
+  ~DesignSpace();
   Eigen::Index size() const noexcept { return normal_only_ ? static_cast<Eigen::Index>(vertices_.size())
                                                            : 3 * static_cast<Eigen::Index>(vertices_.size()); }
   const std::vector<int>& vertices() const noexcept { return vertices_; }
   bool normal_only() const noexcept { return normal_only_; }
   const Eigen::MatrixX3d& initial() const noexcept { return X0_; }
   const Eigen::MatrixX3d& normals() const noexcept { return normals_; }  // unit, per vertex
-  // X0 + B θ.
+  double filter_radius() const noexcept;  // [m]
+  // X0 + B S θ.
   Eigen::MatrixX3d shape(const Eigen::VectorXd& theta) const;
-  // B d: the vertex moves (#V×3) of a change d of θ.
+  // B S d: the vertex moves (#V×3) of a change d of θ.
   Eigen::MatrixX3d moves(const Eigen::VectorXd& d) const;
-  // Bᵀ G: a gradient over the vertices (#V×3) as one over θ.
+  // Sᵀ Bᵀ G: a gradient over the vertices (#V×3) as one over θ.
   Eigen::VectorXd restrict(const Eigen::MatrixX3d& G) const;
-  // The largest vertex move of B d [m].
+  // The largest vertex move of B S d [m].
   double max_move(const Eigen::VectorXd& d) const;
 
  private:
@@ -96,7 +105,11 @@ class DesignSpace {
   Eigen::MatrixX3d normals_;
   std::vector<int> vertices_;
   bool normal_only_;
+  std::unique_ptr<DesignFilter> filter_;
 };
+
+// The default design filter radius in mean edge lengths of the region.
+inline constexpr double kFilterEdges = 1.5;
 
 enum class DesignMethod {
   ConjugateGradient,  // the thesis's scheme (above)
@@ -110,6 +123,9 @@ struct DesignOptions {
   double smoothing_exponent = -2.0;   // j: γ = 10^j · (ζ/ψ on the initial shape)
   std::optional<double> gamma;        // given: used as is [Pa^e]
   bool normal_only = false;
+  // The design filter's radius [m]; unset: kFilterEdges mean edge lengths of
+  // the design region; 0: per-vertex moves.
+  std::optional<double> filter_radius;
   int max_iterations = 30;
   // Stops when an iteration lowers φ by less than this fraction.
   double min_relative_decrease = 1e-4;
@@ -142,6 +158,8 @@ struct IterationRecord {
   int evaluations = 0;        // equilibria solved this iteration
   bool restarted = false;     // the CG direction was reset
   double seconds = 0.0;       // wall time of the iteration
+  double stiffness = 0.0;     // the contact stiffness k after it [N/m]
+  bool refrozen = false;      // k was chosen anew after it
 };
 
 struct DesignResult {
@@ -153,6 +171,7 @@ struct DesignResult {
   int iterations = 0;
   int evaluations = 0;        // equilibria solved (initial one included)
   int newton_iterations = 0;
+  int refreezes = 0;          // times the contact model was chosen anew
   double seconds = 0.0;       // the whole run (a resumed run: with the seconds before the resume)
   double equilibrium_seconds = 0.0;  // the initial equilibrium from scratch
   std::string stop_reason;

@@ -147,8 +147,9 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   // Both shapes checked from scratch, as `palpa rest` would solve them: what
   // the summary's headline figures are. The optimized shape's maps from
   // scratch are the third panel of each picture.
-  const Evaluation checked_initial = scored_from_scratch(
-      optimizer, scene.rest.body, SurfaceMesh{r.initial.support, optimized.F}, before, nullptr, "the initial shape");
+  // The initial shape was solved from scratch when the optimizer was built
+  // (its contact model chosen there): `before` is that solution.
+  const Evaluation& checked_initial = before;
   std::unique_ptr<rest::RestSimulation> fresh;
   const Evaluation checked_final =
       scored_from_scratch(optimizer, scene.rest.body, optimized, after, &fresh, "the optimized shape");
@@ -300,6 +301,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
             {"design", {{"region", scene.region},
                         {"variables", optimizer.space().size()},
                         {"direction", o.normal_only ? "normal" : "free"},
+                        {"filter_radius_m", optimizer.space().filter_radius()},
                         {"exponent", o.score.exponent},
                         {"gamma", r.gamma},
                         {"smoothing_exponent", o.gamma ? Json() : Json(o.smoothing_exponent)},

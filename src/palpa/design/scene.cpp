@@ -84,7 +84,7 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
   Eigen::Vector3d hi = -lo;
   double facing = 25.0 * 3.14159265358979323846 / 180.0;
   if (const auto d = root.find("design")) {
-    d->expect_only({"method", "region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves",
+    d->expect_only({"method", "region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves", "filter",
                     "threads", "post_smoothing", "pose_to_seat_threshold"});
     if (const auto m = d->find("method")) {
       const std::string v = m->as_string();
@@ -140,6 +140,10 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
       o.moves.clear();
       for (std::size_t i = 0; i < mv->size(); ++i) o.moves.push_back(sim3d::read_positive(mv->at(i), Dimension::Length));
       if (o.moves.empty()) mv->fail("no step lengths", "at least one length");
+    }
+    if (const auto f = d->find("filter")) {
+      o.filter_radius = f->as_quantity(Dimension::Length);
+      if (!(*o.filter_radius >= 0.0) || !std::isfinite(*o.filter_radius)) f->fail("out of range", "a length ≥ 0 (0: per-vertex moves)");
     }
     if (const auto t = d->find("threads")) o.threads = sim3d::read_count(*t, 0, 64);
     if (const auto p = d->find("post_smoothing")) o.post_smoothing = sim3d::read_count(*p, 0, 1000);

@@ -14,6 +14,8 @@
 //     "exponent": 3,             // of the ergonomic score (2, 3 or 4)
 //     "smoothing": {"exponent": -2, "iterations": 5},   // γ = 10^exponent · ζ0/ψ0; or {"gamma": 1e9}
 //     "iterations": 30, "min_decrease": 1e-4,
+//     "filter": "15 mm",         // radius of the design filter (design/filter.hpp); 0: per-vertex moves;
+//                                // default 1.5 mean edge lengths of the region
 //     "moves": ["1 um", "10 um", "0.1 mm", "0.2 mm", "0.5 mm", "0.7 mm", "1 mm", "2 mm"],
 //     "threads": 0,              // simulations at once; 0: min(#moves, cores)
 //     "post_smoothing": 0,       // Taubin rounds on the result
