@@ -84,12 +84,25 @@ void run_design_command(const DesignArgs& a) {
     r = optimizer.run();
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::Interrupted) {
-      spdlog::warn("design: interrupted; the last finished iteration is in {}: continue with --resume",
-                   checkpoint.string());
+      // The best shape so far, as a shape to look at or make; no summary (the
+      // run is not finished, nothing is checked from scratch).
+      if (optimizer.last_accepted().rows() > 0) {
+        design::write_support_shape(out, "support_interrupted",
+                                    SurfaceMesh{optimizer.last_accepted(), optimizer.simulation().support().triangles()});
+        spdlog::warn("design: interrupted; the last finished iteration is in {} and its support in "
+                     "support_interrupted.obj (m) and support_interrupted_mm.stl: continue with --resume",
+                     checkpoint.string());
+      } else {
+        spdlog::warn("design: interrupted before the first iteration finished: nothing to keep");
+      }
     }
     throw;
   }
   const Json s = design::write_design_outputs(out, scene, optimizer, r);
+  for (const char* f : {"support_interrupted.obj", "support_interrupted_mm.stl"}) {
+    std::error_code ec;
+    std::filesystem::remove(out / f, ec);  // an interruption's shape is not this run's result
+  }
   folder.keep();
   // The headline: both shapes solved from scratch.
   const Json& initial = s["initial"];

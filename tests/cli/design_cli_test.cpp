@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -226,6 +227,29 @@ TEST(DesignCli, SurvivesSigkillAtFiveMomentsAndResumesToTheSameResult) {
     EXPECT_EQ(summary(dir / out / "summary.json")["final"]["zeta"].get<double>(), zeta) << out;
   }
   EXPECT_GE(killed, 3) << "most kills should land inside the run";
+}
+
+// Ctrl-C during a run: exit 130, no summary, the last accepted shape beside
+// the checkpoint; --resume finishes and removes it.
+TEST(DesignCli, AnInterruptedRunLeavesItsBestShape) {
+  ScratchDir dir;
+  std::string scene = kDesignScene;
+  scene.replace(scene.find("\"position\""), 0, "\"element\": \"linear\", ");
+  dir.write("scene.json", scene);
+  // Interrupted as soon as the first iteration is checkpointed.
+  const std::filesystem::path checkpoint = dir / "out" / "checkpoint.json";
+  const int code = test::run_palpa_signalled_when("design scene.json -o out", dir.path(),
+                                                  [&] { return std::filesystem::exists(checkpoint); }, SIGINT);
+  ASSERT_EQ(code, 130);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
+  const std::string shape = test::read_text(dir / "out" / "support_interrupted.obj");
+  EXPECT_NE(shape.find("\nv "), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "support_interrupted_mm.stl"));
+  const auto r = run_palpa("design scene.json -o out --resume", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "support_interrupted.obj"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "support_interrupted_mm.stl"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "summary.json"));
 }
 
 TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {

@@ -99,6 +99,17 @@ CommandResult run_palpa(const std::string& args, const std::filesystem::path& cw
 }
 
 bool run_palpa_killed_after(const std::string& args, const std::filesystem::path& cwd, double seconds) {
+  return run_palpa_signalled_after(args, cwd, seconds, SIGKILL) == 128 + SIGKILL;
+}
+
+int run_palpa_signalled_after(const std::string& args, const std::filesystem::path& cwd, double seconds, int signal) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  return run_palpa_signalled_when(args, cwd, [&] { return std::chrono::steady_clock::now() >= deadline; }, signal,
+                                  seconds + 1.0);
+}
+
+int run_palpa_signalled_when(const std::string& args, const std::filesystem::path& cwd,
+                             const std::function<bool()>& ready, int signal, double timeout) {
   const std::string cmd =
       fmt::format("cd '{}' && exec '{}' {} >/dev/null 2>&1 </dev/null", cwd.string(), PALPA_BINARY, args);
   const pid_t pid = fork();
@@ -106,16 +117,18 @@ bool run_palpa_killed_after(const std::string& args, const std::filesystem::path
     execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
-  if (pid < 0) return false;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  if (pid < 0) return -1;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
   int status = 0;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (waitpid(pid, &status, WNOHANG) == pid) return false;
+  while (!ready()) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return -1;
+    if (std::chrono::steady_clock::now() >= deadline) break;
     usleep(2000);
   }
-  kill(pid, SIGKILL);
+  kill(pid, signal);
   waitpid(pid, &status, 0);
-  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 std::string shell_quote(const std::filesystem::path& p) { return fmt::format("'{}'", p.string()); }

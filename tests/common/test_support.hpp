@@ -66,5 +66,12 @@ CommandResult run_palpa(const std::string& args, const std::filesystem::path& cw
 // `seconds` after the start, as a crash or an out-of-memory killer would.
 // Returns true if it was killed, false if it had ended by then.
 bool run_palpa_killed_after(const std::string& args, const std::filesystem::path& cwd, double seconds);
+// The same with `signal` (e.g. SIGINT, as Ctrl-C): the exit code palpa gave
+// (128 + signal if the signal killed it), or -1 if it had ended by then.
+int run_palpa_signalled_after(const std::string& args, const std::filesystem::path& cwd, double seconds, int signal);
+// The same, signalled as soon as `ready()` holds (polled every 2 ms), or
+// -1 if palpa ends first or `timeout` seconds pass.
+int run_palpa_signalled_when(const std::string& args, const std::filesystem::path& cwd,
+                             const std::function<bool()>& ready, int signal, double timeout = 600.0);
 
 }  // namespace palpa::test

@@ -435,6 +435,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     steepest = j.at("steepest").as_bool();
     base.state = state_of(j.at("state"), initial_.state);
     base.support = space_->shape(theta);
+    accepted_ = base.support;
     base.phi = j.at("phi").as_number();
     base.zeta = j.at("zeta").as_number();
     base.psi = j.at("psi").as_number();
@@ -449,6 +450,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   }
 
   auto save = [&](int iteration) {
+    accepted_ = base.support;
     if (options_.checkpoint.empty()) return;
     Json hist = Json::array();
     for (const IterationRecord& r : result.history) hist.push_back(record_json(r));

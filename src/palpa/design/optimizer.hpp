@@ -190,6 +190,9 @@ class ShapeOptimizer {
   const DesignSpace& space() const noexcept { return *space_; }
   double gamma() const noexcept { return gamma_; }
   const Evaluation& initial() const noexcept { return initial_; }
+  // The support of the last accepted iteration (empty before the first): what
+  // an interrupted run has to show.
+  const Eigen::MatrixX3d& last_accepted() const noexcept { return accepted_; }
   rest::RestSimulation& simulation(int slot = 0) { return *sims_[static_cast<std::size_t>(slot)]; }
 
   // φ at X, warm-started from `warm`, on simulation `slot`; with dφ/dX when
@@ -218,6 +221,7 @@ class ShapeOptimizer {
   std::unique_ptr<Smoothness> smoothness_;
   std::unique_ptr<DesignSpace> space_;
   Evaluation initial_;
+  Eigen::MatrixX3d accepted_;
   double gamma_ = 0.0;
   double equilibrium_seconds_ = 0.0;
   rest::RestOptions rest_options_;  // the scene's, as `palpa rest` takes them

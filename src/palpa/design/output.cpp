@@ -115,6 +115,13 @@ Evaluation scored_from_scratch(const ShapeOptimizer& optimizer, const rest::Rest
 
 }  // namespace
 
+void write_support_shape(const std::filesystem::path& out, const std::string& stem, const SurfaceMesh& shape) {
+  write_surface_mesh(out / (stem + ".obj"), shape);
+  SurfaceMesh mm = shape;
+  mm.V *= 1e3;
+  write_surface_mesh(out / (stem + "_mm.stl"), mm);
+}
+
 Json write_design_outputs(const std::filesystem::path& out, const DesignScene& scene, ShapeOptimizer& optimizer,
                           const DesignResult& r) {
   ensure_directory(out);
@@ -139,10 +146,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
 
   // The shape to make: for a deformable support its rest shape.
   const SurfaceMesh optimized{r.final.support, sim.support().triangles()};
-  write_surface_mesh(out / "support.obj", optimized);
-  SurfaceMesh optimized_mm = optimized;
-  optimized_mm.V *= 1e3;
-  write_surface_mesh(out / "support_mm.stl", optimized_mm);
+  write_support_shape(out, "support", optimized);
 
   // Both shapes checked from scratch, as `palpa rest` would solve them: what
   // the summary's headline figures are. The optimized shape's maps from

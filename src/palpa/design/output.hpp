@@ -16,9 +16,12 @@
 //                            optimized on one colour scale
 //   summary.json             scores, reduction, peaks, penetration, balance,
 //                            iterations, solves, times, per-iteration history
-// (checkpoint.json, written during the run, stays for --resume.)
+// (checkpoint.json, written during the run, stays for --resume; an
+// interrupted run leaves support_interrupted.obj and _mm.stl, its last
+// accepted shape, which a finished run removes.)
 
 #include <filesystem>
+#include <string>
 
 #include "palpa/core/json.hpp"
 #include "palpa/design/optimizer.hpp"
@@ -30,5 +33,8 @@ namespace palpa::design {
 // Newton iterations at most) to write their fields. Returns the summary.
 Json write_design_outputs(const std::filesystem::path& out, const DesignScene& scene, ShapeOptimizer& optimizer,
                           const DesignResult& result);
+
+// A support shape to make: out/<stem>.obj [m] and out/<stem>_mm.stl [mm].
+void write_support_shape(const std::filesystem::path& out, const std::string& stem, const SurfaceMesh& shape);
 
 }  // namespace palpa::design
