@@ -26,6 +26,7 @@ struct DesignArgs {
   std::string output;
   bool overwrite = false;
   bool resume = false;
+  bool no_baselines = false;
   int iterations = -1;
   int threads = -1;
   std::string method;
@@ -46,6 +47,7 @@ void run_design_command(const DesignArgs& a) {
   design::DesignScene scene = design::read_design_scene(a.scene);
   if (a.iterations >= 0) scene.options.max_iterations = a.iterations;
   if (a.threads >= 0) scene.options.threads = a.threads;
+  if (a.no_baselines) scene.baselines.clear();
   if (a.method == "cg") scene.options.method = design::DesignMethod::ConjugateGradient;
   if (a.method == "lbfgs") scene.options.method = design::DesignMethod::Lbfgs;
   // A finished run is resumed only to go on past the iteration limit it
@@ -144,6 +146,7 @@ void add_design_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", a->threads, "Equilibria solved at once (0: min(step lengths, cores))")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--no-baselines", a->no_baselines, "Skip the scene's baselines (a quicker look at the design alone)");
   cmd->add_option("--method", a->method, "Optimizer (overrides the scene's design.method): lbfgs (the default) or cg")
       ->check(CLI::IsMember({"cg", "lbfgs"}));
   declare_paths(*cmd, {"scene"}, {"-o"});

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "palpa/contact/contact.hpp"
+#include "palpa/contact/detail/cgal_checks.hpp"
 #include "palpa/contact/penalty.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
@@ -304,6 +305,13 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestS
   rest::RestSimulation& sim = *sims_[static_cast<std::size_t>(slot)];
   Evaluation ev;
   ev.support = X;
+  // A shape that crosses itself cannot be made (nor solved from scratch):
+  // the trial fails, and a shorter step is tried.
+  if (const auto crossing = contact::detail::self_intersections(X, sim.support().triangles(), 1); crossing.pairs > 0) {
+    ev.failure = fmt::format("the support would cross itself (triangles {} and {})", crossing.first, crossing.second);
+    ev.seconds = seconds_since(t0);
+    return ev;
+  }
   sim.restore(warm);
   try {
     sim.set_support_vertices(X);

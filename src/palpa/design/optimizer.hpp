@@ -56,7 +56,8 @@
 // (0.15 mm by default); every trial is warm-started from the accepted
 // point, and the iterate taken is the point the line search accepted. Trials longer than the longest ladder step are refused unsolved, and
 // a trial equilibrium that needs more than 50 Newton iterations counts as
-// failed (Ceres then tries a shorter step). When its line search stalls
+// failed (Ceres then tries a shorter step), as does a trial shape whose
+// surface would cross itself. When its line search stalls
 // (φ is only piecewise smooth), one ladder iteration along the steepest
 // descent is taken and L-BFGS starts afresh. Checkpoints hold the iterate,
 // so a resumed run continues from it, but with a fresh L-BFGS memory (Ceres
