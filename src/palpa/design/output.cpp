@@ -320,7 +320,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
             {"body_peak_ratio", checked_initial.score.body_pressure.maxCoeff() / checked_final.score.body_pressure.maxCoeff()},
             {"worse_than_baselines", worse_than},
             {"optimizer",
-             {{"note", "the optimizer's own view: the contact model frozen on the initial shape, warm-started"},
+             {{"note", "the optimizer's own view: the contact model frozen, chosen anew where the penetration left its band, warm-started from the accepted shape"},
               {"initial", evaluation_json(before, r.gamma)},
               {"final", evaluation_json(after, r.gamma)},
               {"zeta_reduction_percent", 100.0 * (1.0 - after.zeta / before.zeta)},
