@@ -304,6 +304,9 @@ TEST(DesignCli, TheFlatChairLosesMostOfItsScore) {
   const auto s = nlohmann::json::parse(test::read_text(dir / "chair" / "summary.json"));
   EXPECT_EQ(s["iterations"], 6);
   EXPECT_TRUE(s["baselines"].empty());  // the scene's are skipped
+  // The creases press deeper as the seat is hollowed: the contact stiffness
+  // is chosen anew on the way (at iteration 5).
+  EXPECT_GE(s["refreezes"].get<int>(), 1);
   EXPECT_GT(s["zeta_reduction_percent"].get<double>(), 30.0);
   EXPECT_LT(s["final"]["balance_error"].get<double>(), 0.005);
   EXPECT_LT(s["final"]["peak_smoothed_pressure_Pa"]["body"].get<double>(),

@@ -288,6 +288,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                        {"move_m", it.move},
                        {"evaluations", it.evaluations},
                        {"restarted", it.restarted},
+                       {"stiffness_N_per_m", it.stiffness},
+                       {"refrozen", it.refrozen},
                        {"seconds", it.seconds}});
   }
   double iteration_seconds = 0.0;
@@ -343,6 +345,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
             {"pose_to_seat", {{"threshold_m", threshold}, {"before", pts_before}, {"after", pts_after}}},
             {"baselines", baselines},
             {"resumed", r.resumed},
+            {"refreezes", r.refreezes},
             {"history", history}};
   if (r.before_post_smoothing) s["zeta_before_post_smoothing"] = r.before_post_smoothing->zeta;
   write_json_file(out / "summary.json", s);

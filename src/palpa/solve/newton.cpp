@@ -299,6 +299,12 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
   // kink of E (a sample on the fold of a concave support), below E's rounding.
   bool noise_step_misled = false;
   bool noise_step = false;
+  // Where rounding stops progress, an acceptable gradient counts as converged.
+  const auto converged_to_rounding = [&](std::string_view why) {
+    status = NewtonStatus::Converged;
+    message = fmt::format("converged to rounding in {} iterations: |g| = {:.3e} <= {:.3e} (acceptable){}",
+                          r.iterations, gnorm, options_.gradient_accept_tol, why);
+  };
   while (status != NewtonStatus::NonFiniteEnergy) {
     check_interrupt();
     if (gnorm <= r.gradient_tolerance) {
@@ -356,11 +362,8 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
     LineSearchResult ls;
     const bool at_noise = std::abs(slope) <= std::max(options_.energy_noise * std::abs(energy), options_.energy_noise_abs);
     if (at_noise && noise_step_misled && gnorm <= options_.gradient_accept_tol) {
-      status = NewtonStatus::Converged;
-      message = fmt::format(
-          "converged to rounding in {} iterations: |g| = {:.3e} <= {:.3e} (acceptable); the step a Newton model "
-          "predicts lowers E by less than its rounding, and such a step raised |g| before (a contact kink)",
-          r.iterations, gnorm, options_.gradient_accept_tol);
+      converged_to_rounding("; the step a Newton model predicts lowers E by less than its rounding, and such a "
+                            "step did not lower |g| before (a contact kink)");
       break;
     }
     noise_step = false;
@@ -385,11 +388,7 @@ NewtonResult NewtonSolver::solve(System& system, Eigen::VectorXd& x) {
       ls.evaluations += noise_evaluations;
     }
     if (!ls.success && gnorm <= options_.gradient_accept_tol) {
-      status = NewtonStatus::Converged;
-      message = fmt::format(
-          "converged to rounding in {} iterations: |g| = {:.3e} <= {:.3e} (acceptable), no "
-          "lower energy along the Newton direction",
-          r.iterations, gnorm, options_.gradient_accept_tol);
+      converged_to_rounding(", no lower energy along the Newton direction");
       break;
     }
     if (!ls.success) {
