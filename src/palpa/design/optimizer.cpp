@@ -399,6 +399,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   bool steepest = true;
   int first = 1;
   double earlier_seconds = 0.0;  // a resumed run: the seconds before the resume
+  bool refreeze_failed = false;   // the contact model could not be chosen anew: it stays frozen
 
   if (options_.resume) {
     if (options_.checkpoint.empty()) throw Error(ErrorKind::Input, "--resume needs a checkpoint file");
@@ -453,6 +454,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     result.evaluations = static_cast<int>(j.at("evaluations").as_integer());
     result.newton_iterations = static_cast<int>(j.at("newton_iterations").as_integer());
     first = static_cast<int>(j.at("iteration").as_integer()) + 1;
+    if (const auto rf = j.find("refreeze_failed")) refreeze_failed = rf->as_bool();
     result.resumed = true;
     spdlog::info("design: resuming after iteration {} (φ = {:.6g})", first - 1, base.phi);
   }
@@ -474,6 +476,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
                     {"zeta", base.zeta},
                     {"psi", base.psi},
                     {"max_penetration", base.rest.max_penetration},
+                    {"refreeze_failed", refreeze_failed},
                     {"state", state_json(base.state)},
                     {"history", hist},
                     {"evaluations", result.evaluations},
@@ -490,7 +493,6 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   // them, and φ and its gradient are measured again with them; the search
   // direction restarts. So the optimizer's φ stays the from-scratch φ within
   // that band, and it cannot gain by letting the frozen springs sink deeper.
-  bool refreeze_failed = false;
   auto out_of_band = [&](const Evaluation& e) {
     const auto [low, high] = sims_.front()->accepted_penetration();
     const double ratio = e.rest.max_penetration / rest_options_.target_penetration;
@@ -535,6 +537,9 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
 
   result.stop_reason = fmt::format("the iteration limit ({})", options_.max_iterations);
   int iteration = first - 1;
+  // A run killed between an iteration's checkpoint and the refreeze that
+  // follows it refreezes now, as the uninterrupted run did then.
+  if (result.resumed && out_of_band(base)) refreeze(iteration);
   // One iteration of the ladder of step lengths along d (CG, and L-BFGS's
   // fallback when its line search stalls). Returns 0 when a step was taken,
   // 1 when it was taken but φ barely fell, 2 when no step lowers φ.
