@@ -44,10 +44,9 @@ void run_design_command(const DesignArgs& a) {
     resume = false;
   }
   if (!resume && !a.overwrite) require_empty_output(out, "design run");
-  design::DesignScene scene = design::read_design_scene(a.scene);
+  design::DesignScene scene = design::read_design_scene(a.scene, !a.no_baselines);
   if (a.iterations >= 0) scene.options.max_iterations = a.iterations;
   if (a.threads >= 0) scene.options.threads = a.threads;
-  if (a.no_baselines) scene.baselines.clear();
   if (a.method == "cg") scene.options.method = design::DesignMethod::ConjugateGradient;
   if (a.method == "lbfgs") scene.options.method = design::DesignMethod::Lbfgs;
   // A finished run is resumed only to go on past the iteration limit it

@@ -35,7 +35,7 @@ std::vector<int> facing_vertices(const SurfaceMesh& support, const Eigen::Vector
   return out;
 }
 
-DesignScene read_design_scene(const std::filesystem::path& path) {
+DesignScene read_design_scene(const std::filesystem::path& path, bool baselines) {
   DesignScene s;
   s.rest = rest::read_rest_scene(path, "palpa_design", {"design", "baselines"});
   const Json doc = read_json_file(path);
@@ -64,15 +64,16 @@ DesignScene read_design_scene(const std::filesystem::path& path) {
       }
       if (const auto sr = b.find("sit_and_relax")) {
         sr->expect_only({"support", "smoothness"});
-        rest::read_scene_support(sr->at("support"), path, copy);
+        if (baselines) rest::read_scene_support(sr->at("support"), path, copy);
         base.sit_and_relax = true;
         if (const auto l = sr->find("smoothness")) {
           base.smoothness = l->as_number();
           if (!(base.smoothness >= 0.0)) l->fail("must be ≥ 0");
         }
-      } else {
+      } else if (baselines) {
         rest::read_scene_support(b.at("support"), path, copy);
       }
+      if (!baselines) continue;
       base.body = copy.body;
       base.support = copy.support;
       base.source = copy.support_source;

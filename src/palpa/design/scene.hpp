@@ -57,8 +57,10 @@ struct DesignScene {
 };
 
 // Throws palpa::Error (Input) naming the file and field; a region holding no
-// support vertex is refused.
-DesignScene read_design_scene(const std::filesystem::path& path);
+// support vertex is refused. Without `baselines` the baselines' entries are
+// checked but their supports are not built (a negative image is a mesh
+// generation of its own) and none is returned.
+DesignScene read_design_scene(const std::filesystem::path& path, bool baselines = true);
 
 // The support vertices facing `up` (outward normal within `angle` [rad] of
 // it) and inside the box [lo, hi] [m]. Normals: area-weighted, outward (an
