@@ -16,57 +16,12 @@
 #include "palpa/material/models.hpp"
 #include "palpa/sim3d/shapes.hpp"
 #include "palpa/tet/mesh.hpp"
+#include "design_fixtures.hpp"
 
 namespace palpa::design {
 namespace {
 
-constexpr double kRho = 1000.0, kH = 0.02, kW = 0.04;
-
-// A 40 × 40 × 20 mm soft block hanging from its top face (the core), its
-// bottom 0.4 mm above z = 0, shifted off the slab's grid.
-rest::RestBody block(int n = 6) {
-  rest::RestBody b;
-  tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d(-kW / 2 + 1.3e-3, -kW / 2 + 0.7e-3, 4e-4),
-                                        Eigen::Vector3d(kW / 2 + 1.3e-3, kW / 2 + 0.7e-3, kH + 4e-4),
-                                        Eigen::Vector3i(n, n, n / 2));
-  b.mesh = box.mesh;
-  b.attached = box.vertex_sets.at("top");
-  b.materials = {{std::make_shared<material::NeoHookean>(20e3, 0.3), kRho}};
-  return b;
-}
-
-// The body on the linear tet: at ν 0.3 it does not lock, and it is 2–3×
-// cheaper than the default nodal-pressure tet, which the adjoint checks use.
-rest::RestBody on_linear_tets(rest::RestBody b) {
-  b.element = {tet::TetElement::Linear, 0.0};
-  return b;
-}
-
-// A 70 × 70 × 10 mm slab, top face at z = 0.
-SurfaceMesh slab(int divisions = 14) {
-  SurfaceMesh s = sim3d::make_box_surface(Eigen::Vector3d(0.07, 0.07, 0.01), divisions);
-  s.V.col(2).array() -= 0.01;
-  return s;
-}
-
-// The slab with its sides cut into squares too (`divisions` across, 2 up),
-// so that the tets inside a deformable one are well shaped.
-SurfaceMesh foam_slab(int divisions = 14) {
-  SurfaceMesh s = sim3d::make_box_surface(Eigen::Vector3d(0.07, 0.07, 0.01), Eigen::Vector3i(divisions, divisions, 2));
-  s.V.col(2).array() -= 0.01;
-  return s;
-}
-
-// Top-face vertices of the slab strictly inside its rim.
-std::vector<int> top_inside(const SurfaceMesh& s, double half = 0.03) {
-  std::vector<int> v;
-  for (Eigen::Index i = 0; i < s.V.rows(); ++i) {
-    if (s.V(i, 2) > -6e-4 && std::abs(s.V(i, 0)) < half && std::abs(s.V(i, 1)) < half) {
-      v.push_back(static_cast<int>(i));
-    }
-  }
-  return v;
-}
+using namespace fixture;
 
 // The design filter on the slab's top (5 mm edges): Sᵀ is S's adjoint, a
 // move of one vertex becomes a smooth bump that stays in the region, and a
@@ -117,14 +72,6 @@ TEST(DesignFilter, IsSmoothAdjointAndKeepsUniformMoves) {
     EXPECT_NEAR(narrow.moves(one).row(region[static_cast<std::size_t>(centre)]).norm(), 1.0, 0.025);
     EXPECT_THROW(DesignSpace(s.V, s.F, region, normal_only, -1e-3), Error);
   }
-}
-
-rest::RestOptions options(bool rotate = false) {
-  rest::RestOptions o;
-  o.core.mass = 0.5;
-  o.core.locked = {true, true, false, !rotate, !rotate, true};
-  o.force_tolerance = 1e-10;
-  return o;
 }
 
 TEST(DesignScore, PressureSmoothingKeepsConstantsAndSpreadsASpike) {
@@ -197,12 +144,6 @@ TEST(DesignScore, AreaGradientMatchesDifferences) {
 // φ along a random direction of θ by central differences of re-solved
 // equilibria, against the adjoint gradient; on a bumpy slab so that every
 // term (body side, support side, areas, smoothness) takes part.
-// A foam slab (E 40 kPa, twice the body's, by default), meshed with 5 mm tets.
-rest::RestOptions on_foam(rest::RestOptions o, double E = 40e3) {
-  o.deformable_support = rest::DeformableSupport{std::make_shared<material::NeoHookean>(E, 0.3), 5e-3, 1e-4};
-  return o;
-}
-
 void check_adjoint(bool rotate, bool normal_only, int exponent, bool smoothness, bool deformable = false) {
   const SurfaceMesh s = deformable ? foam_slab() : slab();
   DesignOptions o;
@@ -265,84 +206,7 @@ TEST(DesignAdjoint, DeformableSupportScoreGradientMatchesFiniteDifferences) {
 namespace palpa::design {
 namespace {
 
-// A centred cushion: the block with its bottom curved by `bulge` between
-// centre and corners (the top, on the core, stays flat). bulge > 0: the
-// centre hangs lowest and touches first; bulge < 0: a dish, its corners
-// touch first.
-rest::RestBody cushion(double bulge, int n = 8) {
-  rest::RestBody b;
-  tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d(-kW / 2, -kW / 2, 4e-4), Eigen::Vector3d(kW / 2, kW / 2, kH + 4e-4),
-                                        Eigen::Vector3i(n, n, n / 2));
-  for (Eigen::Index v = 0; v < box.mesh.V.rows(); ++v) {
-    const double r2 = (box.mesh.V(v, 0) * box.mesh.V(v, 0) + box.mesh.V(v, 1) * box.mesh.V(v, 1)) / (kW * kW / 2);
-    const double t = (kH + 4e-4 - box.mesh.V(v, 2)) / kH;  // 1 at the bottom, 0 at the top
-    box.mesh.V(v, 2) += t * (bulge > 0.0 ? bulge * r2 : -bulge * (1.0 - r2));
-  }
-  b.mesh = box.mesh;
-  b.attached = box.vertex_sets.at("top");
-  b.materials = {{std::make_shared<material::NeoHookean>(20e3, 0.3), kRho}};
-  return on_linear_tets(b);
-}
-
-// ‖m − mirror(m)‖ / ‖m‖ for a field m on the slab's vertices, mirror the
-// reflection in the plane x = y.
-double mirror_asymmetry(const SurfaceMesh& s, const Eigen::MatrixX3d& moved) {
-  double asymmetry = 0.0;
-  for (Eigen::Index v = 0; v < s.V.rows(); ++v) {
-    for (Eigen::Index w = 0; w < s.V.rows(); ++w) {
-      if (std::abs(s.V(w, 0) - s.V(v, 1)) < 1e-9 && std::abs(s.V(w, 1) - s.V(v, 0)) < 1e-9 &&
-          std::abs(s.V(w, 2) - s.V(v, 2)) < 1e-9) {
-        asymmetry += (moved.row(v) - Eigen::RowVector3d(moved(w, 1), moved(w, 0), moved(w, 2))).squaredNorm();
-      }
-    }
-  }
-  return std::sqrt(asymmetry) / moved.norm();
-}
-
-// The 6 mm cushion on `s`, its top moved along the normals; φ must fall at
-// every accepted iteration.
-DesignResult cushion_design(const SurfaceMesh& s, DesignMethod method, int iterations, int post_smoothing,
-                            double foam = 0.0) {
-  DesignOptions o;
-  o.method = method;
-  o.max_iterations = iterations;
-  o.post_smoothing = post_smoothing;
-  o.normal_only = true;
-  o.smoothing_exponent = -2.0;
-  ShapeOptimizer opt(cushion(6e-3), s, foam > 0.0 ? on_foam(options(), foam) : options(), top_inside(s), o);
-  DesignResult r = opt.run();
-  double previous = r.initial.phi;
-  for (const IterationRecord& it : r.history) {
-    EXPECT_LT(it.phi, previous) << "iteration " << it.iteration;
-    previous = it.phi;
-  }
-  return r;
-}
-
-TEST(DesignOptimizer, LowersTheScoreMonotonicallyAndStillCarriesTheLoad) {
-  // The cushion, hanging 6 mm lower in the middle, on a flat slab: the
-  // pressure peaks under its centre until the slab is hollowed out.
-  const SurfaceMesh s = slab(15);
-  const DesignResult r = cushion_design(s, DesignMethod::ConjugateGradient, 12, 0);
-  ASSERT_EQ(r.iterations, 12) << r.stop_reason;
-  EXPECT_EQ(r.final.phi, r.history.back().phi);
-  EXPECT_LT(r.final.zeta, 0.5 * r.initial.zeta);
-  EXPECT_LT(r.final.score.body_smoothed.maxCoeff(), 0.8 * r.initial.score.body_smoothed.maxCoeff());
-  EXPECT_GT(r.final.score.body_contacts, r.initial.score.body_contacts);
-  // The optimized slab still carries the load.
-  EXPECT_LT(r.final.rest.balance_error, 0.005);
-  EXPECT_NEAR(r.final.rest.contact_force.z(), -r.final.rest.load.z(), 0.005 * std::abs(r.final.rest.load.z()));
-  // Only the design region moved, along its normals (vertical here).
-  const Eigen::MatrixX3d moved = r.final.support - s.V;
-  EXPECT_LT(moved.leftCols(2).cwiseAbs().maxCoeff(), 1e-15);
-  // Symmetry: body and slab are their own mirror images in the plane x = y
-  // (the tet mesh's Kuhn cubes and the slab's diagonals included), and the
-  // optimized slab stays so. Not to rounding: where a contact point lies on
-  // the mirror plane at a convex edge, its two triangles tie as the closest
-  // feature and the one taken is a matter of numbering; over 12 iterations
-  // that leaves about 3% (an optimizer blind to symmetry would leave O(1)).
-  EXPECT_LT(mirror_asymmetry(s, moved), 0.08);
-}
+using namespace fixture;
 
 TEST(DesignBaselines, PoseToSeatBalancesTheForceAndActsOnTheLoadLine) {
   // The cushion resting on the flat slab; the estimate without elasticity
@@ -425,30 +289,6 @@ TEST(DesignOptimizer, ResumesExactlyFromItsCheckpoint) {
   ShapeOptimizer other(on_linear_tets(block()), s, options(), top_inside(s), c);
   EXPECT_THROW(other.run(), Error);
   std::filesystem::remove_all(dir);
-}
-
-TEST(DesignOptimizer, ShapesADeformableSupportToo) {
-  // The cushion on a firm foam slab (E 200 kPa, ten times the body's):
-  // L-BFGS over the slab's rest shape. The foam already spreads the load
-  // and its own vertices press back on the body's skin, so there is less to
-  // gain than on the rigid slab (20% in 6 iterations against 48%; the
-  // gradient still matches differences at the end).
-  const SurfaceMesh s = foam_slab(15);
-  const DesignResult r = cushion_design(s, DesignMethod::Lbfgs, 6, 0, 200e3);
-  ASSERT_GE(r.iterations, 3) << r.stop_reason;
-  EXPECT_LT(r.final.zeta, 0.9 * r.initial.zeta);
-  EXPECT_LT(r.final.score.body_smoothed.maxCoeff(), r.initial.score.body_smoothed.maxCoeff());
-  // Body, slab and ground balance: the contact carries the load and the
-  // slab's base carries the contact.
-  const double load = std::abs(r.final.rest.load.z());
-  EXPECT_LT(r.final.rest.balance_error, 0.005);
-  EXPECT_NEAR(r.final.rest.support_base_force.z(), load, 0.005 * load);
-  EXPECT_GT(r.final.rest.support_max_displacement, 1e-4);
-  EXPECT_GT(r.final.rest.support_min_det_f, 0.5);
-  // Only the top moved, vertically.
-  const Eigen::MatrixX3d moved = r.final.support - s.V;
-  EXPECT_LT(moved.leftCols(2).cwiseAbs().maxCoeff(), 1e-15);
-  EXPECT_GT(moved.col(2).cwiseAbs().maxCoeff(), 1e-5);
 }
 
 }  // namespace
