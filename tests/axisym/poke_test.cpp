@@ -244,7 +244,7 @@ TEST(PokePredictor, ARunAfterAnotherIsTheSameAsAFreshOne) {
   s.fillet_radius = 0.1 * kA;
   PokeOptions o;
   o.max_depth = 0.5 * kA;
-  o.steps = 10;
+  o.steps = 5;
   PokeSimulator again(first, s);
   const PokeCurve before = again.run(o);
   ASSERT_GT(before.samples.back().contact_nodes, 0) << "the test needs the rim in contact at the end";

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // The optimizer's longer runs (Release build, label physics): the cushion on
 // a rigid slab lowers φ at every iteration, carries the load and keeps its
-// mirror symmetry; on a foam slab the rest shape is designed too.
+// mirror symmetry; on a foam slab the rest shape is designed too; a run
+// resumed from its checkpoint ends where the uninterrupted one ends.
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 #include "design_fixtures.hpp"
 
@@ -58,6 +61,46 @@ TEST(DesignOptimizer, ShapesADeformableSupportToo) {
   const Eigen::MatrixX3d moved = r.final.support - s.V;
   EXPECT_LT(moved.leftCols(2).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_GT(moved.col(2).cwiseAbs().maxCoeff(), 1e-5);
+}
+
+TEST(DesignOptimizer, ResumesExactlyFromItsCheckpoint) {
+  const SurfaceMesh s = slab();
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "palpa_design_resume";
+  std::filesystem::create_directories(dir);
+  DesignOptions o;
+  o.method = DesignMethod::ConjugateGradient;
+  o.checkpoint = dir / "checkpoint.json";
+  std::filesystem::remove(o.checkpoint);
+  o.max_iterations = 4;
+  DesignResult straight;
+  {
+    DesignOptions a = o;
+    a.checkpoint.clear();
+    ShapeOptimizer opt(on_linear_tets(block()), s, options(), top_inside(s), a);
+    straight = opt.run();
+  }
+  ASSERT_EQ(straight.iterations, 4) << straight.stop_reason;
+  {
+    DesignOptions a = o;
+    a.max_iterations = 2;
+    ShapeOptimizer opt(on_linear_tets(block()), s, options(), top_inside(s), a);
+    EXPECT_EQ(opt.run().iterations, 2);
+  }
+  DesignOptions b = o;
+  b.resume = true;
+  ShapeOptimizer opt(on_linear_tets(block()), s, options(), top_inside(s), b);
+  const DesignResult resumed = opt.run();
+  EXPECT_TRUE(resumed.resumed);
+  EXPECT_EQ(resumed.iterations, 4);
+  ASSERT_EQ(resumed.history.size(), straight.history.size());
+  EXPECT_EQ(resumed.final.phi, straight.final.phi);
+  EXPECT_EQ((resumed.final.support - straight.final.support).cwiseAbs().maxCoeff(), 0.0);
+  // A checkpoint of another design is refused.
+  DesignOptions c = b;
+  c.normal_only = true;
+  ShapeOptimizer other(on_linear_tets(block()), s, options(), top_inside(s), c);
+  EXPECT_THROW(other.run(), Error);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
