@@ -150,6 +150,18 @@ TEST(RestCli, ANegativeImageSupportSpreadsThePressure) {
               1e-3 * flat["contact_force_N"][2].get<double>());
   EXPECT_LT(neg["peak_pressure_Pa"]["body"].get<double>(), 0.7 * flat["peak_pressure_Pa"]["body"].get<double>());
   EXPECT_GT(neg["contacts"]["body_vertices"].get<int>(), 2 * flat["contacts"]["body_vertices"].get<int>());
+  // Any closed support can be hollowed: the box given as a support is the
+  // same box.
+  std::string general = hollow;
+  const std::string inner = R"({"box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 15},)";
+  general.replace(general.find(inner), inner.size(),
+                  R"({"support": {"box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 15}},)");
+  dir.write("general.json", general);
+  const auto c = run_palpa("rest general.json -o general", dir.path());
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const auto same = nlohmann::json::parse(test::read_text(dir / "general" / "summary.json"));
+  EXPECT_EQ(same["peak_pressure_Pa"]["body"], neg["peak_pressure_Pa"]["body"]);
+  EXPECT_EQ(same["contacts"]["body_vertices"], neg["contacts"]["body_vertices"]);
 }
 
 TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
@@ -165,6 +177,18 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
   const auto a = run_palpa("rest deep.json -o out", dir.path());
   EXPECT_EQ(a.exit_code, 2);
   EXPECT_NE(a.err.find("cut through"), std::string::npos) << a.err;
+  // A negative image takes a box or another support, one of them, and not
+  // a negative image again.
+  dir.write("both.json", with_support(R"({"negative_image": {"box": {"size": ["150 mm", "150 mm", "20 mm"]},
+                                           "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"]}}}})"));
+  const auto both = run_palpa("rest both.json -o out", dir.path());
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.err.find("give either box or support"), std::string::npos) << both.err;
+  dir.write("nested.json", with_support(R"({"negative_image": {"support": {"negative_image": {
+                                             "box": {"size": ["150 mm", "150 mm", "20 mm"]}}}}})"));
+  const auto nested = run_palpa("rest nested.json -o out", dir.path());
+  EXPECT_EQ(nested.exit_code, 2);
+  EXPECT_NE(nested.err.find("\"negative_image\" inside a negative image"), std::string::npos) << nested.err;
   dir.write("bevel.json", with_support(R"({"box": {"size": ["150 mm", "150 mm", "20 mm"],
                                            "bevel": {"radius": "30 mm", "side": "+x"}}})"));
   const auto b = run_palpa("rest bevel.json -o out", dir.path());

@@ -261,8 +261,28 @@ void read_scene_support(const JsonView& sp, const fs::path& file, RestScene& s) 
   } else if (const auto neg = sp.find("negative_image")) {
     // The block with the body, as placed, pressed into it (§7.5.1); the
     // body then starts in the hollow, `clearance` clear of it.
-    neg->expect_only({"box", "press", "edge", "smoothing", "band", "clearance"});
-    SurfaceMesh block = read_box(neg->at("box"));
+    neg->expect_only({"box", "support", "press", "edge", "smoothing", "band", "clearance"});
+    if (neg->has("box") == neg->has("support")) {
+      neg->fail("give either box or support", "a box, or any closed support (spheres, a file) to hollow");
+    }
+    SurfaceMesh block;
+    std::string of = "a box";
+    if (const auto b = neg->find("box")) {
+      block = read_box(*b);
+    } else {
+      // Any other support shape is hollowed the same way (a mouse's spheres).
+      const JsonView inner = neg->at("support");
+      for (const char* key : {"negative_image", "deformable"}) {
+        if (const auto k = inner.find(key)) {
+          k->fail(fmt::format("\"{}\" inside a negative image", key),
+                  "a box, spheres or a file (\"deformable\" goes beside \"negative_image\")");
+        }
+      }
+      RestScene shape;
+      read_scene_support(inner, file, shape);
+      block = std::move(shape.support);
+      of = shape.support_source;
+    }
     place(block);
     mesh::NegativeImageOptions o;
     const double g = s.options.gravity.norm();
@@ -277,8 +297,8 @@ void read_scene_support(const JsonView& sp, const fs::path& file, RestScene& s) 
     m = made.support;
     s.body.mesh.V.rowwise() += made.body_shift.transpose();
     s.body_shift += made.body_shift;
-    s.support_source = fmt::format("negative image of the body pressed {} into a box",
-                                   format_quantity(o.press, Dimension::Length));
+    s.support_source = fmt::format("negative image of the body pressed {} into {}",
+                                   format_quantity(o.press, Dimension::Length), of);
   } else if (const auto f = sp.find("file")) {
     MeshReadOptions o;
     o.unit_to_si = unit_of(sp);
