@@ -159,6 +159,31 @@ TEST(Csg, TheNegativeImageHoldsThePressedBody) {
                            {"chair.json", "cut through"}));
 }
 
+TEST(Csg, ANegativeImageIsPressedFromFirstContact) {
+  // Two 50 mm spheres, the body's 40 mm to the side of the block's and far
+  // above it: lowered, it first touches the block's flank where the centres
+  // are 100 mm apart, z = √(0.1² − 0.04²), not where its lowest point meets
+  // the block's highest; the hollow is pressed 10 mm past that.
+  const SurfaceMesh block = sphere(Eigen::Vector3d::Zero());
+  const SurfaceMesh body = sphere(Eigen::Vector3d(0.04, 0, 0.2));
+  NegativeImageOptions o;
+  o.press = 0.01;
+  o.edge_length = 4e-3;
+  o.smoothing_rounds = 0;
+  o.clearance = 0.0;
+  const NegativeImage n = negative_image(block, body, o, "mouse.json");
+  EXPECT_NO_THROW(check_closed_surface(n.support, "negative image"));
+  const double touch = 0.2 - std::sqrt(0.1 * 0.1 - 0.04 * 0.04);
+  // To the polyhedral spheres' sagitta (4 mm edges: 0.04 mm) and the
+  // contact's falling between their vertices.
+  EXPECT_NEAR(n.body_shift.z(), -(touch + o.press), 3e-4);
+  EXPECT_NEAR(n.body_shift.head<2>().norm(), 0.0, 1e-15);
+  // A body beside the block, never meeting it, is refused by name.
+  const SurfaceMesh beside = sphere(Eigen::Vector3d(0.2, 0, 0.2));
+  EXPECT_TRUE(throws_error([&] { negative_image(block, beside, o, "mouse.json"); }, ErrorKind::Input,
+                           {"mouse.json", "never meets the block"}));
+}
+
 TEST(Csg, ClampingThinsTheLayerWhereTheBodyIsThin) {
   // A 100 × 60 × 16 mm block: a 6.5 mm layer plus a two-edge core (10 mm)
   // does not fit its 16 mm.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/units.hpp"
@@ -129,7 +130,28 @@ NegativeImage negative_image(const SurfaceMesh& block, const SurfaceMesh& body,
                       where, "a press depth smaller than the block's height");
   }
   NegativeImage result;
-  result.body_shift = (body_low - block_top + o.press) * d;
+  // Lifted until its lowest point is level with the block's highest (it is
+  // then clear of the block), the body is lowered along d to first contact
+  // (rays from the body's vertices down to the block and from the block's
+  // vertices up to the body), then `press` further. Over a flat top that is
+  // the lowest point `press` below it; over spheres (a mouse under a hand)
+  // the hollow starts where they first touch.
+  const double lift = body_low - block_top - 1e-3 * (block_top - block_bottom);
+  SurfaceMesh above = body;
+  above.V.rowwise() += (lift * d).transpose();
+  double contact = std::numeric_limits<double>::infinity();
+  const detail::SurfaceQueries block_queries(block), body_queries(above);
+  for (Eigen::Index v = 0; v < above.V.rows(); ++v) {
+    if (const auto t = block_queries.ray_hit(above.V.row(v).transpose(), d, -1)) contact = std::min(contact, *t);
+  }
+  for (Eigen::Index v = 0; v < block.V.rows(); ++v) {
+    if (const auto t = body_queries.ray_hit(block.V.row(v).transpose(), -d, -1)) contact = std::min(contact, *t);
+  }
+  if (!std::isfinite(contact)) {
+    throw_input_error("the body, moved along the pressing direction, never meets the block", where,
+                      "a body placed over the block");
+  }
+  result.body_shift = (lift + contact + o.press) * d;
   SurfaceMesh pressed = body;
   pressed.V.rowwise() += result.body_shift.transpose();
   // The hollow is cut by the pressed body grown by the clearance (a distance

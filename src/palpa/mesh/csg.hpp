@@ -63,9 +63,11 @@ struct NegativeImage {
 // `edge_length` with the block's sharp edges kept, then Taubin-smoothed in a
 // band around the cut so the rim is not a sharp edge (no vertex moves into
 // the grown body). The body, moved by body_shift, starts clear of its hollow
-// and falls into it. It may start anywhere: it is moved along `down` until
-// its lowest point is `press` below the block's highest. Throws when pressing
-// would cut through the block or the result is not a clean closed surface.
+// and falls into it. It may start anywhere: it is moved along `down` to
+// first contact with the block (from above its highest point), then `press`
+// further. Throws when pressing would cut through the block, when the body
+// moved along `down` never meets it, or when the result is not a clean
+// closed surface.
 NegativeImage negative_image(const SurfaceMesh& block, const SurfaceMesh& body,
                              const NegativeImageOptions& options, const std::string& source);
 
