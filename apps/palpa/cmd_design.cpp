@@ -72,6 +72,10 @@ void run_design_command(const DesignArgs& a) {
     std::filesystem::remove(checkpoint, ec);
     std::filesystem::remove(finished, ec);
   }
+  if (!scene.start.empty()) {
+    spdlog::info("design: starting from the baseline '{}' (the scene's own support, {}, is scored beside it)",
+                 scene.start, scene.scene_support->source);
+  }
   spdlog::info("design: {}: body from {} ({} vertices, {} tetrahedra), support {} ({} vertices), {}", a.scene,
                scene.rest.body_source, scene.rest.body.mesh.V.rows(), scene.rest.body.mesh.T.rows(),
                scene.rest.support_source, scene.rest.support.V.rows(), scene.region);
@@ -112,6 +116,14 @@ void run_design_command(const DesignArgs& a) {
   for (const Json& w : s["worse_than_baselines"]) {
     verdict += fmt::format("; WORSE than the baseline '{}' on {}", w["baseline"].get<std::string>(),
                            fmt::join(w["on"].get<std::vector<std::string>>(), " and "));
+  }
+  if (s.contains("start")) {
+    const Json& st = s["start"];
+    verdict += fmt::format("; against the scene's own support ζ {:.1f}% lower, ζ_body {:.1f}% lower, body peak {:.3g} → "
+                           "{:.3g} kPa",
+                           st["zeta_reduction_percent"].get<double>(), st["zeta_body_reduction_percent"].get<double>(),
+                           st["scene_support"]["peak_pressure_Pa"]["body"].get<double>() * 1e-3,
+                           optimized["peak_pressure_Pa"]["body"].get<double>() * 1e-3);
   }
   spdlog::info("design: from scratch, ζ {:.6g} → {:.6g} ({:.1f}% lower; the optimizer's own view {:.1f}%), ζ_body "
                "{:.1f}% lower, peak pressure {:.3g} → {:.3g} kPa (body), max penetration {:.3g} mm, {} iterations, {} "

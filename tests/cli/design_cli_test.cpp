@@ -276,6 +276,70 @@ TEST(DesignCli, AnInterruptedRunLeavesItsBestShape) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "summary.json"));
 }
 
+// A design that starts from its negative image (Table 7.1's mouse): the
+// start is that baseline's support, and the scene's own flat box is scored
+// beside it. Bad starts are refused by name before anything is written.
+TEST(DesignCli, StartsFromABaselineAndReportsAgainstTheScenesSupport) {
+  ScratchDir dir;
+  std::string scene = linear_scene();
+  scene.replace(scene.find("\"-5 mm\"]"), 8, "\"-20 mm\"]");  // the hollow lies below the box's top
+  scene.replace(scene.find("\"iterations\": 4"), 15, R"("iterations": 2, "start": "negative image")");
+  scene.replace(scene.rfind('}'), 1,
+                R"(, "baselines": [{"name": "negative image", "support": {"negative_image": {
+                      "box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 20},
+                      "press": "10 mm", "edge": "6 mm", "smoothing": 5, "band": "10 mm"}}}]})");
+  dir.write("scene.json", scene);
+  const auto r = run_palpa("design scene.json -o out", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto s = summary(dir / "out" / "summary.json");
+  ASSERT_TRUE(s.contains("start")) << s.dump();
+  EXPECT_EQ(s["start"]["baseline"], "negative image");
+  EXPECT_EQ(s["start"]["scene_support_source"], "box");
+  // The start is the negative image: its from-scratch score is the baseline's.
+  const auto& ni = s["baselines"][0];
+  ASSERT_EQ(ni["name"], "negative image");
+  EXPECT_NEAR(s["initial"]["zeta"].get<double>() / ni["zeta"].get<double>(), 1.0, 1e-6);
+  // The flat box scores worse than its negative image under this sphere.
+  const auto& own = s["start"]["scene_support"];
+  EXPECT_GT(own["zeta_body"].get<double>(), s["initial"]["zeta_body"].get<double>());
+  EXPECT_GT(own["peak_pressure_Pa"]["body"].get<double>(), s["initial"]["peak_pressure_Pa"]["body"].get<double>());
+  EXPECT_LT(own["balance_error"].get<double>(), 0.005);
+  // The figures against the scene's support are the final shape's against it.
+  const double final_zeta = s["final"]["zeta"].get<double>();
+  EXPECT_NEAR(s["start"]["zeta_reduction_percent"].get<double>(), 100.0 * (1.0 - final_zeta / own["zeta"].get<double>()),
+              1e-9);
+  EXPECT_NEAR(s["start"]["body_peak_ratio"].get<double>(),
+              own["peak_pressure_Pa"]["body"].get<double>() / s["final"]["peak_pressure_Pa"]["body"].get<double>(), 1e-9);
+  EXPECT_LT(s["optimizer"]["final"]["zeta"].get<double>(), s["optimizer"]["initial"]["zeta"].get<double>());
+  // The maps: the scene's support first, then the start, the optimized shape
+  // and the same from scratch.
+  const std::string svg = test::read_text(dir / "out" / "body_pressure.svg");
+  const auto pic = test::read_pressure_map_picture(svg);
+  ASSERT_TRUE(pic.doc.ok()) << pic.doc.error;
+  EXPECT_EQ(pic.frames.size(), 4u);
+  EXPECT_NE(svg.find("body side, the scene&apos;s support"), std::string::npos);
+  EXPECT_NE(svg.find("body side, start &apos;negative image&apos; support"), std::string::npos);
+  EXPECT_NE(test::read_text(dir / "out" / "score.svg").find("scene&apos;s own support (from scratch)"), std::string::npos);
+  EXPECT_NE(r.err.find("starting from the baseline 'negative image'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("against the scene's own support ζ"), std::string::npos) << r.err;
+
+  // No baseline of that name, or one fitted to a solved design: refused.
+  for (const auto& [start, says] : {std::pair{"nope", "no baseline named 'nope'"},
+                                    std::pair{"fitted", "'fitted' is a Sit & Relax baseline"}}) {
+    std::string bad = scene;
+    const std::string named = R"("start": "negative image")";
+    bad.replace(bad.find(named), named.size(), fmt::format("\"start\": \"{}\"", start));
+    bad.replace(bad.rfind("]}"), 0,
+                R"(, {"name": "fitted", "sit_and_relax": {"support": {"box": {"size": ["150 mm", "150 mm", "20 mm"]}}}})");
+    dir.write("bad.json", bad);
+    const auto b = run_palpa("design bad.json -o bad --no-baselines", dir.path());
+    EXPECT_EQ(b.exit_code, 2) << start;
+    EXPECT_NE(b.err.find("design.start"), std::string::npos) << b.err;
+    EXPECT_NE(b.err.find(says), std::string::npos) << b.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad")) << start;
+  }
+}
+
 TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {
   ScratchDir dir;
   const auto none = run_palpa("design missing.json -o out --resume", dir.path());

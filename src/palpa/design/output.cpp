@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <memory>
+#include <optional>
 #include <vector>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -133,8 +134,9 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   // Each side's map before and after, for the pictures (taken while the
   // simulation is at that state).
   std::vector<report::PressureMapPanel> body_maps, support_maps;
-  body_maps.push_back(rest::body_pressure_panel(sim, before.rest, "body side, initial support"));
-  support_maps.push_back(rest::support_pressure_panel(sim, before.rest, "support side, initial shape"));
+  const std::string start = scene.start.empty() ? std::string("initial") : "start '" + scene.start + "'";
+  body_maps.push_back(rest::body_pressure_panel(sim, before.rest, "body side, " + start + " support"));
+  support_maps.push_back(rest::support_pressure_panel(sim, before.rest, "support side, " + start + " shape"));
   const Evaluation after = optimizer.evaluate(r.final.support, r.final.state, false, 0);
   if (!after.ok) throw Error(ErrorKind::Solver, "re-solving the optimized shape: " + after.failure);
   const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
@@ -160,6 +162,18 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   write_state(out, "resolved", *fresh, checked_final, nullptr, threshold);
   body_maps.push_back(rest::body_pressure_panel(*fresh, checked_final.rest, "body side, optimized, from scratch"));
   support_maps.push_back(rest::support_pressure_panel(*fresh, checked_final.rest, "support side, optimized, from scratch"));
+
+  // With a start baseline, the scene's own support from scratch: what the
+  // design is also reported against (its body map is the first panel).
+  std::optional<Evaluation> own;
+  if (scene.scene_support) {
+    std::unique_ptr<rest::RestSimulation> osim;
+    own = optimizer.solve_from_scratch(scene.scene_support->body, scene.scene_support->support, &osim);
+    if (!own->ok) throw Error(ErrorKind::Solver, "solving the scene's own support from scratch: " + own->failure);
+    body_maps.insert(body_maps.begin(), rest::body_pressure_panel(*osim, own->rest, "body side, the scene's support"));
+    support_maps.insert(support_maps.begin(),
+                        rest::support_pressure_panel(*osim, own->rest, "support side, the scene's support"));
+  }
 
   // Baselines, solved from scratch alike (simulation 0 is used for Sit &
   // Relax's fit at the initial equilibrium, so they come after the optimized
@@ -241,6 +255,11 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                                          {0.0, last},
                                          {checked_initial.zeta, checked_final.zeta},
                                          report::Mark::Dots});
+  if (own) {
+    report::Series line{"ζ of the scene's own support (from scratch)", {0.0, last}, {own->zeta, own->zeta}};
+    line.dashed = true;
+    scores.series.push_back(line);
+  }
   for (const Json& b : baselines) {
     report::Series line{fmt::format("ζ of the baseline '{}' (from scratch)", b["name"].get<std::string>()),
                         {0.0, last},
@@ -348,6 +367,16 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
             {"refreezes", r.refreezes},
             {"history", history}};
   if (r.before_post_smoothing) s["zeta_before_post_smoothing"] = r.before_post_smoothing->zeta;
+  if (own) {
+    // `initial` is the start; these figures are against the scene's own support.
+    s["start"] = {{"baseline", scene.start},
+                  {"note", "the design began on this baseline's support; initial is that support"},
+                  {"scene_support", evaluation_json(*own, 0.0)},
+                  {"scene_support_source", scene.scene_support->source},
+                  {"zeta_reduction_percent", 100.0 * (1.0 - checked_final.zeta / own->zeta)},
+                  {"zeta_body_reduction_percent", 100.0 * (1.0 - checked_final.score.zeta_body / own->score.zeta_body)},
+                  {"body_peak_ratio", own->score.body_pressure.maxCoeff() / checked_final.score.body_pressure.maxCoeff()}};
+  }
   write_json_file(out / "summary.json", s);
   return s;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <optional>
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/json.hpp"
@@ -41,6 +42,16 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
   const Json doc = read_json_file(path);
   const JsonView root(doc, path.string());
   if (const auto t = root.find("template")) t->fail("a template is compared by palpa rest", "no \"template\" in a design");
+  // The baseline the design starts from is built even without the others.
+  std::string start;
+  std::optional<JsonView> start_field;
+  if (const auto d = root.find("design")) {
+    if (const auto st = d->find("start")) {
+      start = st->as_string();
+      start_field = st;
+    }
+  }
+  std::optional<Baseline> start_base;
   if (const auto bl = root.find("baselines")) {
     for (std::size_t i = 0; i < bl->size(); ++i) {
       const JsonView b = bl->at(i);
@@ -53,6 +64,12 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
       copy.body_shift.setZero();
       Baseline base;
       base.name = b.at("name").as_string();
+      const bool is_start = !start.empty() && base.name == start;
+      if (is_start && b.has("sit_and_relax")) {
+        start_field->fail(fmt::format("'{}' is a Sit & Relax baseline, fitted to a solved design", start),
+                          "the name of a baseline with a \"support\"");
+      }
+      const bool build = baselines || is_start;
       for (const char* key : {"support", "sit_and_relax"}) {
         const auto part = b.find(key);
         if (!part) continue;
@@ -64,21 +81,31 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
       }
       if (const auto sr = b.find("sit_and_relax")) {
         sr->expect_only({"support", "smoothness"});
-        if (baselines) rest::read_scene_support(sr->at("support"), path, copy);
+        if (build) rest::read_scene_support(sr->at("support"), path, copy);
         base.sit_and_relax = true;
         if (const auto l = sr->find("smoothness")) {
           base.smoothness = l->as_number();
           if (!(base.smoothness >= 0.0)) l->fail("must be ≥ 0");
         }
-      } else if (baselines) {
+      } else if (build) {
         rest::read_scene_support(b.at("support"), path, copy);
       }
-      if (!baselines) continue;
+      if (!build) continue;
       base.body = copy.body;
       base.support = copy.support;
       base.source = copy.support_source;
-      s.baselines.push_back(std::move(base));
+      if (is_start) start_base = base;
+      if (baselines) s.baselines.push_back(std::move(base));
     }
+  }
+  if (!start.empty()) {
+    if (!start_base) start_field->fail(fmt::format("no baseline named '{}'", start), "the name of one of the scene's baselines");
+    // The design begins on that support; the scene's own is scored beside.
+    s.start = start;
+    s.scene_support = SceneSupport{s.rest.body, s.rest.support, s.rest.support_source};
+    s.rest.body = start_base->body;
+    s.rest.support = start_base->support;
+    s.rest.support_source = start_base->source;
   }
   DesignOptions& o = s.options;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
@@ -86,7 +113,7 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
   double facing = 25.0 * 3.14159265358979323846 / 180.0;
   if (const auto d = root.find("design")) {
     d->expect_only({"method", "region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves", "filter",
-                    "threads", "post_smoothing", "pose_to_seat_threshold"});
+                    "threads", "post_smoothing", "pose_to_seat_threshold", "start"});
     if (const auto m = d->find("method")) {
       const std::string v = m->as_string();
       if (v == "cg") {

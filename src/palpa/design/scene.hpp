@@ -19,7 +19,9 @@
 //     "moves": ["1 um", "10 um", "0.1 mm", "0.2 mm", "0.5 mm", "0.7 mm", "1 mm", "2 mm"],
 //     "threads": 0,              // simulations at once; 0: min(#moves, cores)
 //     "post_smoothing": 0,       // Taubin rounds on the result
-//     "pose_to_seat_threshold": "2 mm"  // contact distance of the estimate without elasticity
+//     "pose_to_seat_threshold": "2 mm", // contact distance of the estimate without elasticity
+//     "start": "negative image"  // begin from this baseline's support (not a Sit & Relax one);
+//                                // the scene's own support is scored beside it
 //   },
 //   "baselines": [{"name": "negative image", "support": {"negative_image": {...}}},
 //                 {"name": "sit and relax", "sit_and_relax": {"support": {"negative_image": {...}},
@@ -30,6 +32,7 @@
 // }
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,8 +51,18 @@ struct Baseline {
   double smoothness = 1.0;  // λ of the Sit & Relax fit
 };
 
+// The scene's own body placement and support, kept when the design starts
+// from a baseline's support instead.
+struct SceneSupport {
+  rest::RestBody body;
+  SurfaceMesh support;
+  std::string source;
+};
+
 struct DesignScene {
-  rest::RestScene rest;
+  rest::RestScene rest;  // with `design.start`, the start baseline's body and support
+  std::string start;     // the baseline the design starts from; empty: the scene's support
+  std::optional<SceneSupport> scene_support;  // set with `start`
   std::vector<Baseline> baselines;
   std::vector<int> design_vertices;  // rows of rest.support.V
   DesignOptions options;
@@ -59,7 +72,8 @@ struct DesignScene {
 // Throws palpa::Error (Input) naming the file and field; a region holding no
 // support vertex is refused. Without `baselines` the baselines' entries are
 // checked but their supports are not built (a negative image is a mesh
-// generation of its own) and none is returned.
+// generation of its own) and none is returned, but the one named by
+// `design.start` is built (it is where the design begins).
 DesignScene read_design_scene(const std::filesystem::path& path, bool baselines = true);
 
 // The support vertices facing `up` (outward normal within `angle` [rad] of
