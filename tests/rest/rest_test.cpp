@@ -148,5 +148,21 @@ TEST(Rest, RefusesBadSetups) {
                                         ErrorKind::Input, {"no attached vertices"}));
 }
 
+// The lift that frees a body from a support it starts inside: the least
+// distance along `up` (to 1e-3 of it) plus the margin; 0 for a body above.
+TEST(Rest, LiftsABodyClearOfASupportItStartsInside) {
+  const Block b = block(4);
+  const Eigen::Vector3d up(0.0, 0.0, 2.0);  // any length
+  EXPECT_EQ(lift_clear_of(b.body, slab(1e-3, 8), up, 1e-3), 0.0);
+  const double lift = lift_clear_of(b.body, slab(-3e-3, 8), up, 0.0);
+  EXPECT_GE(lift, 3e-3 - 1e-12);
+  EXPECT_LE(lift, 3e-3 * (1.0 + 1e-3));
+  EXPECT_NEAR(lift_clear_of(b.body, slab(-3e-3, 8), up, 1e-3), lift + 1e-3, 1e-15);
+  // Lifted by it, the body is accepted above that support.
+  RestBody lifted = b.body;
+  lifted.mesh.V.col(2).array() += lift + 1e-6;
+  EXPECT_NO_THROW(RestSimulation(lifted, slab(-3e-3, 8), vertical_only()));
+}
+
 }  // namespace
 }  // namespace palpa::rest

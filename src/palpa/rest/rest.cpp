@@ -53,6 +53,34 @@ SurfaceMesh body_skin(const RestBody& body) {
   return geometry::submesh(body.mesh.V, skin_faces(body.mesh, body.attached)).mesh;
 }
 
+double lift_clear_of(const RestBody& body, const SurfaceMesh& support, const Eigen::Vector3d& up, double margin) {
+  const Eigen::MatrixX3i faces = skin_faces(body.mesh, body.attached);
+  std::vector<int> skin(static_cast<std::size_t>(faces.size()));
+  for (Eigen::Index i = 0; i < faces.size(); ++i) skin[static_cast<std::size_t>(i)] = faces.data()[i];
+  std::sort(skin.begin(), skin.end());
+  skin.erase(std::unique(skin.begin(), skin.end()), skin.end());
+  const contact::Obstacle obstacle(support, "the support");
+  const Eigen::Vector3d u = up.normalized();
+  const auto clear = [&](double t) {
+    for (int v : skin) {
+      if (obstacle.inside(body.mesh.V.row(v).transpose() + t * u)) return false;
+    }
+    return true;
+  };
+  if (clear(0.0)) return 0.0;
+  double lo = 0.0, hi = 1e-3;
+  while (!clear(hi)) {
+    lo = hi;
+    hi *= 2.0;
+    if (hi > 100.0) throw Error(ErrorKind::Solver, "the body lies inside the support and no lift along gravity frees it");
+  }
+  while (hi - lo > 1e-3 * hi) {
+    const double mid = 0.5 * (lo + hi);
+    (clear(mid) ? hi : lo) = mid;
+  }
+  return hi + margin;
+}
+
 RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOptions options)
     : body_(std::move(body)), options_(std::move(options)) {
   tet::prepare_tet_mesh(body_.mesh, "body");

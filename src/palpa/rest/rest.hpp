@@ -55,6 +55,13 @@ Eigen::MatrixX3i skin_faces(const TetMesh& mesh, const std::vector<int>& attache
 // The skin as a closed surface of its own (vertices renumbered).
 SurfaceMesh body_skin(const RestBody& body);
 
+// How far the body must move along `up` so that none of its skin vertices
+// lies inside the closed `support` (0 when none does; else the smallest such
+// distance, to 1e-3 of it, plus `margin`). A design re-solved from scratch
+// places the body this way when the optimized shape rose into where the scene
+// puts it. Throws when no lift up to 100 m clears it.
+double lift_clear_of(const RestBody& body, const SurfaceMesh& support, const Eigen::Vector3d& up, double margin);
+
 // A deformable support (thesis §7.4.3): the inside of the support's closed
 // surface meshed with tets (TetGen, the surface kept as it is), of one
 // hyperelastic material, its base held in place. Its own weight is left out
