@@ -381,9 +381,9 @@ namespace {
 
 TEST(DesignCli, TheFlatChairLosesMostOfItsScore) {
   // The seated body on the flat block chair (examples/design/chair), 6
-  // L-BFGS iterations: the thesis's chair lost 72% of its score in a full
-  // run; palpa's, checked from scratch, 42% in 6 (ζ_body 44%; 73% and 76%
-  // in the scene's 30).
+  // L-BFGS iterations, its weight over the buttocks: the thesis's chair lost
+  // 72% of its score in a full run; palpa's, checked from scratch, 64% in 6
+  // (ζ_body 69%, body peak 2.2× lower; 85%, 88% and 3.4× in the scene's 30).
   test::ScratchDir dir;
   const std::filesystem::path scene =
       std::filesystem::path(PALPA_SOURCE_DIR) / "examples" / "design" / "chair" / "scene.json";
