@@ -5,11 +5,17 @@
 // iterations, equilibrium solves, Newton iterations, total time, time per
 // iteration as a multiple of one equilibrium solved from scratch (the initial
 // one, measured in the same run), the adjoint solve (factorization and
-// back-solve) against the same, ζ before and after.
+// back-solve) against the same, ζ before and after; and what the person
+// feels, both shapes solved from scratch: ζ_body and the body's peak before
+// and after, with the figures of the thesis's Table 7.1 (γ, vertex counts).
 //
-//   palpa_bench_design [--iterations N] [scene.json ...]
-//   (default: the examples in the source tree, the scenes' iteration limits)
+//   palpa_bench_design [--iterations N] [--method cg|lbfgs] [scene.json ...]
+//   (default: the examples in the source tree but the -full ones, the scenes'
+//   iteration limits, both methods)
+//   palpa_bench_design --method lbfgs examples/design/chair-full/scene.json
+//   (Table 7.1's resolution)
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -27,10 +33,19 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);  // the JSON lines alone on stdout
   std::vector<std::filesystem::path> scenes;
   int iterations = -1;
+  std::vector<palpa::design::DesignMethod> methods = {palpa::design::DesignMethod::ConjugateGradient,
+                                                      palpa::design::DesignMethod::Lbfgs};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--iterations" && i + 1 < argc) {
       iterations = std::atoi(argv[++i]);
+    } else if (a == "--method" && i + 1 < argc) {
+      const std::string m = argv[++i];
+      if (m != "cg" && m != "lbfgs") {
+        spdlog::error("--method: '{}' (expected cg or lbfgs)", m);
+        return 2;
+      }
+      methods = {m == "cg" ? palpa::design::DesignMethod::ConjugateGradient : palpa::design::DesignMethod::Lbfgs};
     } else {
       scenes.emplace_back(a);
     }
@@ -38,13 +53,17 @@ int main(int argc, char** argv) {
   if (scenes.empty()) {
     const std::filesystem::path ex = std::filesystem::path(PALPA_SOURCE_DIR) / "examples" / "design";
     for (const auto& e : std::filesystem::directory_iterator(ex)) {
-      if (std::filesystem::exists(e.path() / "scene.json")) scenes.push_back(e.path() / "scene.json");
+      // The -full scenes (Table 7.1's resolution, an hour or more with both
+      // methods) are run by name.
+      const std::string name = e.path().filename().string();
+      const bool full = name.size() > 5 && name.compare(name.size() - 5, 5, "-full") == 0;
+      if (!full && std::filesystem::exists(e.path() / "scene.json")) scenes.push_back(e.path() / "scene.json");
     }
     std::sort(scenes.begin(), scenes.end());
   }
   for (const auto& file : scenes) {
-    for (const auto method : {palpa::design::DesignMethod::ConjugateGradient, palpa::design::DesignMethod::Lbfgs}) {
-      palpa::design::DesignScene scene = palpa::design::read_design_scene(file);
+    for (const auto method : methods) {
+      palpa::design::DesignScene scene = palpa::design::read_design_scene(file, false);
       scene.options.method = method;
       if (iterations >= 0) scene.options.max_iterations = iterations;
       palpa::design::ShapeOptimizer opt(scene.rest.body, scene.rest.support, scene.rest.options,
@@ -53,6 +72,11 @@ int main(int argc, char** argv) {
       double iteration_seconds = 0.0;
       for (const auto& it : r.history) iteration_seconds += it.seconds;
       const double per_iteration = r.history.empty() ? 0.0 : iteration_seconds / static_cast<double>(r.history.size());
+      // What the person feels, the optimized shape solved from scratch (the
+      // initial one was, when the optimizer was built).
+      const auto checked = opt.solve_from_scratch(scene.rest.body, {r.final.support, opt.simulation().support().triangles()});
+      const double body_before = r.initial.score.body_pressure.maxCoeff();
+      const double body_after = checked.ok ? checked.score.body_pressure.maxCoeff() : 0.0;
       emit({{"bench", "design"},
             {"scene", file.parent_path().filename().string() + "/" + file.filename().string()},
             {"method", method == palpa::design::DesignMethod::Lbfgs ? "lbfgs" : "cg"},
@@ -73,6 +97,16 @@ int main(int argc, char** argv) {
             {"zeta_initial", r.initial.zeta},
             {"zeta_final", r.final.zeta},
             {"zeta_reduction_percent", 100.0 * (1.0 - r.final.zeta / r.initial.zeta)},
+            {"start", scene.start.empty() ? std::string("the scene's support") : scene.start},
+            {"gamma", r.gamma},
+            {"from_scratch_ok", checked.ok},
+            {"zeta_final_from_scratch", checked.zeta},
+            {"zeta_body_initial", r.initial.score.zeta_body},
+            {"zeta_body_final_from_scratch", checked.score.zeta_body},
+            {"zeta_body_reduction_percent", 100.0 * (1.0 - checked.score.zeta_body / r.initial.score.zeta_body)},
+            {"body_peak_initial_Pa", body_before},
+            {"body_peak_final_from_scratch_Pa", body_after},
+            {"body_peak_ratio", body_after > 0.0 ? body_before / body_after : 0.0},
             {"stop", r.stop_reason}});
     }
   }
