@@ -39,6 +39,14 @@ constexpr const char* kDesignScene = R"({
 
 nlohmann::json summary(const std::filesystem::path& p) { return nlohmann::json::parse(test::read_text(p)); }
 
+// The sphere's negative image as the scene's one baseline.
+void with_negative_image(std::string& scene) {
+  scene.replace(scene.rfind('}'), 1,
+                R"(, "baselines": [{"name": "negative image", "support": {"negative_image": {
+                      "box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 20},
+                      "press": "10 mm", "edge": "6 mm", "smoothing": 5, "band": "10 mm"}}}]})");
+}
+
 TEST(DesignCli, LowersTheScoreAndWritesTheShapeAndTheMaps) {
   ScratchDir dir;
   dir.write("scene.json", kDesignScene);
@@ -106,10 +114,7 @@ TEST(DesignCli, ScoresBaselinesAndComparesMaps) {
   // compare between palpa's support map and the Pose-to-Seat estimate on it.
   ScratchDir dir;
   std::string scene = kDesignScene;
-  scene.replace(scene.rfind('}'), 1,
-                R"(, "baselines": [{"name": "negative image", "support": {"negative_image": {
-                      "box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 20},
-                      "press": "10 mm", "edge": "6 mm", "smoothing": 5, "band": "10 mm"}}}]})");
+  with_negative_image(scene);
   dir.write("scene.json", scene);
   const auto r = run_palpa("design scene.json -o out --iterations 1", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -284,10 +289,7 @@ TEST(DesignCli, StartsFromABaselineAndReportsAgainstTheScenesSupport) {
   std::string scene = linear_scene();
   scene.replace(scene.find("\"-5 mm\"]"), 8, "\"-20 mm\"]");  // the hollow lies below the box's top
   scene.replace(scene.find("\"iterations\": 4"), 15, R"("iterations": 2, "start": "negative image")");
-  scene.replace(scene.rfind('}'), 1,
-                R"(, "baselines": [{"name": "negative image", "support": {"negative_image": {
-                      "box": {"size": ["150 mm", "150 mm", "40 mm"], "divisions": 20},
-                      "press": "10 mm", "edge": "6 mm", "smoothing": 5, "band": "10 mm"}}}]})");
+  with_negative_image(scene);
   dir.write("scene.json", scene);
   const auto r = run_palpa("design scene.json -o out", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
