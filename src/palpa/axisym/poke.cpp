@@ -2,7 +2,6 @@
 #include "palpa/axisym/poke.hpp"
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -13,7 +12,6 @@
 #include <limits>
 
 #include "palpa/core/error.hpp"
-#include "palpa/core/interrupt.hpp"
 
 namespace palpa::axisym {
 
@@ -25,9 +23,6 @@ using material::PsdProjection;
 
 // Element loops run in parallel over blocks of this many elements.
 constexpr std::size_t kGrain = 64;
-
-// PokeOptions::newton.chord_ratio when left at 0.
-constexpr double kChordRatio = 1000.0;
 
 }  // namespace
 
@@ -586,242 +581,6 @@ Eigen::VectorXd PokeModel::contact_pressure(const Eigen::VectorXd& x) const {
     if (phi < 0.0) p[c.node] = -penalty_per_area_ * phi;
   }
   return p;
-}
-
-// ---------------------------------------------------------------- simulator
-
-PokeSimulator::PokeSimulator(const material::Material& material, const PokeSetup& setup)
-    : model_(std::make_unique<PokeModel>(material, setup)) {}
-
-PokeSimulator::~PokeSimulator() = default;
-
-PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on_depth) {
-  PokeModel& m = *model_;
-  const double thickness = m.setup().geometry.thickness;
-  const bool compression = m.setup().test == PokeTest::Compression;
-  if (!std::isfinite(options.max_depth) || !(options.max_depth > 0.0)) {
-    throw_input_error(fmt::format("maximum depth {} m is not positive", options.max_depth),
-                      ErrorContext{"", 0, 0, "depth"}, "a positive indentation depth");
-  }
-  if (!(options.max_depth < 0.9 * thickness)) {
-    throw_input_error(fmt::format("maximum depth {} m is not below 90% of the {} {} m", options.max_depth,
-                                  compression ? "sample height" : "layer thickness", thickness),
-                      ErrorContext{"", 0, 0, "depth"}, "a depth well below the thickness");
-  }
-  if (options.steps < 1 || options.steps > 100000) {
-    throw_input_error(fmt::format("{} depth steps", options.steps), ErrorContext{"", 0, 0, "steps"},
-                      "1 to 100000 steps");
-  }
-  NewtonOptions newton = options.newton;
-  // Newton uses the true Hessian: where it is not positive definite the
-  // factorization says so and Newton steps with the element-projected stand-in
-  // (projected_hessian) for that iteration only. Projecting at every iteration
-  // changes the Hessian near the crushed rim cells at the solution and makes
-  // convergence linear (measured: ~70 iterations per depth instead of 3–4).
-  m.set_true_hessian(true);
-  const bool auto_tolerance = newton.gradient_abs_tol <= 0.0;
-  // Tolerances: ‖g‖∞ (the largest out-of-balance nodal force) below 1e-9 of the
-  // force scale at the depth, 4 μ0 a d (indentation) or 3 μ0 π R² d/H (uniaxial
-  // compression), and never below the rounding floor.
-  const double mu0 = material::small_strain_constants(m.material()).mu;
-  const double a = m.setup().geometry.punch_radius;
-  const double force_scale_per_depth = compression ? 3.0 * mu0 * kPi * a * a / thickness : 4.0 * mu0 * a;
-  newton.gradient_rel_tol = std::min(newton.gradient_rel_tol, 1e-12);
-  // Chord steps finish most depths: the step from ‖g‖ ~ 1e-9 of the force
-  // to the tolerance needs no new Hessian (newton.hpp).
-  if (newton.chord_ratio == 0.0) newton.chord_ratio = kChordRatio;
-  if (newton.energy_noise_abs <= 0.0) newton.energy_noise_abs = m.energy_noise_floor();
-
-  PokeCurve curve;
-  curve.samples.push_back(PokeSample{});
-  curve.samples.back().min_jacobian = 1.0;
-  if (options.sensitivities) curve.samples.back().dforce_dparams = Eigen::VectorXd::Zero(m.num_params());
-
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(m.num_dofs());
-  Eigen::VectorXd x_before = x;  // solution one increment back (for extrapolation)
-  double depth = 0.0;
-  double last_increment = 0.0;
-  const double step = options.max_depth / options.steps;
-
-  // Predictor. The equilibrium path x(d) has the tangent h = dx/dd given by
-  // K h = −∂g/∂d (K: the Hessian over the free DOFs at x, ∂g/∂d: how the
-  // gradient changes when the punch and the face nodes move down with the free
-  // DOFs held, by a central difference in d). K is the factorization Newton
-  // made on its last iteration, an unshifted Hessian within one quadratically
-  // convergent step of x, so the tangent costs two gradients and a back-solve.
-  // The next depth starts from the Taylor step x + Δh + ½Δ²x'', with x'' from
-  // the solution one increment back; a contact set that changes on the way is
-  // left to Newton. Without a tangent (a shifted last factorization, or no
-  // iteration), the last increment is extrapolated.
-  Eigen::VectorXd tangent;
-  bool have_tangent = false;
-  Eigen::VectorXd dg_dd;
-  const auto update_tangent = [&]() {
-    // (Moving the face nodes of a crushed cell by ±eps may invert it: then
-    // there is no tangent and the last increment is extrapolated.)
-    have_tangent = m.gradient_depth_derivative(x, 1e-4 * step, dg_dd);
-    if (!have_tangent) return;
-    tangent = -solver_.factorization().solve(dg_dd);
-    have_tangent = tangent.allFinite();
-  };
-  // Contact sets at x and one increment back: the curvature x'' is used only
-  // when they agree (across a change the path has a kink).
-  m.set_depth(0.0);  // (a model that ran before is still at its last depth)
-  std::vector<char> contacts_at_x = m.contact_set(x);
-  std::vector<char> contacts_before = contacts_at_x;
-  // The first tangent, at rest: the linear-elastic response to the punch.
-  if (solver_.factor_hessian(m, x) == FactorStatus::Ok) {
-    update_tangent();
-    ++curve.factorizations;
-  }
-
-  // Warm start (PokeOptions::warm_start): the last run's equilibria, used
-  // only on the same schedule; this run's replace them once it succeeds.
-  std::vector<Eigen::VectorXd> warm;
-  if (options.warm_start && warm_.max_depth == options.max_depth &&
-      warm_.solutions.size() == static_cast<std::size_t>(options.steps) + 1) {
-    warm = std::move(warm_.solutions);
-  }
-  warm_ = WarmStart{};
-  std::vector<Eigen::VectorXd> solutions;
-  if (options.warm_start) solutions.resize(static_cast<std::size_t>(options.steps) + 1);
-  Eigen::VectorXd g_guess;
-  Eigen::VectorXd g_warm;
-
-  for (int k = 1; k <= options.steps; ++k) {
-    const double target = k == options.steps ? options.max_depth : k * step;
-    PokeSample sample;
-    sample.substeps = 0;
-    double increment = target - depth;
-    int cuts = 0;
-    while (depth < target) {
-      check_interrupt();
-      const double next = std::min(target, depth + increment);
-      m.set_depth(next);
-      if (auto_tolerance) {
-        newton.gradient_abs_tol = std::max(1e-9 * force_scale_per_depth * next, m.gradient_noise_floor());
-        newton.gradient_accept_tol = 1e-6 * force_scale_per_depth * next;
-      }
-      solver_.set_options(newton);
-      // Start from the predictor (see above); fall back to cruder ones while
-      // a guess inverts a cell.
-      const double delta = next - depth;
-      Eigen::VectorXd guess = x;
-      bool admissible = false;
-      const auto try_guess = [&](Eigen::VectorXd candidate) {
-        if (admissible) return;
-        m.separate_new_contacts(candidate, contacts_at_x);
-        if (std::isfinite(m.energy(candidate))) {
-          guess = candidate;
-          admissible = true;
-        }
-      };
-      if (have_tangent) {
-        const Eigen::VectorXd first_order = x + delta * tangent;
-        if (last_increment > 0.0 && contacts_before == contacts_at_x) {
-          const Eigen::VectorXd curvature =
-              (2.0 / (last_increment * last_increment)) * (x_before - x + last_increment * tangent);
-          try_guess(first_order + (0.5 * delta * delta) * curvature);
-        }
-        try_guess(first_order);
-      }
-      if (last_increment > 0.0) try_guess(x + (x - x_before) * (delta / last_increment));
-      try_guess(x);
-      if (admissible && cuts == 0 && !warm.empty()) {
-        const Eigen::VectorXd& w = warm[static_cast<std::size_t>(k)];
-        if (w.size() == guess.size() && std::isfinite(m.energy_gradient(w, g_warm)) &&
-            std::isfinite(m.energy_gradient(guess, g_guess)) &&
-            g_warm.lpNorm<Eigen::Infinity>() < g_guess.lpNorm<Eigen::Infinity>()) {
-          guess = w;
-        }
-      }
-      NewtonResult r;
-      if (admissible) {
-        r = solver_.solve(m, guess);
-        sample.newton_iterations += r.iterations;
-        curve.factorizations += r.factorizations;
-        curve.analyses += r.analyses;
-      }
-      if (r.converged()) {
-        x_before = x;
-        x = guess;
-        last_increment = next - depth;
-        depth = next;
-        ++sample.substeps;
-        sample.residual = r.gradient_norm;
-        contacts_before = std::move(contacts_at_x);
-        contacts_at_x = m.contact_set(x);
-        have_tangent = false;
-        if (r.iterations > 0 && r.history.back().shift == 0.0 && !r.history.back().projected &&
-            r.last_factor_status == FactorStatus::Ok) {
-          update_tangent();
-        }
-        continue;
-      }
-      m.set_depth(depth);
-      if (options.give_up_below_jacobian > 0.0) {
-        const auto diag = m.diagnostics(x);
-        if (diag.min_jacobian < options.give_up_below_jacobian) {
-          throw_solver_error(fmt::format(
-              "the equilibrium at depth {:.6g} mm was not found ({}), and halving the step would not help: "
-              "at {:.6g} mm the most crushed cell keeps {:.3g}% of its volume (det F {:.3g}), "
-              "so this mesh cannot follow the material much deeper. A finer --mesh-level or a fillet "
-              "radius would help",
-              next * 1e3, r.message.empty() ? std::string("the starting point was inadmissible") : r.message,
-              depth * 1e3, 100.0 * diag.min_jacobian, diag.min_jacobian));
-        }
-      }
-      if (++cuts > options.max_step_cuts) {
-        const auto diag = m.diagnostics(x);
-        throw_solver_error(fmt::format(
-            "the equilibrium at depth {:.6g} mm{} was not found after {} halvings of the step "
-            "(last attempt from {:.6g} mm: {}); at {:.6g} mm the smallest det F was {:.3g}, "
-            "{} surface nodes touched the {}, largest penetration {:.3g} um. Try a finer "
-            "--mesh-level, {}",
-            next * 1e3, compression ? fmt::format(" ({:.3g}% compression)", 100.0 * next / thickness) : "",
-            options.max_step_cuts, depth * 1e3,
-            r.message.empty() ? std::string("the starting point was inadmissible") : r.message,
-            depth * 1e3, diag.min_jacobian, diag.contact_nodes, compression ? "platens" : "punch",
-            diag.max_penetration * 1e6,
-            compression ? "or a smaller final compression" : "a fillet radius, or fewer extreme depths"));
-      }
-      increment *= 0.5;
-      spdlog::debug("depth {:.6g} mm: step cut to {:.4g} um", next * 1e3, increment * 1e6);
-    }
-    curve.newton_iterations += sample.newton_iterations;
-    sample.depth = depth;
-    sample.force = m.punch_force(x);
-    const auto diag = m.diagnostics(x);
-    sample.max_penetration = diag.max_penetration;
-    sample.min_jacobian = diag.min_jacobian;
-    sample.contact_nodes = diag.contact_nodes;
-    if (options.sensitivities) {
-      Eigen::VectorXd dfdx;
-      Eigen::VectorXd dfdtheta;
-      const FactorStatus status = solver_.factor_hessian(m, x);
-      if (status != FactorStatus::Ok) {
-        throw_solver_error(fmt::format(
-            "the stiffness at depth {:.6g} mm could not be factored for the sensitivities ({}){}",
-            depth * 1e3, to_string(status),
-            compression && status == FactorStatus::NotPositiveDefinite
-                ? fmt::format(": the equilibrium at {:.3g}% compression is unstable (with frictionless platens "
-                              "the uniform state of a sample gives way to creases of its side wall beyond "
-                              "about 55%)",
-                              100.0 * depth / thickness)
-                : std::string()));
-      }
-      m.punch_force_derivatives(x, dfdx, dfdtheta);
-      const Eigen::VectorXd lambda = solver_.factorization().solve(dfdx);
-      sample.dforce_dparams = dfdtheta - m.gradient_param_adjoint(x, lambda);
-    }
-    spdlog::debug("depth {:.6g} mm: force {:.6g} N, {} Newton iterations, residual {:.3g} N",
-                  depth * 1e3, sample.force, sample.newton_iterations, sample.residual);
-    curve.samples.push_back(sample);
-    if (!solutions.empty()) solutions[static_cast<std::size_t>(k)] = x;
-    if (on_depth) on_depth(m, x, curve.samples.back());
-  }
-  if (options.warm_start) warm_ = WarmStart{options.max_depth, std::move(solutions)};
-  return curve;
 }
 
 }  // namespace palpa::axisym
