@@ -35,6 +35,7 @@ struct FitArgs {
   double tolerance = 1e-5;
   double smoothing = 0.1;
   int level = 2;
+  bool no_extrapolation = false;
   int steps = 20;
   int ogden_terms = 2;
   double fillet = 0.0;
@@ -116,6 +117,7 @@ void run_fit_command(const FitArgs& a) {
   o.function_tolerance = a.tolerance;
   o.smoothing = a.smoothing;
   o.simulation.mesh_level = a.level;
+  o.simulation.extrapolate = !a.no_extrapolation;
   o.simulation.steps = a.steps;
   o.simulation.fillet_radius = a.fillet;
   o.fixed = a.fix;
@@ -183,8 +185,12 @@ void add_fit_command(CLI::App& app) {
                   "Material file to start from (its modulus is fitted first); default neo-Hookean "
                   "E = 10 kPa with the dataset's nu");
   cmd->add_flag("--modulus-only", a->modulus_only, "Stop after the modulus stage");
-  cmd->add_option("--mesh-level", a->level, "Mesh refinement 0..7 of the simulations (default 2)")
+  cmd->add_option("--mesh-level", a->level,
+                  "Mesh refinement 0..7 of the simulations; forces are extrapolated from this level and "
+                  "the one below it (default 2)")
       ->check(CLI::Range(0, 7));
+  cmd->add_flag("--no-extrapolation", a->no_extrapolation,
+                "Simulate on the --mesh-level mesh alone, without Richardson extrapolation");
   cmd->add_option("--steps", a->steps, "Simulated depths per curve (default 20)")->check(CLI::Range(2, 1000));
   cmd->add_option("--element", a->element, "fbar (default) or standard");
   add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length, "Punch rim radius (default 0: sharp)");
@@ -194,6 +200,7 @@ void add_fit_command(CLI::App& app) {
   cmd->callback([a] {
     a->command_line = fmt::format("palpa fit {} --model {} --optimizer {} --mesh-level {} --steps {} --element {}",
                                   a->dataset, a->model, a->optimizer, a->level, a->steps, a->element);
+    if (a->no_extrapolation) a->command_line += " --no-extrapolation";
     if (!a->fix.empty()) a->command_line += " --fix " + fmt::format("{}", fmt::join(a->fix, ","));
     if (!a->initial.empty()) a->command_line += " --initial " + a->initial;
     run_fit_command(*a);

@@ -40,6 +40,7 @@ struct PokeArgs {
   double outer_radius = 0.0;
   int steps = 20;
   int level = 2;
+  bool no_extrapolation = false;
   int vtu_every = 1;
 };
 
@@ -99,6 +100,20 @@ void set_test(const PokeArgs& a, axisym::PokeSetup& setup) {
   if (a.outer_radius != 0.0) refuse("--outer-radius", "the sample radius is --radius");
 }
 
+// The sample at depth 0 (zero force and sensitivities).
+axisym::PokeSample curve_start(const axisym::PokeSimulator& sim) {
+  axisym::PokeSample s;
+  s.min_jacobian = 1.0;
+  s.dforce_dparams = Eigen::VectorXd::Zero(sim.model().num_params());
+  return s;
+}
+
+// "level 2" or "levels 2 and 1 extrapolated".
+std::string level_note(const axisym::PokeSimulator& sim, int level) {
+  return sim.extrapolates() ? fmt::format("levels {} and {} extrapolated", level, level - 1)
+                            : fmt::format("level {}", level);
+}
+
 std::string contact_name(const axisym::PokeSetup& s) {
   return std::string(s.test == axisym::PokeTest::Compression ? axisym::platen_contact_name(s.contact)
                                                              : axisym::to_string(s.contact));
@@ -113,6 +128,7 @@ void run_poke(const PokeArgs& a) {
   setup.geometry.thickness = a.thickness;
   setup.geometry.outer_radius = a.outer_radius;
   setup.mesh_level = a.level;
+  setup.extrapolate = !a.no_extrapolation;
   if (a.element == "fbar") {
     setup.element = axisym::ElementFormulation::FBar;
   } else if (a.element == "standard") {
@@ -152,33 +168,50 @@ void run_poke(const PokeArgs& a) {
   Progress progress("poke", static_cast<std::size_t>(a.steps));
   // VTU files go to a temporary series and are kept only if the run succeeds.
   std::vector<std::pair<double, UnstructuredGrid>> frames;
-  int index = 0;
-  const auto curve = sim.run(options, [&](const axisym::PokeModel& m, const Eigen::VectorXd& x,
-                                          const axisym::PokeSample& s) {
-    ++index;
-    if (!a.vtu_dir.empty() && (index % a.vtu_every == 0 || index == a.steps)) {
-      frames.emplace_back(s.depth, deformed_grid(m, x));
-    }
-    progress.set_note(fmt::format("d = {:.4g} mm, F = {:.4g} N, {} Newton it.", s.depth * 1e3,
-                                  s.force, s.newton_iterations));
-    progress.advance();
-  });
-  progress.finish();
+  // Every converged depth, from depth 0: what is written if a deeper one fails.
+  std::vector<axisym::PokeSample> reached;
+  axisym::PokeCurve curve;
+  std::optional<Error> failure;
+  try {
+    curve = sim.run(options, [&](const axisym::PokeModel& m, const Eigen::VectorXd& x, const axisym::PokeSample& s) {
+      if (reached.empty()) reached.push_back(curve_start(sim));
+      reached.push_back(s);
+      const int index = static_cast<int>(reached.size()) - 1;
+      if (!a.vtu_dir.empty() && (index % a.vtu_every == 0 || index == a.steps)) {
+        frames.emplace_back(s.depth, deformed_grid(m, x));
+      }
+      progress.set_note(fmt::format("d = {:.4g} mm, F = {:.4g} N, {} Newton it.", s.depth * 1e3, s.force,
+                                    s.newton_iterations));
+      progress.advance();
+    });
+    reached = curve.samples;
+    progress.finish();
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Solver) throw;
+    failure = e;
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   CsvTable t;
   if (compression) {
     // The platen travel is the curve's indentation (as the fit datasets read it).
-    t.add_comment(fmt::format("palpa poke: {} ({}), compression, R = {} m, H = {} m, {} platens, {} element, level {}",
+    t.add_comment(fmt::format("palpa poke: {} ({}), compression, R = {} m, H = {} m, {} platens, {} element, {}",
                               a.material, mf.material->model(), a.radius, a.thickness, contact, a.element,
-                              a.level));
+                              level_note(sim, a.level)));
   } else {
-    t.add_comment(fmt::format("palpa poke: {} ({}), a = {} m, D = {} m, {} contact, {} element, level {}, fillet {} m",
-                              a.material, mf.material->model(), a.radius, a.thickness, contact,
-                              a.element, a.level, a.fillet));
+    t.add_comment(fmt::format("palpa poke: {} ({}), a = {} m, D = {} m, {} contact, {} element, {}, fillet {} m",
+                              a.material, mf.material->model(), a.radius, a.thickness, contact, a.element,
+                              level_note(sim, a.level), a.fillet));
   }
-  std::vector<double> depth, force, iters, subs, resid, pen, minj;
-  for (const auto& s : curve.samples) {
+  if (failure) {
+    t.add_comment(fmt::format("INCOMPLETE: converged to {} of {} ({} of {} depths); the next depth failed: {}",
+                              format_quantity(reached.empty() ? 0.0 : reached.back().depth, Dimension::Length),
+                              format_quantity(a.depth, Dimension::Length),
+                              reached.empty() ? 0 : reached.size() - 1, a.steps, failure->problem()));
+    if (reached.empty()) reached.push_back(curve_start(sim));
+  }
+  std::vector<double> depth, force, iters, subs, resid, pen, minj, correction;
+  for (const auto& s : reached) {
     depth.push_back(s.depth);
     force.push_back(s.force);
     iters.push_back(s.newton_iterations);
@@ -186,6 +219,7 @@ void run_poke(const PokeArgs& a) {
     resid.push_back(s.residual);
     pen.push_back(s.max_penetration);
     minj.push_back(s.min_jacobian);
+    correction.push_back(s.mesh_correction);
   }
   t.add_quantity("indentation", "m", Dimension::Length, depth);
   t.add_quantity("force", "N", Dimension::Force, force);
@@ -194,10 +228,12 @@ void run_poke(const PokeArgs& a) {
   t.add_quantity("residual", "N", Dimension::Force, resid);
   t.add_quantity("max_penetration", "m", Dimension::Length, pen);
   t.add_column("min_det_F", minj);
+  if (sim.extrapolates()) t.add_quantity("mesh_correction", "N", Dimension::Force, correction);
   curve_out << format_csv(t);
   if (sens_out != nullptr) {
     CsvTable st;
     st.add_comment("dF/dtheta per material parameter: newtons per unit of the parameter (SI)");
+    if (failure) st.add_comment("INCOMPLETE: the depths the simulation converged to (see the curve)");
     st.add_quantity("indentation", "m", Dimension::Length, depth);
     const auto& mat = sim.model().material();
     for (Eigen::Index k = 0; k < mat.num_params(); ++k) {
@@ -206,10 +242,18 @@ void run_poke(const PokeArgs& a) {
         if (c == '_') c = '-';
       }
       std::vector<double> col;
-      for (const auto& s : curve.samples) col.push_back(s.dforce_dparams[k]);
+      for (const auto& s : reached) col.push_back(s.dforce_dparams[k]);
       st.add_column("dF/d" + name, col);
     }
     *sens_out << format_csv(st);
+  }
+  if (failure) {
+    // The converged depths only; no VTU series (the folder is removed).
+    outputs.commit();
+    throw Error(ErrorKind::Solver,
+                fmt::format("{}\n(wrote the {} converged depth{}, to {}, to {}, marked INCOMPLETE)",
+                            failure->problem(), reached.size() - 1, reached.size() == 2 ? "" : "s",
+                            format_quantity(reached.back().depth, Dimension::Length), a.output));
   }
   if (!frames.empty()) {
     // Written after the simulation succeeded; each file atomically.
@@ -260,8 +304,13 @@ void add_poke_command(CLI::App& app) {
   cmd->add_option("--contact", a->contact,
                   "Indentation: stick (punch-face nodes fully held, default) or frictionless (only pushed "
                   "down). Compression: bonded (default) or frictionless platens");
-  cmd->add_option("--mesh-level", a->level, "Mesh refinement 0..7, each level halves the cells (default 2)")
+  cmd->add_option("--mesh-level", a->level,
+                  "Mesh refinement 0..7, each level halves the cells; the force is extrapolated from this "
+                  "level and the one below it (default 2)")
       ->check(CLI::Range(0, 7));
+  cmd->add_flag("--no-extrapolation", a->no_extrapolation,
+                "Report the force of the --mesh-level mesh alone (about 1% stiff at level 2) instead of "
+                "its Richardson extrapolation with the level below");
   cmd->add_option("--element", a->element,
                   "fbar (locking-free for nearly incompressible tissue) or standard (default fbar)");
   add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length,

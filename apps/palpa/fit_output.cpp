@@ -10,6 +10,7 @@
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/core/version.hpp"
+#include "palpa/fit/simulate.hpp"
 #include "palpa/io/csv.hpp"
 #include "palpa/material/material_file.hpp"
 #include "palpa/report/plot.hpp"
@@ -188,6 +189,8 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
       {"model", o.model},
       {"optimizer", std::string(fit::to_string(o.optimizer))},
       {"mesh_level", o.simulation.mesh_level},
+      {"extrapolated", d.test != TestKind::Homogeneous && !d.curves.empty() &&
+                           axisym::extrapolates(fit::poke_setup(d, d.curves.front(), best.layer_depth, o.simulation))},
       {"steps", o.simulation.steps},
       {"residual_unit", unit},
       {"layer_depth_m", best.layer_depth},

@@ -51,11 +51,11 @@ inline void expect_curve_sensitivities(PokeSimulator& sim, const PokeCurve& c, P
     for (double sign : {1.0, -1.0}) {
       Eigen::VectorXd t = theta;
       t[k] += sign * h;
-      sim.model().set_material_params(t);
+      sim.set_material_params(t);
       const PokeCurve cc = sim.run(o);
       for (const auto& sample : cc.samples) (sign > 0 ? fp : fm).push_back(sample.force);
     }
-    sim.model().set_material_params(theta);
+    sim.set_material_params(theta);
     Eigen::VectorXd analytic(static_cast<Eigen::Index>(c.samples.size()));
     Eigen::VectorXd numeric(analytic.size());
     for (std::size_t i = 0; i < c.samples.size(); ++i) {

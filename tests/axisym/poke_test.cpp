@@ -248,12 +248,12 @@ TEST(PokePredictor, ARunAfterAnotherIsTheSameAsAFreshOne) {
   PokeSimulator again(first, s);
   const PokeCurve before = again.run(o);
   ASSERT_GT(before.samples.back().contact_nodes, 0) << "the test needs the rim in contact at the end";
-  again.model().set_material_params(second.params());
+  again.set_material_params(second.params());
   const PokeCurve repeated = again.run(o);
   // (Built from the first material: the contact penalty and the F-bar
   // stabilization are fixed by the material a model is built with.)
   PokeSimulator fresh(first, s);
-  fresh.model().set_material_params(second.params());
+  fresh.set_material_params(second.params());
   const PokeCurve cold = fresh.run(o);
   ASSERT_EQ(repeated.samples.size(), cold.samples.size());
   for (std::size_t k = 1; k < cold.samples.size(); ++k) {
@@ -273,13 +273,13 @@ TEST(PokePredictor, AWarmStartReachesTheColdCurveWithFewerIterations) {
   o.max_depth = 0.4 * kA;
   o.steps = 5;
   PokeSimulator cold_sim(first, s);
-  cold_sim.model().set_material_params(second.params());
+  cold_sim.set_material_params(second.params());
   const PokeCurve cold = cold_sim.run(o);
 
   o.warm_start = true;
   PokeSimulator warm_sim(first, s);
   warm_sim.run(o);
-  warm_sim.model().set_material_params(second.params());
+  warm_sim.set_material_params(second.params());
   const PokeCurve warm = warm_sim.run(o);
   ASSERT_EQ(warm.samples.size(), cold.samples.size());
   for (std::size_t k = 1; k < cold.samples.size(); ++k) {
@@ -290,12 +290,75 @@ TEST(PokePredictor, AWarmStartReachesTheColdCurveWithFewerIterations) {
   // Another schedule: the stored equilibria do not apply and it runs cold.
   o.steps = 4;
   PokeSimulator fresh(first, s);
-  fresh.model().set_material_params(second.params());
+  fresh.set_material_params(second.params());
   o.warm_start = false;
   const PokeCurve four_cold = fresh.run(o);
   o.warm_start = true;
   const PokeCurve four = warm_sim.run(o);
   EXPECT_EQ(four.newton_iterations, four_cold.newton_iterations);
+}
+
+// Extrapolation (PokeSetup::extrapolate): 2 F_L − F_{L−1} from the two
+// meshes, each warm-started from its own last run.
+TEST(PokeExtrapolation, CombinesTwoLevelsAndWarmStartsBoth) {
+  const material::NeoHookean first(kE, 0.45);
+  const material::NeoHookean second(1.002 * kE, 0.45);
+  PokeSetup s = setup_for(3 * kA, 1, PunchContact::Frictionless);
+  PokeOptions o;
+  o.max_depth = 0.3 * kA;
+  o.steps = 3;
+  PokeSimulator sim(first, s);
+  ASSERT_TRUE(sim.extrapolates());
+  const PokeCurve both = sim.run(o);
+  s.extrapolate = false;
+  PokeSimulator fine(first, s);
+  EXPECT_FALSE(fine.extrapolates());
+  const PokeCurve f = fine.run(o);
+  s.mesh_level = 0;
+  PokeSimulator coarse(first, s);
+  const PokeCurve c = coarse.run(o);
+  ASSERT_EQ(both.samples.size(), 4u);
+  for (std::size_t k = 1; k < both.samples.size(); ++k) {
+    const double ff = f.samples[k].force;
+    EXPECT_NEAR(both.samples[k].force, 2 * ff - c.samples[k].force, 1e-12 * ff) << "step " << k;
+    EXPECT_NEAR(both.samples[k].mesh_correction, ff - c.samples[k].force, 1e-12 * ff) << "step " << k;
+    EXPECT_EQ(both.samples[k].newton_iterations, f.samples[k].newton_iterations + c.samples[k].newton_iterations);
+    EXPECT_EQ(both.samples[k].min_jacobian, f.samples[k].min_jacobian);
+  }
+  EXPECT_EQ(both.newton_iterations, f.newton_iterations + c.newton_iterations);
+  EXPECT_EQ(f.samples.back().mesh_correction, 0.0);
+
+  // Warm starts: one set of equilibria per mesh, and a warm run reaches the
+  // cold curve of a nearby material in fewer iterations.
+  o.warm_start = true;
+  PokeSimulator warm(first, setup_for(3 * kA, 1, PunchContact::Frictionless));
+  warm.run(o);
+  ASSERT_EQ(warm.warm_start().solutions.size(), 4u);
+  ASSERT_EQ(warm.warm_start().coarse_solutions.size(), 4u);
+  EXPECT_EQ(warm.warm_start().coarse_solutions[3].size(), coarse.model().num_dofs());
+  warm.set_material_params(second.params());
+  const PokeCurve warm_curve = warm.run(o);
+  PokeSimulator cold(first, setup_for(3 * kA, 1, PunchContact::Frictionless));
+  cold.set_material_params(second.params());
+  o.warm_start = false;
+  const PokeCurve cold_curve = cold.run(o);
+  for (std::size_t k = 1; k < cold_curve.samples.size(); ++k) {
+    EXPECT_NEAR(warm_curve.samples[k].force, cold_curve.samples[k].force, 1e-7 * cold_curve.samples[k].force);
+  }
+  EXPECT_LT(warm_curve.newton_iterations, cold_curve.newton_iterations);
+}
+
+TEST(PokeExtrapolation, OnlyWhereTheForceConvergesAtFirstOrder) {
+  const material::NeoHookean m(kE, 0.45);
+  PokeSetup s = setup_for(3 * kA, 1, PunchContact::Stick);
+  EXPECT_TRUE(extrapolates(s));
+  s.mesh_level = 0;  // no coarser mesh
+  EXPECT_FALSE(extrapolates(s));
+  s.mesh_level = 1;
+  s.fillet_radius = 0.1 * kA;  // a rounded rim
+  EXPECT_FALSE(extrapolates(s));
+  EXPECT_FALSE(PokeSimulator(m, s).extrapolates());
+  EXPECT_FALSE(extrapolates(compression_setup(5e-3, 5e-3, 1, PunchContact::Stick)));
 }
 
 // ---------------------------------------------------------------- sensitivities

@@ -4,6 +4,8 @@
 
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "common/test_support.hpp"
 
@@ -54,6 +56,63 @@ TEST(PokeCli, CompressesACylinderBetweenTwoPlates) {
     EXPECT_NE(r.err.find("poke: compression 2.5 mm (50%) -> force"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(std::string("between ") + platens + " platens"), std::string::npos) << r.err;
   }
+}
+
+TEST(PokeCli, AFailedDepthWritesTheConvergedOnesMarkedIncomplete) {
+  // A softening Yeoh (C20 < 0) loses stability between 1 and 2 mm.
+  ScratchDir dir;
+  dir.write("soft.json",
+            R"({"model": "yeoh", "parameters": {"C10": "8 kPa", "C20": "-3 kPa", "C30": "0 kPa", "D1": "1e-5 1/Pa"}})");
+  const auto r = run_palpa(
+      "poke --material soft.json --thickness 10mm --radius 3mm --depth 6mm --steps 6 --mesh-level 0 "
+      "--sensitivities sens.csv --vtu frames -o curve.csv",
+      dir.path());
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("the equilibrium at depth 1."), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("wrote the 1 converged depth, to 1 mm, to curve.csv, marked INCOMPLETE"), std::string::npos)
+      << r.err;
+  const std::string curve = test::read_text(dir / "curve.csv");
+  EXPECT_NE(curve.find("# INCOMPLETE: converged to 1 mm of 6 mm (1 of 6 depths); the next depth failed: the "
+                       "equilibrium at depth 1."),
+            std::string::npos)
+      << curve;
+  EXPECT_NE(curve.find("\n0,0,"), std::string::npos) << curve;
+  EXPECT_NE(curve.find("\n0.001,"), std::string::npos) << curve;
+  EXPECT_EQ(curve.find("\n0.002,"), std::string::npos) << curve;
+  const std::string sens = test::read_text(dir / "sens.csv");
+  EXPECT_NE(sens.find("INCOMPLETE"), std::string::npos) << sens;
+  EXPECT_NE(sens.find("\n0.001,"), std::string::npos) << sens;
+  EXPECT_FALSE(std::filesystem::exists(dir / "frames"));
+}
+
+TEST(PokeCli, ExtrapolatesTheForceUnlessAskedNotTo) {
+  ScratchDir dir;
+  dir.write("m.json", kMaterial);
+  const std::string args = "poke --material m.json --thickness 10mm --radius 3mm --depth 0.1mm --steps 1 --mesh-level 1 ";
+  ASSERT_EQ(run_palpa(args + "-o extrapolated.csv", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_palpa(args + "--no-extrapolation -o fine.csv", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_palpa("poke --material m.json --thickness 10mm --radius 3mm --depth 0.1mm --steps 1 --mesh-level 0 "
+                      "-o coarse.csv",
+                      dir.path())
+                .exit_code,
+            0);
+  const auto last_row = [&](const char* name) {
+    const std::string text = test::read_text(dir / name);
+    std::istringstream in(text.substr(text.rfind("\n0.0001,") + 1));
+    std::vector<double> v;
+    for (std::string cell; std::getline(in, cell, ',');) v.push_back(std::stod(cell));
+    return v;
+  };
+  const std::string text = test::read_text(dir / "extrapolated.csv");
+  EXPECT_NE(text.find("levels 1 and 0 extrapolated"), std::string::npos) << text;
+  EXPECT_NE(text.find(",mesh_correction_N\n"), std::string::npos) << text;
+  EXPECT_EQ(test::read_text(dir / "fine.csv").find("mesh_correction"), std::string::npos);
+  const double fine = last_row("fine.csv")[1];
+  const double coarse = last_row("coarse.csv")[1];
+  const std::vector<double> e = last_row("extrapolated.csv");
+  EXPECT_NEAR(e[1], 2 * fine - coarse, 1e-12 * fine);
+  EXPECT_NEAR(e[7], fine - coarse, 1e-12 * fine);
+  EXPECT_LT(e[1], fine);  // the finer mesh is still stiff
 }
 
 TEST(PokeCli, BadInputIsRefusedAndNothingIsWritten) {

@@ -139,7 +139,7 @@ AxisymMesh make_layer_mesh(const LayerGeometry& g, int level) {
   const double rim = r[r.size() - 1] - r[r.size() - 2];
   const std::vector<double> outer = growing_points(a, big_r, rim, kOuterGrowth);
   r.insert(r.end(), outer.begin() + 1, outer.end());
-  std::vector<double> depth = growing_points(0.0, g.thickness, std::min(rim, g.thickness / 2.0), kDepthGrowth);
+  std::vector<double> depth = growing_points(0.0, g.thickness, std::min(rim, g.thickness / 5.0), kDepthGrowth);
 
   r = refine(r, level);
   depth = refine(depth, level);

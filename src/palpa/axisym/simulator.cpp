@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "palpa/axisym/poke.hpp"
 #include "palpa/core/error.hpp"
@@ -95,7 +96,7 @@ class Continuation {
 
   // After the last depth: what the next warm-started run starts from.
   void finish() {
-    if (options_.warm_start) warm_store_ = WarmStart{options_.max_depth, std::move(solutions_)};
+    if (options_.warm_start) warm_store_ = WarmStart{options_.max_depth, std::move(solutions_), {}};
   }
 
  private:
@@ -290,10 +291,26 @@ PokeSample Continuation::advance(int k) {
 
 }  // namespace
 
+bool extrapolates(const PokeSetup& setup) noexcept {
+  return setup.extrapolate && setup.test == PokeTest::Indentation && setup.fillet_radius == 0.0 &&
+         setup.mesh_level >= 1;
+}
+
 PokeSimulator::PokeSimulator(const material::Material& material, const PokeSetup& setup)
-    : model_(std::make_unique<PokeModel>(material, setup)) {}
+    : model_(std::make_unique<PokeModel>(material, setup)) {
+  if (axisym::extrapolates(setup)) {
+    PokeSetup coarse = setup;
+    --coarse.mesh_level;
+    coarse_ = std::make_unique<PokeModel>(material, coarse);
+  }
+}
 
 PokeSimulator::~PokeSimulator() = default;
+
+void PokeSimulator::set_material_params(const Eigen::VectorXd& theta) {
+  model_->set_material_params(theta);
+  if (coarse_) coarse_->set_material_params(theta);
+}
 
 PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on_depth) {
   PokeModel& m = *model_;
@@ -302,12 +319,29 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
   curve.samples.push_back(PokeSample{});
   curve.samples.back().min_jacobian = 1.0;
   if (options.sensitivities) curve.samples.back().dforce_dparams = Eigen::VectorXd::Zero(m.num_params());
-  Continuation path(m, solver_, options, warm_, curve);
+  WarmStart fine_warm{warm_.max_depth, std::move(warm_.solutions), {}};
+  WarmStart coarse_warm{warm_.max_depth, std::move(warm_.coarse_solutions), {}};
+  warm_ = WarmStart{};
+  Continuation fine(m, solver_, options, fine_warm, curve);
+  std::unique_ptr<Continuation> coarse;
+  if (coarse_) coarse = std::make_unique<Continuation>(*coarse_, coarse_solver_, options, coarse_warm, curve);
   for (int k = 1; k <= options.steps; ++k) {
-    curve.samples.push_back(path.advance(k));
-    if (on_depth) on_depth(m, path.x(), curve.samples.back());
+    // The coarser mesh first: it is cheaper and fails (if at all) no earlier.
+    const PokeSample c = coarse ? coarse->advance(k) : PokeSample{};
+    PokeSample s = fine.advance(k);
+    if (coarse) {
+      // 2 F_L − F_{L−1} (PokeSetup::extrapolate)
+      s.mesh_correction = s.force - c.force;
+      s.force += s.mesh_correction;
+      s.newton_iterations += c.newton_iterations;
+      if (options.sensitivities) s.dforce_dparams = 2.0 * s.dforce_dparams - c.dforce_dparams;
+    }
+    curve.samples.push_back(std::move(s));
+    if (on_depth) on_depth(m, fine.x(), curve.samples.back());
   }
-  path.finish();
+  fine.finish();
+  if (coarse) coarse->finish();
+  warm_ = WarmStart{fine_warm.max_depth, std::move(fine_warm.solutions), std::move(coarse_warm.solutions)};
   return curve;
 }
 

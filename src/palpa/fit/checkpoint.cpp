@@ -32,10 +32,11 @@ Eigen::VectorXd json_vector(const JsonView& v) {
   return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size()));
 }
 
-// The warm-start file: "palpa-warm-start 1\n", then little-endian u64
-// counts and f64 values: #curves; per curve max_depth, #solutions, and per
-// solution its size and entries.
-constexpr std::string_view kWarmMagic = "palpa-warm-start 1\n";
+// The warm-start file: "palpa-warm-start 2\n", then little-endian u64
+// counts and f64 values: #curves; per curve max_depth, then the solutions of
+// each mesh (that of the mesh level, then of the coarser one extrapolation
+// uses): their count, and per solution its size and entries.
+constexpr std::string_view kWarmMagic = "palpa-warm-start 2\n";
 
 void put_u64(std::string& out, std::uint64_t v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
 void put_f64(std::string& out, double v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
@@ -45,10 +46,12 @@ std::string warm_bytes(const std::vector<axisym::WarmStart>& warm) {
   put_u64(out, warm.size());
   for (const axisym::WarmStart& w : warm) {
     put_f64(out, w.max_depth);
-    put_u64(out, w.solutions.size());
-    for (const Eigen::VectorXd& x : w.solutions) {
-      put_u64(out, static_cast<std::uint64_t>(x.size()));
-      out.append(reinterpret_cast<const char*>(x.data()), static_cast<std::size_t>(x.size()) * sizeof(double));
+    for (const auto* level : {&w.solutions, &w.coarse_solutions}) {
+      put_u64(out, level->size());
+      for (const Eigen::VectorXd& x : *level) {
+        put_u64(out, static_cast<std::uint64_t>(x.size()));
+        out.append(reinterpret_cast<const char*>(x.data()), static_cast<std::size_t>(x.size()) * sizeof(double));
+      }
     }
   }
   return out;
@@ -68,14 +71,17 @@ bool parse_warm(std::string_view bytes, std::vector<axisym::WarmStart>& warm) {
   if (!take(&curves, 8) || curves > bytes.size()) return false;
   warm.assign(static_cast<std::size_t>(curves), {});
   for (axisym::WarmStart& w : warm) {
-    std::uint64_t count = 0;
-    if (!take(&w.max_depth, 8) || !take(&count, 8) || count > bytes.size()) return false;
-    w.solutions.resize(static_cast<std::size_t>(count));
-    for (Eigen::VectorXd& x : w.solutions) {
-      std::uint64_t n = 0;
-      if (!take(&n, 8) || n > (bytes.size() - at) / sizeof(double)) return false;
-      x.resize(static_cast<Eigen::Index>(n));
-      if (!take(x.data(), static_cast<std::size_t>(n) * sizeof(double))) return false;
+    if (!take(&w.max_depth, 8)) return false;
+    for (auto* level : {&w.solutions, &w.coarse_solutions}) {
+      std::uint64_t count = 0;
+      if (!take(&count, 8) || count > bytes.size()) return false;
+      level->resize(static_cast<std::size_t>(count));
+      for (Eigen::VectorXd& x : *level) {
+        std::uint64_t n = 0;
+        if (!take(&n, 8) || n > (bytes.size() - at) / sizeof(double)) return false;
+        x.resize(static_cast<Eigen::Index>(n));
+        if (!take(x.data(), static_cast<std::size_t>(n) * sizeof(double))) return false;
+      }
     }
   }
   return at == bytes.size();
@@ -94,6 +100,7 @@ Checkpoint::Checkpoint(std::filesystem::path path, const Dataset& d, const FitOp
             {"max_iterations", o.max_iterations},
             {"function_tolerance", o.function_tolerance},
             {"mesh_level", o.simulation.mesh_level},
+            {"extrapolate", o.simulation.extrapolate},
             {"steps", o.simulation.steps},
             {"element", static_cast<int>(o.simulation.element)},
             {"fillet", o.simulation.fillet_radius},

@@ -45,6 +45,7 @@ axisym::PokeSetup poke_setup(const Dataset& d, const MeasuredCurve& c, double la
                              const SimulationOptions& o) {
   axisym::PokeSetup s;
   s.mesh_level = o.mesh_level;
+  s.extrapolate = o.extrapolate;
   s.element = o.element;
   s.fillet_radius = o.fillet_radius;
   s.contact = d.contact;
@@ -85,7 +86,7 @@ class PokeCurveSimulator final : public CurveSimulator {
       sim_ = std::make_unique<axisym::PokeSimulator>(use_reference ? *reference_ : m, setup_);
       sim_->set_warm_start(std::move(warm));  // same mesh: still good guesses
     }
-    sim_->model().set_material_params(m.params());
+    sim_->set_material_params(m.params());
     axisym::PokeOptions po;
     po.max_depth = grid_.back();
     po.steps = steps_;

@@ -24,6 +24,7 @@ namespace palpa::fit {
 // How the axisymmetric model of a dataset is discretized.
 struct SimulationOptions {
   int mesh_level = 2;
+  bool extrapolate = true;                                     // axisym::PokeSetup::extrapolate
   int steps = 20;                                              // depths per curve
   axisym::ElementFormulation element = axisym::ElementFormulation::FBar;
   double fillet_radius = 0.0;                                  // [m]
