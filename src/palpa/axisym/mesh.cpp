@@ -139,6 +139,10 @@ AxisymMesh make_layer_mesh(const LayerGeometry& g, int level) {
   const double rim = r[r.size() - 1] - r[r.size() - 2];
   const std::vector<double> outer = growing_points(a, big_r, rim, kOuterGrowth);
   r.insert(r.end(), outer.begin() + 1, outer.end());
+  // The rows start at the rim cell size, and at a fifth of a thin layer's
+  // thickness (so that a layer thinner than the punch is resolved through
+  // its depth: at a/D = 2 the extrapolated force is then within 0.3% of the
+  // analytic one, against 0.42% with a first row half as thick as the layer).
   std::vector<double> depth = growing_points(0.0, g.thickness, std::min(rim, g.thickness / 5.0), kDepthGrowth);
 
   r = refine(r, level);
