@@ -41,8 +41,21 @@
 //     DOFs, Newton iterations, factorizations, force; then the least-squares
 //     exponent of time against DOFs on log–log axes.
 //
-// Options: --quick (levels 1–2 only, no CalculiX), --keep (keep the CalculiX
-// working folders and print where they are), --only curves|ccx|scaling.
+//  4. accuracy: error against time of the small-depth stiffness on the case
+//     of Hayes et al. (1972) that the tests use (a/D = 1, ν = 0.45,
+//     frictionless, neo-Hookean, d = 1e-4 a), against the analytic layer
+//     stiffness of tests/axisym/layer_reference: one mesh alone and the
+//     extrapolated force (each level with the one below) at levels 1–5, and
+//     for each variant the cheapest level within 1% and within 0.3%, with the
+//     ratio of those times.
+//
+// Figures 1 and 4 use the default (extrapolated) force; the CalculiX
+// comparison and the scaling figure use one mesh (extrapolation off), so that
+// both solvers solve the same mesh and the times scale with its size.
+//
+// Options: --quick (levels 1–2 only, no CalculiX; accuracy to level 3), --keep
+// (keep the CalculiX working folders and print where they are), --only
+// curves|ccx|scaling|accuracy.
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -75,6 +88,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/solve/sparse_cholesky.hpp"
+#include "axisym/layer_reference.hpp"
 
 namespace {
 
@@ -184,6 +198,7 @@ json problem_json(int level, ElementFormulation element, double depth, int steps
           {"depth_mm", depth * 1e3},
           {"steps", steps},
           {"mesh_level", level},
+          {"extrapolated", false},
           {"element", element_name(element)},
           {"contact", "stick"},
           {"model", "neo-hookean-isochoric"},
@@ -292,6 +307,7 @@ void bench_default_curves() {
     const PokeSetup setup = make_setup(level, ElementFormulation::FBar);
     json j = {{"bench", "poke"}, {"figure", "curve_default_mesh"}};
     j["problem"] = problem_json(level, ElementFormulation::FBar, depth, steps);
+    j["problem"]["extrapolated"] = palpa::axisym::extrapolates(setup);
     const CurveResult r = run_curve(setup, depth, steps, true);
     j["dofs"] = r.dofs;
     if (!r.ok) {
@@ -688,6 +704,7 @@ json ccx_run_json(const CcxRun& r, double depth) {
 // `contact` true the punch also keeps the free surface out (palpa's default).
 PokeSetup ccx_like_setup(int level, bool contact, double punch_radius = kPunchRadius) {
   PokeSetup s = make_setup(level, ElementFormulation::Standard, punch_radius);
+  s.extrapolate = false;  // the same mesh as CalculiX's
   if (!contact) s.penalty_factor = 1e-12;
   return s;
 }
@@ -943,7 +960,8 @@ void bench_scaling(bool quick) {
   std::vector<int> levels_done;
   const std::vector<int> levels = quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3, 4};
   for (int level : levels) {
-    const PokeSetup setup = make_setup(level, ElementFormulation::FBar);
+    PokeSetup setup = make_setup(level, ElementFormulation::FBar);
+    setup.extrapolate = false;  // time against the size of one mesh
     const CurveResult r = run_curve(setup, depth, steps, level <= 2);
     json j = {{"bench", "poke"}, {"figure", "scaling_curve"}};
     j["problem"] = problem_json(level, ElementFormulation::FBar, depth, steps);
@@ -992,6 +1010,81 @@ void bench_scaling(bool quick) {
   }
 }
 
+// ------------------------------------------------------------ figure 4
+
+struct AccuracyPoint {
+  int level = 0;
+  double error = 0.0;    // relative to the analytic stiffness
+  double seconds = 0.0;  // run() and construction, median of repetitions
+};
+
+void bench_accuracy(bool quick) {
+  constexpr double kNu = 0.45;
+  const double a = kPunchRadius;
+  const double thickness = a;  // a/D = 1
+  const double depth = 1e-4 * a;
+  const palpa::material::NeoHookean material(kYoung, kNu);
+  const double reference = palpa::test::layer_stiffness(a, thickness, kYoung, kNu) * depth;
+  const int top = quick ? 3 : 5;
+  json variants = json::object();
+  std::vector<std::pair<std::string, std::vector<AccuracyPoint>>> all;
+  for (const bool extrapolate : {false, true}) {
+    std::vector<AccuracyPoint> points;
+    for (int level = 1; level <= top; ++level) {
+      PokeSetup s;
+      s.geometry.punch_radius = a;
+      s.geometry.thickness = thickness;
+      s.mesh_level = level;
+      s.contact = PunchContact::Frictionless;
+      s.extrapolate = extrapolate;
+      PokeOptions o;
+      o.max_depth = depth;
+      o.steps = 1;
+      double force = 0.0;
+      std::unique_ptr<PokeSimulator> sim;
+      const double secs = median_seconds([] {},
+                                         [&] {
+                                           sim = std::make_unique<PokeSimulator>(material, s);
+                                           force = sim->run(o).samples.back().force;
+                                         },
+                                         kLongRun);
+      points.push_back({level, force / reference - 1.0, secs});
+      palpa::bench::emit({{"bench", "poke"},
+                          {"figure", "accuracy_point"},
+                          {"variant", extrapolate ? "extrapolated" : "one mesh"},
+                          {"level", level},
+                          {"dofs", sim->model().num_dofs()},
+                          {"error_percent", sig(100.0 * points.back().error, 3)},
+                          {"seconds", sig(secs, 3)}});
+      std::fflush(stdout);
+    }
+    all.emplace_back(extrapolate ? "extrapolated" : "one mesh", std::move(points));
+  }
+  // The cheapest level of each variant within each tolerance.
+  json summary = {{"bench", "poke"},
+                  {"figure", "accuracy_per_second"},
+                  {"case", "Hayes et al. 1972: a/D = 1, nu = 0.45, frictionless, neo-Hookean, d = 1e-4 a"},
+                  {"reference", "analytic layer stiffness (tests/axisym/layer_reference, Nystrom, 1e-9)"}};
+  for (const double tolerance : {0.01, 0.003}) {
+    json row = json::object();
+    std::vector<double> times;
+    for (const auto& [name, points] : all) {
+      const auto hit = std::find_if(points.begin(), points.end(),
+                                    [&](const AccuracyPoint& p) { return std::abs(p.error) <= tolerance; });
+      if (hit == points.end()) {
+        row[name] = {{"level", nullptr}, {"note", fmt::format("not within {}% by level {}", 100 * tolerance, top)}};
+        times.push_back(std::nan(""));
+      } else {
+        row[name] = {{"level", hit->level}, {"error_percent", sig(100 * hit->error, 3)}, {"seconds", sig(hit->seconds, 3)}};
+        times.push_back(hit->seconds);
+      }
+    }
+    if (std::isfinite(times[0]) && std::isfinite(times[1])) row["ratio_one_mesh_to_extrapolated"] = sig(times[0] / times[1], 3);
+    summary[fmt::format("within_{}_percent", 100 * tolerance)] = row;
+  }
+  palpa::bench::emit(summary);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -1006,7 +1099,7 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
       only = argv[++i];
     } else {
-      fmt::print(stderr, "usage: palpa_bench_poke [--quick] [--keep] [--only curves|ccx|scaling]\n");
+      fmt::print(stderr, "usage: palpa_bench_poke [--quick] [--keep] [--only curves|ccx|scaling|accuracy]\n");
       return 2;
     }
   }
@@ -1024,6 +1117,7 @@ int main(int argc, char** argv) {
       }
     }
     if (wanted("scaling")) bench_scaling(quick);
+    if (wanted("accuracy")) bench_accuracy(quick);
   } catch (const std::exception& e) {
     fmt::print(stderr, "palpa_bench_poke: {}\n", e.what());
     return 1;
