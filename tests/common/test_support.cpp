@@ -39,6 +39,7 @@ ScratchDir::~ScratchDir() {
 
 std::filesystem::path ScratchDir::write(const std::string& name, const std::string& content) const {
   const auto p = path_ / name;
+  std::filesystem::create_directories(p.parent_path());
   std::ofstream out(p, std::ios::binary);
   out << content;
   return p;

@@ -30,7 +30,8 @@ class ScratchDir {
   ScratchDir& operator=(const ScratchDir&) = delete;
   const std::filesystem::path& path() const noexcept { return path_; }
   std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
-  // Writes `content` to a file in the folder and returns its path.
+  // Writes `content` to a file in the folder (creating the folders its name
+  // holds) and returns its path.
   std::filesystem::path write(const std::string& name, const std::string& content) const;
   // Number of entries (files and folders, hidden ones included).
   std::size_t entry_count() const;

@@ -75,6 +75,14 @@ inline std::vector<BadDataset> bad_datasets() {
        indentation_dataset(R"([{"file": "a.csv", "radius": "3 mm", "role": "train"}])",
                            R"("layer_depth": "1.1 mm")"),
        {{"a.csv", good}}, {"dataset.json", "curves[0].file", "not below 90% of the layer depth"}},
+      {"two curves with one name",
+       indentation_dataset(R"([{"file": "A/r.csv", "radius": "3 mm", "role": "train"},
+                               {"file": "B/r.csv", "radius": "2 mm", "role": "validate"}])"),
+       {{"A/r.csv", good}, {"B/r.csv", good}},
+       {"dataset.json", "curves[1].file", "curves 1", "and 2", "are both named 'r'", "a distinct \"name\""}},
+      {"a name that is a path",
+       indentation_dataset(R"([{"file": "a.csv", "radius": "3 mm", "role": "train", "name": "x/y"}])"),
+       {{"a.csv", good}}, {"dataset.json", "curves[0].name", "curve name 'x/y' cannot name its output file"}},
   };
 }
 

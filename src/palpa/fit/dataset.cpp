@@ -226,6 +226,23 @@ Dataset read_dataset(const std::filesystem::path& path) {
     d.curves.push_back(std::move(c));
   }
   if (d.curves.empty()) curves.fail("no curves", "at least one curve");
+  // Each curve's outputs are named after it (curves/<name>.csv).
+  for (std::size_t i = 0; i < d.curves.size(); ++i) {
+    const JsonView cv = curves.at(i);
+    const JsonView where = cv.has("name") ? cv.at("name") : cv.at("file");
+    const std::string& name = d.curves[i].name;
+    if (name.empty() || name == "." || name == ".." || name.find_first_of("/\\") != std::string::npos) {
+      where.fail(fmt::format("curve name '{}' cannot name its output file", name),
+                 "a \"name\" without '/' or '\\'");
+    }
+    for (std::size_t before = 0; before < i; ++before) {
+      if (d.curves[before].name == name) {
+        where.fail(fmt::format("curves {} ({}) and {} ({}) are both named '{}', and their outputs would be one file",
+                               before + 1, d.curves[before].file.string(), i + 1, d.curves[i].file.string(), name),
+                   "a distinct \"name\" for each curve");
+      }
+    }
+  }
   if (d.count(CurveRole::Train) == 0) curves.fail("no curve has role \"train\"", "at least one training curve");
   return d;
 }
