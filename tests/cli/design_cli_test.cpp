@@ -372,6 +372,20 @@ TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {
   const auto c = run_palpa("design rest.json -o out", dir.path());
   EXPECT_EQ(c.exit_code, 2);
   EXPECT_NE(c.err.find("palpa_design"), std::string::npos) << c.err;
+  // Two baselines whose files would be the same.
+  for (const auto& [second, says] : {std::pair{"a_b", "'a_b' and the baseline 'a b' would write the same files"},
+                                     std::pair{"a b", "a second baseline named 'a b'"}}) {
+    std::string twins = kDesignScene;
+    twins.replace(twins.rfind('}'), 1,
+                  fmt::format(R"(, "baselines": [{{"name": "a b", "support": {{"box": {{"size": ["150 mm", "150 mm", "20 mm"]}}}}}},
+                                   {{"name": "{}", "support": {{"box": {{"size": ["150 mm", "150 mm", "20 mm"]}}}}}}]}})",
+                              second));
+    dir.write("twins.json", twins);
+    const auto t = run_palpa("design twins.json -o out", dir.path());
+    EXPECT_EQ(t.exit_code, 2) << t.err;
+    EXPECT_NE(t.err.find(says), std::string::npos) << t.err;
+    EXPECT_NE(t.err.find("baselines[1].name"), std::string::npos) << t.err;
+  }
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 

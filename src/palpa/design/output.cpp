@@ -28,12 +28,6 @@ namespace {
 
 Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
 
-std::string slug_of(const std::string& name) {
-  std::string slug;
-  for (char ch : name) slug += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
-  return slug;
-}
-
 Json evaluation_json(const Evaluation& e, double gamma) {
   Json j = {{"phi", e.phi},
           {"zeta", e.zeta},
@@ -194,12 +188,12 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                                sim.support().triangles()};
       e = optimizer.solve_from_scratch(scene.rest.body, fitted, &bsim);
       j["zeta_negative_image"] = ni.zeta;
-      write_surface_mesh(out / fmt::format("baseline_{}.obj", slug_of(b.name)), fitted);
+      write_surface_mesh(out / fmt::format("baseline_{}.obj", baseline_slug(b.name)), fitted);
     } else {
       e = optimizer.solve_from_scratch(b.body, b.support, &bsim);
     }
     if (!e.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}': {}", b.name, e.failure));
-    const std::string slug = slug_of(b.name);
+    const std::string slug = baseline_slug(b.name);
     UnstructuredGrid grid = rest::support_grid(*bsim, e.rest);
     grid.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
     write_vtu(out / fmt::format("baseline_{}_support.vtu", slug), grid);

@@ -2,9 +2,11 @@
 #include "palpa/design/scene.hpp"
 
 #include <Eigen/Geometry>
+#include <cctype>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "palpa/core/error.hpp"
@@ -36,6 +38,12 @@ std::vector<int> facing_vertices(const SurfaceMesh& support, const Eigen::Vector
   return out;
 }
 
+std::string baseline_slug(const std::string& name) {
+  std::string slug;
+  for (char ch : name) slug += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+  return slug;
+}
+
 DesignScene read_design_scene(const std::filesystem::path& path, bool baselines) {
   DesignScene s;
   s.rest = rest::read_rest_scene(path, "palpa_design", {"design", "baselines"});
@@ -53,10 +61,24 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
   }
   std::optional<Baseline> start_base;
   if (const auto bl = root.find("baselines")) {
+    std::map<std::string, std::string> slugs;  // file-name form -> the first name that has it
     for (std::size_t i = 0; i < bl->size(); ++i) {
       const JsonView b = bl->at(i);
       b.expect_only({"name", "support", "sit_and_relax"});
       if (b.has("support") == b.has("sit_and_relax")) b.fail("give either support or sit_and_relax", "one of them");
+      {
+        const JsonView n = b.at("name");
+        const std::string name = n.as_string();
+        if (name.empty()) n.fail("an empty name", "a name for the baseline's files and the summary");
+        const auto [at, fresh] = slugs.emplace(baseline_slug(name), name);
+        if (!fresh) {
+          n.fail(at->second == name
+                     ? fmt::format("a second baseline named '{}'", name)
+                     : fmt::format("'{}' and the baseline '{}' would write the same files (baseline_{}_*)", name,
+                                   at->second, at->first),
+                 "baseline names that differ in a letter or digit");
+        }
+      }
       // The body as placed in the scene, before the design's own support
       // moved it.
       rest::RestScene copy = s.rest;

@@ -69,8 +69,13 @@ struct DesignScene {
   std::string region;                // how the design vertices were chosen, for the summary
 };
 
+// A baseline's name as it appears in file names (baseline_<slug>.obj, …):
+// every character other than a letter or digit becomes '_'.
+std::string baseline_slug(const std::string& name);
+
 // Throws palpa::Error (Input) naming the file and field; a region holding no
-// support vertex is refused. Without `baselines` the baselines' entries are
+// support vertex is refused, and so are two baselines whose files would be
+// the same (names equal after baseline_slug). Without `baselines` the baselines' entries are
 // checked but their supports are not built (a negative image is a mesh
 // generation of its own) and none is returned, but the one named by
 // `design.start` is built (it is where the design begins).
