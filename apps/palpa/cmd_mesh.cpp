@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <memory>
 #include <numbers>
@@ -45,7 +46,7 @@ struct QualityArgs {
 struct LayerArgs {
   std::string surface;
   std::string unit;
-  double depth = 0.0;
+  double depth = std::numeric_limits<double>::quiet_NaN();  // NaN: --depth not given
   std::string depth_samples;
   std::string depth_column = "depth";
   bool clamp_depth = false;
@@ -181,17 +182,22 @@ void run_layer(const LayerArgs& a) {
   MeshReadOptions read;
   read.unit_to_si = length_unit(a.unit);
   const SurfaceMesh scan = read_surface_mesh(a.surface, read);
-  if (a.depth > 0.0 && !a.depth_samples.empty()) {
+  const bool uniform = !std::isnan(a.depth);  // --depth given
+  if (uniform && !a.depth_samples.empty()) {
     throw_input_error("both --depth and --depth-samples given", option("--depth"),
                       "one of them");
   }
   mesh::DepthSpec depth;
-  depth.uniform = a.depth;
   if (!a.depth_samples.empty()) {
     depth.samples = mesh::read_samples(a.depth_samples, a.depth_column, Dimension::Length);
-  } else if (!(a.depth > 0.0)) {
+  } else if (!uniform) {
     throw_input_error("no layer depth", option("--depth"),
                       "--depth (e.g. 10mm) or --depth-samples FILE.csv");
+  } else if (!(a.depth > 0.0) || !std::isfinite(a.depth)) {
+    throw_input_error(fmt::format("a layer depth of {}", format_quantity(a.depth, Dimension::Length)),
+                      option("--depth"), "a positive length, e.g. 10mm");
+  } else {
+    depth.uniform = a.depth;
   }
   std::optional<mesh::Samples> stiffness;
   if (!a.stiffness_samples.empty()) {
@@ -265,7 +271,7 @@ void run_layer(const LayerArgs& a) {
       {"edge_length_m", a.edge},
       {"depth",
        depth.samples ? Json{{"samples", a.depth_samples}, {"column", depth.samples->field}}
-                     : Json{{"uniform_m", a.depth}}},
+                     : Json{{"uniform_m", depth.uniform}}},
       {"quality_bounds", {{"max_radius_edge", layer.quality.max_radius_edge},
                           {"min_dihedral_deg", layer.quality.min_dihedral / kDegree},
                           {"max_volume_m3", layer.quality.max_volume}}},

@@ -127,7 +127,14 @@ TEST_F(MeshCli, BadInputLeavesNothing) {
                      shell_quote(out / "b.vtu"),
                  {"far.csv", "line 3", "from the surface"});
   expect_failure("layer --surface " + shell_quote(s) + " --edge 10mm -o " + shell_quote(out / "b.vtu"),
-                 {"--depth"});
+                 {"--depth", "no layer depth"});
+  for (const char* depth : {"--depth=-5mm", "--depth 0mm"}) {
+    expect_failure("layer --surface " + shell_quote(s) + " " + depth + " --edge 10mm -o " + shell_quote(out / "b.vtu"),
+                   {"option --depth", "a layer depth of", "a positive length"});
+  }
+  expect_failure("layer --surface " + shell_quote(s) + " --depth=-5mm --depth-samples " + shell_quote(far) +
+                     " --edge 10mm -o " + shell_quote(out / "b.vtu"),
+                 {"both --depth and --depth-samples given"});
   expect_failure("body hand -o " + shell_quote(out / "h.obj"), {"'hand'"});
 }
 
