@@ -99,6 +99,23 @@ TEST(SurfaceCheck, RefusesANonManifoldVertex) {
                            {"two.obj", "non-manifold vertex"}));
 }
 
+TEST(SurfaceCheck, RefusesATriangleWithoutArea) {
+  // The closed cube with its edge 0–1 split at m = (0.5, 0, 0) on one side and
+  // closed by the flat triangle (0, 1, m) on the other: still a closed,
+  // consistently wound surface, but with a triangle of zero area.
+  const double c[9][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1},
+                          {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0.5, 0, 0}};
+  const int f[14][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 8, 5}, {8, 1, 5}, {0, 5, 4},
+                        {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}, {0, 1, 8}};
+  SurfaceMesh m;
+  m.V.resize(9, 3);
+  m.F.resize(14, 3);
+  for (int v = 0; v < 9; ++v) m.V.row(v) << c[v][0], c[v][1], c[v][2];
+  for (int t = 0; t < 14; ++t) m.F.row(t) << f[t][0], f[t][1], f[t][2];
+  EXPECT_TRUE(throws_error([&] { check_closed_surface(m, "flat.obj"); }, ErrorKind::Input,
+                           {"flat.obj", "triangle 13 near (500 mm, 0 m, 0 m) has no area"}));
+}
+
 TEST(SurfaceCheck, RefusesASelfIntersectingSurface) {
   // Two overlapping spheres in one mesh.
   BodyOptions o;

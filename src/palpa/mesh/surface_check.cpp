@@ -46,6 +46,12 @@ bool is_closed_manifold(const SurfaceMesh& mesh) {
   return true;
 }
 
+[[noreturn]] void degenerate_triangle(Eigen::Index f, const Eigen::Vector3d& at, const ErrorContext& where) {
+  throw_input_error(fmt::format("triangle {} near {} has no area (its corners are collinear or coincide)", f,
+                                format_point(at)),
+                    where, "a surface whose every triangle has an area");
+}
+
 }  // namespace
 
 double enclosed_volume(const SurfaceMesh& mesh) {
@@ -251,12 +257,26 @@ void check_closed_surface(const SurfaceMesh& mesh, const std::string& source) {
       }
     }
   }
+  // Triangles without area (corners collinear or coincident): the geometry
+  // below has no normal for them.
+  {
+    const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+      const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose();
+      const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose();
+      const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose();
+      if (!((b - a).cross(c - a).norm() > 1e-14 * diagonal * diagonal)) {
+        degenerate_triangle(f, (a + b + c) / 3.0, where);
+      }
+    }
+  }
   if (enclosed_volume(mesh) <= 0.0) {
     throw_input_error("the surface's normals point inward (it encloses a negative volume)",
                       where, "outward normals (repair_surface reverses the winding)");
   }
   if (const auto pair = detail::cgal_self_intersection(mesh)) {
     const Eigen::Vector3d at = mesh.V.row(mesh.F(pair->first, 0)).transpose();
+    if (pair->first == pair->second) degenerate_triangle(pair->first, at, where);  // CGAL's report of one
     throw_input_error(fmt::format("the surface intersects itself: triangles {} and {} cross "
                                   "near {}",
                                   pair->first, pair->second, format_point(at)),
