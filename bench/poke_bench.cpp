@@ -1026,15 +1026,12 @@ void bench_accuracy(bool quick) {
   const palpa::material::NeoHookean material(kYoung, kNu);
   const double reference = palpa::test::layer_stiffness(a, thickness, kYoung, kNu) * depth;
   const int top = quick ? 3 : 5;
-  json variants = json::object();
   std::vector<std::pair<std::string, std::vector<AccuracyPoint>>> all;
   for (const bool extrapolate : {false, true}) {
     std::vector<AccuracyPoint> points;
     for (int level = 1; level <= top; ++level) {
-      PokeSetup s;
-      s.geometry.punch_radius = a;
+      PokeSetup s = make_setup(level, ElementFormulation::FBar, a);
       s.geometry.thickness = thickness;
-      s.mesh_level = level;
       s.contact = PunchContact::Frictionless;
       s.extrapolate = extrapolate;
       PokeOptions o;

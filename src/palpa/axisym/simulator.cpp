@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-// PokeSimulator: depth continuation of the punch (platen) on one model.
+// PokeSimulator: depth continuation of the punch (platen) on one mesh, or on
+// two nested ones whose forces it extrapolates (PokeSetup::extrapolate).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
