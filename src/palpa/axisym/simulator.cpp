@@ -327,7 +327,8 @@ PokeCurve PokeSimulator::run(const PokeOptions& options, const DepthCallback& on
   std::unique_ptr<Continuation> coarse;
   if (coarse_) coarse = std::make_unique<Continuation>(*coarse_, coarse_solver_, options, coarse_warm, curve);
   for (int k = 1; k <= options.steps; ++k) {
-    // The coarser mesh first: it is cheaper and fails (if at all) no earlier.
+    // The coarser mesh first: it is the cheaper of the two, and usually the
+    // one that can follow the punch deeper.
     const PokeSample c = coarse ? coarse->advance(k) : PokeSample{};
     PokeSample s = fine.advance(k);
     if (coarse) {
