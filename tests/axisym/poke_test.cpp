@@ -211,7 +211,7 @@ TEST(PokePredictor, TheTangentIsTheDerivativeOfTheEquilibriumPath) {
 
 // Nodes a predicted step pushes into the punch start on its surface; nodes
 // already in contact keep their penetration.
-TEST(PokePredictor, NewContactsStartOnThePunchSurface) {
+TEST(PokePredictor, NewContactsStartJustInsideThePunch) {
   const material::NeoHookean m(kE, 0.45);
   PokeSetup s = setup_for(3 * kA, 2, PunchContact::Frictionless);
   s.fillet_radius = 0.4 * kA;
@@ -227,10 +227,13 @@ TEST(PokePredictor, NewContactsStartOnThePunchSurface) {
   Eigen::VectorXd kept = x;
   EXPECT_EQ(model.separate_new_contacts(kept, model.contact_set(x)), 0);
   EXPECT_EQ(kept, x);
-  // New contacts: moved onto the punch.
-  const int caught = model.diagnostics(x).contact_nodes;
-  EXPECT_EQ(model.separate_new_contacts(x, at_rest), caught);
-  EXPECT_LT(model.diagnostics(x).max_penetration, 1e-12 * kA);
+  // New contacts: moved back to 1/penalty_factor of their penetration, still
+  // inside (so that the first Hessian holds their penalty).
+  const auto before = model.diagnostics(x);
+  EXPECT_EQ(model.separate_new_contacts(x, at_rest), before.contact_nodes);
+  const auto after = model.diagnostics(x);
+  EXPECT_EQ(after.contact_nodes, before.contact_nodes);
+  EXPECT_NEAR(after.max_penetration, before.max_penetration / s.penalty_factor, 1e-9 * before.max_penetration);
   EXPECT_TRUE(std::isfinite(model.energy(x)));
 }
 

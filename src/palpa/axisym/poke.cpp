@@ -557,7 +557,7 @@ int PokeModel::separate_new_contacts(Eigen::VectorXd& x, const std::vector<char>
     const int node = contacts_[c].node;
     for (int k = 0; k < 2; ++k) {
       const int f = full_to_free_[static_cast<std::size_t>(2 * node + k)];
-      if (f >= 0) x[f] -= d.phi * d.normal[k];
+      if (f >= 0) x[f] -= (1.0 - 1.0 / setup_.penalty_factor) * d.phi * d.normal[k];
     }
     ++moved;
   }
