@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // Checkpoint and resume: a fit interrupted after its second iteration and
-// resumed ends where an uninterrupted fit ends (nonlinear CG: bit for bit;
-// Levenberg–Marquardt, which restarts its trust region: ε within 1e-6
-// relative); a checkpoint of another fit is refused.
+// resumed ends where an uninterrupted fit ends, bit for bit (nonlinear CG,
+// and Levenberg–Marquardt, whose trust-region radius is checkpointed); a
+// checkpoint of another fit is refused.
 #include <gtest/gtest.h>
 
 #include <filesystem>

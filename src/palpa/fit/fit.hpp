@@ -34,10 +34,10 @@
 // parallel) and the one with the lowest final ε wins (§6.3.4).
 //
 // Checkpoints: after every iteration of every guess the whole state (stage-1
-// scale, parameters, history; NLCG's gradient and direction) goes atomically
-// into the checkpoint file; resuming continues each guess from its last
-// iteration (NLCG exactly; LM from its last accepted parameters with a fresh
-// trust region).
+// scale, parameters, history; NLCG's gradient and direction, LM's
+// trust-region radius) goes atomically into the checkpoint file; resuming
+// continues each guess from its last iteration and takes the steps the
+// uninterrupted fit takes.
 
 #include <chrono>
 #include <filesystem>
