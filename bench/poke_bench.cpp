@@ -47,7 +47,10 @@
 //     stiffness of tests/axisym/layer_reference: one mesh alone and the
 //     extrapolated force (each level with the one below) at levels 1–5, and
 //     for each variant the cheapest level within 1% and within 0.3%, with the
-//     ratio of those times.
+//     ratio of those times. With ccx on PATH, CalculiX CAX8 too: palpa's
+//     meshes at levels 0–4 (--quick: 0–2) with a mid-side node on every edge,
+//     the same material and boundary conditions, wall time of the ccx process
+//     (median of 3; level 4: one run).
 //
 // Figures 1 and 4 use the default (extrapolated) force; the CalculiX
 // comparison and the scaling figure use one mesh (extrapolation off), so that
@@ -64,6 +67,7 @@
 #include <Eigen/LU>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -73,6 +77,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -443,6 +448,83 @@ std::string ccx_deck(const AxisymMesh& mesh, const std::vector<int>& face_nodes,
     out << "*NODE PRINT, NSET=NALL, TIME POINTS=SCHEDULE\n";
     out << "U\n";
   }
+  out << "*END STEP\n";
+  return out.str();
+}
+
+// The CalculiX deck of the same punch with quadratic elements: every quad of
+// palpa's mesh becomes a CAX8 with mid-side nodes at its edge midpoints
+// (numbered after palpa's nodes), the face nodes r <= a and the mid-sides
+// between two of them prescribed u_y = −d (and u_x = 0 for stick), the base
+// fixed, the axis u_x = 0; one *STATIC increment (small depths).
+std::string ccx_deck_cax8(const AxisymMesh& mesh, const std::vector<int>& face_nodes, double depth, bool stick,
+                          const palpa::material::Material& m) {
+  const auto elastic = palpa::material::small_strain_constants(m);
+  const double c10 = 0.5 * elastic.mu;
+  const double d1 = 2.0 / elastic.bulk();
+  std::map<std::pair<int, int>, int> midside;  // sorted corner pair -> node (0-based)
+  Eigen::Index next = mesh.num_nodes();
+  std::vector<Eigen::Vector2d> extra;
+  const auto mid = [&](int a, int b) {
+    const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+    const auto it = midside.find(key);
+    if (it != midside.end()) return it->second;
+    const int id = static_cast<int>(next++);
+    midside.emplace(key, id);
+    extra.push_back(0.5 * (mesh.nodes.row(a) + mesh.nodes.row(b)).transpose());
+    return id;
+  };
+  std::vector<std::array<int, 8>> elements;
+  for (Eigen::Index e = 0; e < mesh.num_elements(); ++e) {
+    std::array<int, 8> q{};
+    for (int k = 0; k < 4; ++k) q[static_cast<std::size_t>(k)] = mesh.quads(e, k);
+    for (int k = 0; k < 4; ++k) q[static_cast<std::size_t>(4 + k)] = mid(q[static_cast<std::size_t>(k)], q[static_cast<std::size_t>((k + 1) % 4)]);
+    elements.push_back(q);
+  }
+  // A set of corner nodes with the mid-sides of the edges between two of them.
+  const auto with_midsides = [&](const std::vector<int>& corners) {
+    std::vector<int> out = corners;
+    std::vector<char> in(static_cast<std::size_t>(mesh.num_nodes()), 0);
+    for (int n : corners) in[static_cast<std::size_t>(n)] = 1;
+    for (const auto& [key, id] : midside) {
+      if (in[static_cast<std::size_t>(key.first)] && in[static_cast<std::size_t>(key.second)]) out.push_back(id);
+    }
+    return out;
+  };
+  std::ostringstream out;
+  out << "** palpa poke benchmark: flat punch on a layer, CAX8, prescribed face nodes\n";
+  out << "** units: mm, N, MPa; x = r, y = z (top surface y = 0)\n";
+  out << "*NODE, NSET=NALL\n";
+  for (Eigen::Index n = 0; n < mesh.num_nodes(); ++n) {
+    out << n + 1 << ", " << num(mesh.nodes(n, 0) * kMm) << ", " << num(mesh.nodes(n, 1) * kMm) << "\n";
+  }
+  for (std::size_t k = 0; k < extra.size(); ++k) {
+    out << mesh.num_nodes() + static_cast<Eigen::Index>(k) + 1 << ", " << num(extra[k][0] * kMm) << ", "
+        << num(extra[k][1] * kMm) << "\n";
+  }
+  out << "*ELEMENT, TYPE=CAX8, ELSET=EALL\n";
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    out << e + 1;
+    for (int k = 0; k < 8; ++k) out << ", " << elements[e][static_cast<std::size_t>(k)] + 1;
+    out << "\n";
+  }
+  write_node_set(out, "BASE", with_midsides(mesh.base_nodes));
+  write_node_set(out, "AXIS", with_midsides(mesh.axis_nodes));
+  write_node_set(out, "PUNCH", with_midsides(face_nodes));
+  out << "*MATERIAL, NAME=TISSUE\n";
+  out << "*HYPERELASTIC, NEO HOOKE\n";
+  out << num(c10 * kMpa) << ", " << num(d1 / kMpa) << "\n";
+  out << "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n";
+  out << "*BOUNDARY\n";
+  out << "BASE, 1, 2\n";
+  out << "AXIS, 1, 1\n";
+  if (stick) out << "PUNCH, 1, 1\n";
+  out << "*STEP, NLGEOM\n";
+  out << "*STATIC\n";
+  out << "*BOUNDARY\n";
+  out << "PUNCH, 2, 2, " << num(-depth * kMm) << "\n";
+  out << "*NODE PRINT, NSET=PUNCH, TOTALS=ONLY\n";
+  out << "RF\n";
   out << "*END STEP\n";
   return out.str();
 }
@@ -1057,6 +1139,41 @@ void bench_accuracy(bool quick) {
     }
     all.emplace_back(extrapolate ? "extrapolated" : "one mesh", std::move(points));
   }
+  // CalculiX CAX8 on the same meshes (quadratic elements on palpa's grid),
+  // the same case and material; wall time of the ccx process (median of 3).
+  if (const auto ccx = find_on_path("ccx")) {
+    std::vector<AccuracyPoint> points;
+    for (int level = 0; level <= (quick ? 2 : 4); ++level) {
+      PokeSetup s = make_setup(level, ElementFormulation::Standard, a);
+      s.geometry.thickness = thickness;
+      s.contact = PunchContact::Frictionless;
+      s.extrapolate = false;
+      const PokeModel model(material, s);
+      const std::string deck = ccx_deck_cax8(model.mesh(), model.face_nodes(), depth, false, material);
+      const CcxRun run = run_ccx_median(*ccx, deck, 0, fmt::format("cax8-l{}", level), level < 4 ? 3 : 1);
+      if (run.force_y.empty()) {
+        palpa::bench::emit({{"bench", "poke"},
+                            {"figure", "accuracy_point"},
+                            {"variant", "ccx CAX8"},
+                            {"level", level},
+                            {"error", run.error.empty() ? std::string("no force printed") : run.error}});
+        fs::remove_all(run.folder);
+        continue;
+      }
+      const double force = -kCcxSegment * run.force_y.back();
+      points.push_back({level, force / reference - 1.0, run.seconds});
+      palpa::bench::emit({{"bench", "poke"},
+                          {"figure", "accuracy_point"},
+                          {"variant", "ccx CAX8"},
+                          {"level", level},
+                          {"elements", model.mesh().num_elements()},
+                          {"error_percent", sig(100.0 * points.back().error, 3)},
+                          {"seconds", sig(run.seconds, 3)}});
+      std::fflush(stdout);
+      fs::remove_all(run.folder);
+    }
+    all.emplace_back("ccx CAX8", std::move(points));
+  }
   // The cheapest level of each variant within each tolerance.
   json summary = {{"bench", "poke"},
                   {"figure", "accuracy_per_second"},
@@ -1069,7 +1186,9 @@ void bench_accuracy(bool quick) {
       const auto hit = std::find_if(points.begin(), points.end(),
                                     [&](const AccuracyPoint& p) { return std::abs(p.error) <= tolerance; });
       if (hit == points.end()) {
-        row[name] = {{"level", nullptr}, {"note", fmt::format("not within {}% by level {}", 100 * tolerance, top)}};
+        row[name] = {{"level", nullptr},
+                     {"note", fmt::format("not within {}% by level {}", 100 * tolerance,
+                                          points.empty() ? top : points.back().level)}};
         times.push_back(std::nan(""));
       } else {
         row[name] = {{"level", hit->level}, {"error_percent", sig(100 * hit->error, 3)}, {"seconds", sig(hit->seconds, 3)}};
@@ -1077,6 +1196,9 @@ void bench_accuracy(bool quick) {
       }
     }
     if (std::isfinite(times[0]) && std::isfinite(times[1])) row["ratio_one_mesh_to_extrapolated"] = sig(times[0] / times[1], 3);
+    if (times.size() > 2 && std::isfinite(times[2]) && std::isfinite(times[1])) {
+      row["ratio_ccx_cax8_to_extrapolated"] = sig(times[2] / times[1], 3);
+    }
     summary[fmt::format("within_{}_percent", 100 * tolerance)] = row;
   }
   palpa::bench::emit(summary);
