@@ -56,9 +56,13 @@
 // comparison and the scaling figure use one mesh (extrapolation off), so that
 // both solvers solve the same mesh and the times scale with its size.
 //
+//  5. foam: the bundled foam example's 4.05 mm curve with its true material
+//     (Newton iterations and factorizations per step), and how deep its
+//     1.03 mm punch gets.
+//
 // Options: --quick (levels 1–2 only, no CalculiX; accuracy to level 3), --keep
 // (keep the CalculiX working folders and print where they are), --only
-// curves|ccx|scaling|accuracy.
+// curves|ccx|scaling|accuracy|foam.
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -91,6 +95,7 @@
 #include "palpa/axisym/element.hpp"
 #include "palpa/axisym/poke.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/material/material_file.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/solve/sparse_cholesky.hpp"
 #include "axisym/layer_reference.hpp"
@@ -348,6 +353,76 @@ void bench_default_curves() {
     j["max_penetration_final_um"] = last.max_penetration * 1e6;
     j["peak_rss_mib"] = peak_rss_mib();
     palpa::bench::emit(j);
+    std::fflush(stdout);
+  }
+}
+
+// ------------------------------------------------------------ figure 5
+
+// The bundled foam example's true material (examples/fit/foam): the curve a
+// fit simulates most, 4.05 mm punch to 4 mm in 20 steps, frictionless, at the
+// default level, one mesh and extrapolated: Newton iterations and
+// factorizations per depth step and mesh, seconds. And how deep the smallest
+// punch (1.03 mm, to 4 mm) gets at levels 1–2 before its rim cells are
+// crushed.
+void bench_foam() {
+  const fs::path file = fs::path(PALPA_EXAMPLES_DIR) / "fit" / "foam" / "true-material.json";
+  const auto m = palpa::material::read_material_file(file).material;
+  for (const bool extrapolate : {false, true}) {
+    PokeSetup s;
+    s.geometry.punch_radius = 4.05e-3;
+    s.geometry.thickness = 10e-3;
+    s.geometry.outer_radius = 50e-3;  // the sample's 100 mm width
+    s.contact = PunchContact::Frictionless;
+    s.extrapolate = extrapolate;
+    PokeOptions o;
+    o.max_depth = 4e-3;
+    o.steps = 20;
+    PokeCurve c;
+    std::unique_ptr<PokeSimulator> sim;
+    const double secs = median_seconds([&] { sim = std::make_unique<PokeSimulator>(*m, s); },
+                                       [&] { c = sim->run(o); }, kLongRun);
+    const double mesh_steps = o.steps * (extrapolate ? 2.0 : 1.0);
+    palpa::bench::emit({{"bench", "poke"},
+                        {"figure", "foam_curve"},
+                        {"material", file.string()},
+                        {"variant", extrapolate ? "extrapolated (levels 2 and 1)" : "one mesh (level 2)"},
+                        {"force_final_N", sig(c.samples.back().force, 6)},
+                        {"newton_iterations", c.newton_iterations},
+                        {"factorizations", c.factorizations},
+                        {"iterations_per_step_and_mesh", sig(c.newton_iterations / mesh_steps, 3)},
+                        {"factorizations_per_step_and_mesh", sig(static_cast<double>(c.factorizations) / mesh_steps, 3)},
+                        {"seconds", sig(secs, 3)}});
+    std::fflush(stdout);
+  }
+  for (int level : {1, 2}) {
+    PokeSetup s;
+    s.geometry.punch_radius = 1.03e-3;
+    s.geometry.thickness = 10e-3;
+    s.geometry.outer_radius = 50e-3;
+    s.contact = PunchContact::Frictionless;
+    s.mesh_level = level;
+    s.extrapolate = false;
+    PokeOptions o;
+    o.max_depth = 4e-3;
+    o.steps = 20;
+    PokeSimulator sim(*m, s);
+    double reached = 0.0;
+    const auto t0 = Clock::now();
+    std::string error;
+    try {
+      sim.run(o, [&](const PokeModel&, const Eigen::VectorXd&, const PokeSample& x) { reached = x.depth; });
+    } catch (const palpa::Error& e) {
+      error = e.problem();
+    }
+    palpa::bench::emit({{"bench", "poke"},
+                        {"figure", "foam_small_punch_reach"},
+                        {"punch_radius_mm", 1.03},
+                        {"level", level},
+                        {"reached_mm", sig(reached * 1e3, 4)},
+                        {"planned_mm", 4.0},
+                        {"seconds", sig(seconds_since(t0), 3)},
+                        {"stopped", error}});
     std::fflush(stdout);
   }
 }
@@ -1218,7 +1293,7 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
       only = argv[++i];
     } else {
-      fmt::print(stderr, "usage: palpa_bench_poke [--quick] [--keep] [--only curves|ccx|scaling|accuracy]\n");
+      fmt::print(stderr, "usage: palpa_bench_poke [--quick] [--keep] [--only curves|ccx|scaling|accuracy|foam]\n");
       return 2;
     }
   }
@@ -1237,6 +1312,7 @@ int main(int argc, char** argv) {
     }
     if (wanted("scaling")) bench_scaling(quick);
     if (wanted("accuracy")) bench_accuracy(quick);
+    if (wanted("foam")) bench_foam();
   } catch (const std::exception& e) {
     fmt::print(stderr, "palpa_bench_poke: {}\n", e.what());
     return 1;
