@@ -23,6 +23,21 @@ TEST(Json, NumbersBeyondADoublesRangeAreRefused) {
                                  {"big.json", "invalid JSON", "number overflow", "range of a double"}));
 }
 
+// The parser would keep the last of two values silently.
+TEST(Json, AKeyTwiceInOneObjectIsRefusedByName) {
+  test::ScratchDir dir;
+  const auto top = dir.write("top.json", R"({"E": "10 kPa", "nu": 0.3, "E": "20 kPa"})");
+  EXPECT_TRUE(test::throws_error([&] { read_json_file(top); }, ErrorKind::Input,
+                                 {"top.json", "\"E\" appears twice at the top level"}));
+  const auto nested =
+      dir.write("nested.json", R"({"curves": [{"file": "a.csv"}, {"file": "b.csv", "role": "x", "file": "c.csv"}]})");
+  EXPECT_TRUE(test::throws_error([&] { read_json_file(nested); }, ErrorKind::Input,
+                                 {"nested.json", "\"file\" appears twice in curves[1]"}));
+  // The same key in different objects is fine.
+  const auto fine = dir.write("fine.json", R"({"a": {"x": 1}, "b": {"x": 2}, "c": [{"x": 3}, {"x": 4}]})");
+  EXPECT_EQ(read_json_file(fine)["c"][1]["x"], 4);
+}
+
 TEST(Json, EmptyAndMissingFilesAreErrors) {
   test::ScratchDir dir;
   const auto p = dir.write("empty.json", "  \n");

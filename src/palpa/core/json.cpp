@@ -4,8 +4,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <functional>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <vector>
 
 #include "palpa/core/atomic_file.hpp"
 
@@ -25,6 +28,68 @@ std::string type_name(const Json& j) {
     default: return "an unsupported value";
   }
 }
+// Watches the parser's events for a key that appears twice in one object
+// (the parser itself keeps the last value silently).
+class DuplicateKeys {
+ public:
+  bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
+    using E = Json::parse_event_t;
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+        if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
+        stack_.push_back(Frame{event == E::object_start, {}, {}, 0});
+        break;
+      case E::key: {
+        Frame& f = stack_.back();
+        f.last_key = parsed.get<std::string>();
+        if (!f.keys.insert(f.last_key).second && key_.empty()) {
+          key_ = f.last_key;
+          where_ = path();
+        }
+        break;
+      }
+      case E::value:
+        if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
+        break;
+      case E::object_end:
+      case E::array_end:
+        stack_.pop_back();
+        break;
+    }
+    return true;
+  }
+
+  const std::string& key() const noexcept { return key_; }
+  // The object holding it, as a field path ("" for the top level).
+  const std::string& where() const noexcept { return where_; }
+
+ private:
+  struct Frame {
+    bool object = true;
+    std::set<std::string> keys;
+    std::string last_key;
+    std::size_t index = 0;  // arrays: elements started so far
+  };
+
+  std::string path() const {
+    std::string p;
+    for (std::size_t k = 0; k + 1 < stack_.size(); ++k) {
+      const Frame& f = stack_[k];
+      if (f.object) {
+        p += (p.empty() ? "" : ".") + f.last_key;
+      } else {
+        p += fmt::format("[{}]", f.index - 1);
+      }
+    }
+    return p;
+  }
+
+  std::vector<Frame> stack_;
+  std::string key_;
+  std::string where_;
+};
+
 }  // namespace
 
 Json read_json_file(const std::filesystem::path& path) {
@@ -39,7 +104,15 @@ Json read_json_file(const std::filesystem::path& path) {
     throw_input_error("the file is empty", ctx, "a JSON object");
   }
   try {
-    return Json::parse(text);
+    DuplicateKeys duplicates;
+    Json j = Json::parse(text, std::ref(duplicates));
+    if (!duplicates.key().empty()) {
+      throw_input_error(fmt::format("the key \"{}\" appears twice{}", duplicates.key(),
+                                    duplicates.where().empty() ? std::string(" at the top level")
+                                                               : " in " + duplicates.where()),
+                        ctx, "each key once in an object");
+    }
+    return j;
   } catch (const Json::parse_error& e) {
     // Turn the byte offset into line and column.
     const std::size_t offset = std::min<std::size_t>(e.byte, text.size());
