@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa sim3d` end to end: outputs, and bad input refused before anything is
 // written.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
 
 #include "common/test_support.hpp"
 
@@ -77,6 +81,61 @@ TEST(Sim3dCli, RefusesBadScenesWithoutWritingAnything) {
   EXPECT_EQ(floor.exit_code, 2);
   EXPECT_NE(floor.err.find("unknown vertex set 'floor'"), std::string::npos) << floor.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+// Killed with SIGKILL at several moments, a run continued with --resume ends
+// where an uninterrupted run ends (the same force curve, byte for byte); a
+// saved state that does not fit is refused by name: a step past the end (a
+// hand-edited next_step), or another scene.
+TEST(Sim3dCli, SurvivesSigkillAndRefusesAStateThatDoesNotFit) {
+  ScratchDir dir;
+  std::string text = kScene;
+  text.replace(text.find("\"steps\": 2"), 11, "\"steps\": 8");
+  dir.write("scene.json", text);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto straight = run_palpa("sim3d scene.json -o straight", dir.path());
+  ASSERT_EQ(straight.exit_code, 0) << straight.err;
+  const double whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string curve = test::read_text(dir / "straight" / "force_ball.csv");
+  int resumed = 0;
+  std::filesystem::path saved;  // a folder holding a saved state
+  for (const double f : {0.3, 0.5, 0.7, 0.9}) {
+    const std::string out = fmt::format("killed{:.0f}", 10 * f);
+    if (!test::run_palpa_killed_after("sim3d scene.json -o " + out, dir.path(), f * whole)) continue;
+    EXPECT_FALSE(std::filesystem::exists(dir / out / "summary.json") &&
+                 test::read_text(dir / out / "summary.json").find("\"complete\": true") != std::string::npos)
+        << out;
+    if (std::filesystem::exists(dir / out / "state.json") && saved.empty()) {
+      saved = dir / (out + "-copy");
+      std::filesystem::copy(dir / out, saved, std::filesystem::copy_options::recursive);
+    }
+    const auto r = run_palpa("sim3d scene.json -o " + out + " --resume --overwrite", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << out << "\n" << r.err;
+    EXPECT_EQ(test::read_text(dir / out / "force_ball.csv"), curve) << out;
+    ++resumed;
+  }
+  EXPECT_GE(resumed, 2) << "most kills should land inside the run";
+  ASSERT_FALSE(saved.empty()) << "no kill landed after a saved step";
+
+  const std::string state = test::read_text(saved / "state.json");
+  const auto next = state.find("\"next_step\"");
+  ASSERT_NE(next, std::string::npos);
+  std::string edited = state;
+  const auto value = edited.find_first_of("0123456789", next);
+  edited.replace(value, edited.find_first_not_of("0123456789", value) - value, "99");
+  dir.write(saved.filename() / "state.json", edited);
+  const auto past = run_palpa("sim3d scene.json -o " + saved.filename().string() + " --resume", dir.path());
+  EXPECT_EQ(past.exit_code, 2) << past.err;
+  EXPECT_NE(past.err.find("next_step"), std::string::npos) << past.err;
+  EXPECT_NE(past.err.find("step 99 of a 8-step run"), std::string::npos) << past.err;
+
+  dir.write(saved.filename() / "state.json", state);
+  std::string other = text;
+  other.replace(other.find("\"1 mm\""), 6, "\"1.2 mm\"");
+  dir.write("other.json", other);
+  const auto another = run_palpa("sim3d other.json -o " + saved.filename().string() + " --resume", dir.path());
+  EXPECT_EQ(another.exit_code, 2) << another.err;
+  EXPECT_NE(another.err.find("the scene differs from the interrupted run's"), std::string::npos) << another.err;
 }
 
 }  // namespace

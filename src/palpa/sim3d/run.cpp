@@ -465,7 +465,19 @@ Json run(const Scene& scene, const RunOptions& options) {
     }
     sim.set_state(Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())),
                   v.at("stiffness").as_number_array(), areas, anchors);
-    start = static_cast<int>(v.at("next_step").as_integer());
+    // The state is saved after every step but the last: the next step is 2..steps,
+    // with one record per step done.
+    const JsonView next = v.at("next_step");
+    if (next.as_integer() < 2 || next.as_integer() > scene.steps) {
+      next.fail(fmt::format("step {} of a {}-step run", next.as_integer(), scene.steps),
+                fmt::format("2 to {} (the step after the last one saved)", scene.steps));
+    }
+    start = static_cast<int>(next.as_integer());
+    const JsonView saved = v.at("records");
+    if (saved.size() != static_cast<std::size_t>(start - 1)) {
+      saved.fail(fmt::format("{} step records before step {}", saved.size(), start),
+                 fmt::format("{} (one per step done)", start - 1));
+    }
     for (const Json& r : doc.at("records")) records.push_back(r);
     for (const Json& e : doc.at("body_frames")) body_frames.push_back({e.at(0).get<double>(), e.at(1).get<std::string>()});
     for (std::size_t i = 0; i < obstacle_frames.size(); ++i) {
