@@ -154,9 +154,9 @@ void add_design_command(CLI::App& app) {
   cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder (starts afresh)");
   cmd->add_flag("--resume", a->resume, "Continue an interrupted run from the output folder's checkpoint.json");
   cmd->add_option("--iterations", a->iterations, "Iteration limit (overrides the scene's design.iterations)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 100000));
   cmd->add_option("--threads", a->threads, "Equilibria solved at once (0: min(step lengths, cores))")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1024));
   cmd->add_flag("--no-baselines", a->no_baselines, "Skip the scene's baselines (a quicker look at the design alone)");
   cmd->add_option("--method", a->method, "Optimizer (overrides the scene's design.method): lbfgs (the default) or cg")
       ->check(CLI::IsMember({"cg", "lbfgs"}));

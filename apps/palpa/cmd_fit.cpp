@@ -174,11 +174,11 @@ void add_fit_command(CLI::App& app) {
       ->check(CLI::Range(0, 10000));
   cmd->add_option("--tolerance", a->tolerance,
                   "Stop when an iteration lowers the objective by less than this fraction (default 1e-5)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-16, 1.0));
   cmd->add_option("--smoothing", a->smoothing,
                   "Spline curvature regularization: changing a spline's curvature by the shear modulus at one "
                   "knot costs this many stage-1 RMS errors (default 0.1; 0 = none)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 1e6));
   cmd->add_option("--fix", a->fix, "Parameters held at their start values, e.g. --fix nu")->delimiter(',');
   cmd->add_option("--ogden-terms", a->ogden_terms, "Terms of the ogden model (default 2)")->check(CLI::Range(1, 6));
   cmd->add_option("--initial", a->initial,

@@ -47,6 +47,18 @@ void with_negative_image(std::string& scene) {
                       "press": "10 mm", "edge": "6 mm", "smoothing": 5, "band": "10 mm"}}}]})");
 }
 
+// Checked before the scene is read: a range a person can read.
+TEST(DesignCli, OptionsOutOfRangeAreNamedWithTheirRange) {
+  ScratchDir dir;
+  const auto threads = run_palpa("design scene.json -o out --threads -1", dir.path());
+  EXPECT_EQ(threads.exit_code, 2);
+  EXPECT_NE(threads.err.find("--threads: Value -1 not in range 0 to 1024"), std::string::npos) << threads.err;
+  const auto iterations = run_palpa("design scene.json -o out --iterations -1", dir.path());
+  EXPECT_EQ(iterations.exit_code, 2);
+  EXPECT_NE(iterations.err.find("--iterations: Value -1 not in range 0 to 100000"), std::string::npos)
+      << iterations.err;
+}
+
 TEST(DesignCli, LowersTheScoreAndWritesTheShapeAndTheMaps) {
   ScratchDir dir;
   dir.write("scene.json", kDesignScene);

@@ -152,6 +152,22 @@ TEST(FitCli, BadDatasetsAreRefusedAndNothingIsWritten) {
   }
 }
 
+// An option out of its range is named with a range a person can read (not
+// "0 to 1.797...e308" written out in 309 digits).
+TEST(FitCli, OptionsOutOfRangeAreNamedWithTheirRange) {
+  ScratchDir dir;
+  dir.write("a.csv", fit::test::kGoodCurve);
+  dir.write("dataset.json", fit::test::indentation_dataset());
+  for (const char* bad : {"--tolerance -1", "--tolerance 0", "--smoothing -1"}) {
+    const auto r = run_palpa(fmt::format("fit dataset.json -o out {}", bad), dir.path());
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("not in range"), std::string::npos) << r.err;
+    EXPECT_LT(r.err.size(), 200u) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out")) << bad;
+  }
+}
+
 TEST(FitCli, ANonEmptyOutputFolderOrAMissingCheckpointIsRefused) {
   ScratchDir dir;
   dir.write("a.csv", fit::test::kGoodCurve);
