@@ -12,19 +12,26 @@
 namespace palpa::cli {
 
 CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double& target,
-                                 Dimension dimension, const std::string& description) {
+                                 Dimension dimension, const std::string& description, Sign sign) {
   const std::string help = fmt::format("{} [{}]", description, dimension_example(dimension));
   auto* opt = app.add_option_function<std::string>(
       name,
-      [&target, dimension, name](const std::string& text) {
+      [&target, dimension, name, sign](const std::string& text) {
         ErrorContext where;
         where.field = fmt::format("option {}", name);
+        double value = 0.0;
         try {
-          target = parse_quantity(text, dimension, where);
+          value = parse_quantity(text, dimension, where);
         } catch (const Error& e) {
           throw CLI::ValidationError(name, std::string(e.problem()) + " (expected " +
                                                e.expected() + ")");
         }
+        if ((sign == Sign::Positive && !(value > 0.0)) || (sign == Sign::NonNegative && !(value >= 0.0))) {
+          throw CLI::ValidationError(name, fmt::format("{} is {} (expected a {} value)", text,
+                                                       value < 0.0 ? "negative" : "zero",
+                                                       sign == Sign::Positive ? "positive" : "non-negative"));
+        }
+        target = value;
       },
       help);
   opt->type_name(dimension == Dimension::Dimensionless ? "NUMBER" : "QUANTITY");

@@ -13,12 +13,16 @@
 
 namespace palpa::cli {
 
+// Which values of a quantity option mean something.
+enum class Sign { Any, Positive, NonNegative };
+
 // Adds an option whose value is a quantity with a unit ("2 mm", "10kPa"). The
 // value is converted to SI into `target` during parsing; a missing unit, an
-// unknown unit or one of the wrong kind is a usage error naming the option.
-// The help text gets the dimension and an example appended.
+// unknown unit, one of the wrong kind or a value of the wrong sign is a usage
+// error naming the option. The help text gets the dimension and an example
+// appended.
 CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double& target,
-                                 Dimension dimension, const std::string& description);
+                                 Dimension dimension, const std::string& description, Sign sign = Sign::Any);
 
 // Refuses (palpa::Error, Input, naming option -o) an output folder that
 // exists and is not empty: `what` ("fit", "simulation") names the run that

@@ -72,10 +72,10 @@ Json window_json(const acquire::PokeWindow& w) {
 void add_log_options(CLI::App& cmd, int& order, double& cutoff, acquire::PlateauOptions& plateau,
                      acquire::LogCheck& check, double& saturation) {
   add_quantity_option(cmd, "--cutoff", cutoff, Dimension::Frequency,
-                      "Low-pass cut-off (default 5 Hz: keeps a ~1 s poke, removes tremor and noise)");
+                      "Low-pass cut-off (default 5 Hz: keeps a ~1 s poke, removes tremor and noise)", Sign::Positive);
   cmd.add_option("--order", order, "Butterworth order per pass (default 4)")->check(CLI::Range(1, 12));
   add_quantity_option(cmd, "--rest", plateau.min_duration, Dimension::Time,
-                      "Shortest rest plateau before and after the poke (default 1 s)");
+                      "Shortest rest plateau before and after the poke (default 1 s)", Sign::Positive);
   cmd.add_option("--rest-tolerance", plateau.tolerance,
                  "A plateau stays within this fraction of the poke's amplitude (default 0.05)")
       ->check(CLI::Range(1e-4, 0.5));
@@ -83,7 +83,8 @@ void add_log_options(CLI::App& cmd, int& order, double& cutoff, acquire::Plateau
                  "A time step longer than this many median steps is a gap (error; default 5)")
       ->check(CLI::Range(1.5, 1e6));
   add_quantity_option(cmd, "--saturation", saturation, Dimension::Time,
-                      "Identical samples at a log's extreme for this long mean a clipped sensor (default 0.1 s)");
+                      "Identical samples at a log's extreme for this long mean a clipped sensor (default 0.1 s)",
+                      Sign::Positive);
 }
 
 struct AcquirePokeArgs {
@@ -312,7 +313,7 @@ void add_acquire_ultrasound(CLI::App& acquire) {
                       "Ultrasound time + offset = force time (default 0 s: started together)");
   cmd->add_flag("--no-align", a->no_align, "Use --offset as is instead of refining it");
   add_quantity_option(*cmd, "--search", a->o.search, Dimension::Time,
-                      "The refinement looks this far either side of --offset (default 0.5 s)");
+                      "The refinement looks this far either side of --offset (default 0.5 s)", Sign::Positive);
   add_log_options(*cmd, a->o.order, a->o.cutoff, a->o.plateau, a->o.check, a->o.saturation);
   cmd->add_option("--force-window", a->force_window, "Poke start and end on the force clock (e.g. 1.9s,3.3s)");
   declare_paths(*cmd, {"--force", "--interface="}, {"-o", "--depth-table", "--plots", "--summary"});
@@ -434,7 +435,7 @@ void add_acquire_pressure(CLI::App& acquire) {
   cmd->add_option("--samples", a->samples, "Samples (CSV location,reading[,reference]; one row per sample)")
       ->required();
   add_quantity_option(*cmd, "--load", a->o.load, Dimension::Force,
-                      "Net force the map must carry, e.g. half the body weight")
+                      "Net force the map must carry, e.g. half the body weight", Sign::Positive)
       ->required();
   cmd->add_option("-o,--output", a->output, "Output folder: pressure.ply, pressure.vtu, locations.csv, summary.json")
       ->required();
@@ -445,7 +446,7 @@ void add_acquire_pressure(CLI::App& acquire) {
       ->check(CLI::Range(2, 1000000));
   cmd->add_option("--method", a->method, "biharmonic (linearly precise, default) or harmonic");
   add_quantity_option(*cmd, "--max-distance", a->max_distance, Dimension::Length,
-                      "Largest distance of a location from the surface (default 5 mm)");
+                      "Largest distance of a location from the surface (default 5 mm)", Sign::Positive);
   cmd->add_flag("--no-clamp", a->no_clamp, "Do not clamp the interpolated map to the locations' range");
   cmd->add_option("--reading-column", a->o.reading_column, "Name (or base name) of the reading column (default reading)");
   cmd->add_option("--reference-column", a->o.reference_column,

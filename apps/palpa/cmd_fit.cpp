@@ -193,7 +193,8 @@ void add_fit_command(CLI::App& app) {
                 "Simulate on the --mesh-level mesh alone, without Richardson extrapolation");
   cmd->add_option("--steps", a->steps, "Simulated depths per curve (default 20)")->check(CLI::Range(2, 1000));
   cmd->add_option("--element", a->element, "fbar (default) or standard");
-  add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length, "Punch rim radius (default 0: sharp)");
+  add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length, "Punch rim radius (default 0: sharp)",
+                      Sign::NonNegative);
   cmd->add_flag("--resume", a->resume, "Continue the interrupted fit whose checkpoint is in the output folder");
   cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder");
   declare_paths(*cmd, {"dataset", "--initial"}, {"-o"});

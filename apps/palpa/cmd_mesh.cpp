@@ -108,10 +108,10 @@ void add_quality_options(CLI::App& cmd, QualityArgs& q) {
                  "TetGen quality bound: largest circumradius / shortest edge of a tet (> 1)")
       ->capture_default_str();
   add_quantity_option(cmd, "--min-dihedral", q.min_dihedral, Dimension::Angle,
-                      "TetGen quality target: smallest dihedral angle (default 12 deg)");
+                      "TetGen quality target: smallest dihedral angle (default 12 deg)", Sign::Positive);
   add_quantity_option(cmd, "--tet-size", q.tet_size, Dimension::Length,
                       "Largest tet volume, as the edge of a regular tet of that volume (default: "
-                      "the --edge length for layers, no bound for solids)");
+                      "the --edge length for layers, no bound for solids)", Sign::Positive);
 }
 
 // Writes every output into a staging folder beside the first target, then
@@ -377,7 +377,7 @@ void add_mesh_command(CLI::App& app) {
                       "Target edge length of both surfaces (default 5mm; 0 keeps the scan's)");
   add_quantity_option(*layer, "--max-sample-distance", la->max_sample_distance,
                       Dimension::Length,
-                      "Largest distance from a sample to the surface (default 5mm)");
+                      "Largest distance from a sample to the surface (default 5mm)", Sign::Positive);
   layer->add_option("--interpolation", la->interpolation,
                     "Spreading samples over the surface: biharmonic (smooth, reproduces linear "
                     "trends) or harmonic (no overshoot)")
@@ -401,14 +401,14 @@ void add_mesh_command(CLI::App& app) {
   auto* body = cmd->add_subcommand("body", "An analytic closed test body surface.");
   body->add_option("SHAPE", ba->shape, "sphere, rounded-block, thigh or foot")->required();
   add_quantity_option(*body, "--length", ba->length, Dimension::Length,
-                      "Size along x (sphere: diameter; foot: heel to toe); default per shape");
-  add_quantity_option(*body, "--width", ba->width, Dimension::Length, "Size along y (block, thigh)");
+                      "Size along x (sphere: diameter; foot: heel to toe); default per shape", Sign::Positive);
+  add_quantity_option(*body, "--width", ba->width, Dimension::Length, "Size along y (block, thigh)", Sign::Positive);
   add_quantity_option(*body, "--height", ba->height, Dimension::Length,
-                      "Size along z (block, thigh)");
+                      "Size along z (block, thigh)", Sign::Positive);
   add_quantity_option(*body, "--radius", ba->radius, Dimension::Length,
-                      "Block edge rounding radius (default 10mm)");
+                      "Block edge rounding radius (default 10mm)", Sign::NonNegative);
   add_quantity_option(*body, "--edge", ba->edge, Dimension::Length,
-                      "Target triangle edge length (default 5mm)");
+                      "Target triangle edge length (default 5mm)", Sign::Positive);
   body->add_option("-o,--output", ba->output, "Output surface (.obj .ply .stl .off .vtu), in m")
       ->required();
   body->callback([ba] { run_body(*ba); });

@@ -292,12 +292,13 @@ void add_poke_command(CLI::App& app) {
                   "indentation: a punch pressed into a layer; compression: a whole cylindrical sample "
                   "between two plates (default indentation)");
   add_quantity_option(*cmd, "--thickness", a->thickness, Dimension::Length,
-                      "Layer thickness D (compression: sample height H)")
+                      "Layer thickness D (compression: sample height H)", Sign::Positive)
       ->required();
-  add_quantity_option(*cmd, "--radius", a->radius, Dimension::Length, "Punch radius a (compression: sample radius R)")
+  add_quantity_option(*cmd, "--radius", a->radius, Dimension::Length, "Punch radius a (compression: sample radius R)",
+                      Sign::Positive)
       ->required();
   add_quantity_option(*cmd, "--depth", a->depth, Dimension::Length,
-                      "Maximum indentation (compression: travel of the top plate)")
+                      "Maximum indentation (compression: travel of the top plate)", Sign::Positive)
       ->required();
   cmd->add_option("--steps", a->steps, "Equal depth increments up to --depth (default 20)")
       ->check(CLI::Range(1, 100000));
@@ -314,9 +315,9 @@ void add_poke_command(CLI::App& app) {
   cmd->add_option("--element", a->element,
                   "fbar (locking-free for nearly incompressible tissue) or standard (default fbar)");
   add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length,
-                      "Radius rounding the punch rim (default 0: sharp)");
+                      "Radius rounding the punch rim (default 0: sharp)", Sign::NonNegative);
   add_quantity_option(*cmd, "--outer-radius", a->outer_radius, Dimension::Length,
-                      "Radius of the simulated layer (default 8 max(a, D))");
+                      "Radius of the simulated layer (default 8 max(a, D))", Sign::Positive);
   cmd->add_option("--vtu", a->vtu_dir, "Folder for VTU files of the deformed mesh and a PVD series");
   cmd->add_option("--vtu-every", a->vtu_every, "Write every k-th depth to --vtu (default 1)")
       ->check(CLI::Range(1, 100000));

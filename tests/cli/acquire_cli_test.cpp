@@ -78,6 +78,9 @@ TEST(AcquireCli, PokeRefusesBadLogsAndWritesNothing) {
       {"force.csv", "", "", "", "--rest 3s", "no rest plateau found"},
       {"force.csv", "", "", "", "--cutoff 60Hz", "Nyquist"},
       {"force.csv", "", "", "", "--force-columns time", "2 comma-separated"},
+      {"force.csv", "", "", "", "--rest 0s", "--rest: 0s is zero (expected a positive value)"},
+      {"force.csv", "", "", "", "--saturation -1s", "--saturation: -1s is negative (expected a positive value)"},
+      {"force.csv", "", "", "", "--cutoff 0Hz", "--cutoff: 0Hz is zero"},
   };
   for (const Bad& b : cases) {
     ScratchDir dir;
@@ -224,6 +227,7 @@ TEST(AcquireCli, PressureRefusesBadInputAndWritesNothing) {
       {"locations.csv", "", "", "--trim 300", "location 1 has 600 samples"},
       {"locations.csv", "", "", "--method spline", "unknown interpolation 'spline'"},
       {"locations.csv", "", "", "--unit kPa", "'kPa' is not a length unit"},
+      {"locations.csv", "", "", "--max-distance 0mm", "--max-distance: 0mm is zero"},
   };
   for (const Bad& b : cases) {
     ScratchDir dir;

@@ -136,6 +136,12 @@ TEST_F(MeshCli, BadInputLeavesNothing) {
                      " --edge 10mm -o " + shell_quote(out / "b.vtu"),
                  {"both --depth and --depth-samples given"});
   expect_failure("body hand -o " + shell_quote(out / "h.obj"), {"'hand'"});
+  // Sizes that mean nothing are refused, not replaced by the defaults.
+  expect_failure("body sphere --length 0mm -o " + shell_quote(out / "h.obj"), {"--length: 0mm is zero"});
+  expect_failure("body block --length 40mm --width -1mm --height 10mm -o " + shell_quote(out / "h.obj"),
+                 {"--width: -1mm is negative"});
+  expect_failure("layer --surface " + shell_quote(s) + " --depth 10mm --tet-size 0mm -o " + shell_quote(out / "b.vtu"),
+                 {"--tet-size: 0mm is zero"});
 }
 
 }  // namespace

@@ -141,6 +141,12 @@ TEST(PokeCli, BadInputIsRefusedAndNothingIsWritten) {
       {"--test compression --thickness 10mm --radius 3mm --depth 1mm --outer-radius 20mm",
        "--outer-radius does not apply to --test compression"},
       {"--test compression --thickness 10mm --radius 3mm --depth 9.5mm", "below 90% of the sample height"},
+      // Sizes that mean nothing, named with what was given.
+      {"--thickness 0mm --radius 3mm --depth 1mm", "--thickness: 0mm is zero (expected a positive value)"},
+      {"--thickness 10mm --radius -3mm --depth 1mm", "--radius: -3mm is negative (expected a positive value)"},
+      {"--thickness 10mm --radius 3mm --depth 0m", "--depth: 0m is zero"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --fillet -0.1mm", "--fillet: -0.1mm is negative"},
+      {"--thickness 10mm --radius 3mm --depth 1mm --outer-radius 0mm", "--outer-radius: 0mm is zero"},
       // An output that is another output, or the input, under any spelling.
       {"--thickness 10mm --radius 3mm --depth 1mm --sensitivities ./out.csv",
        "--sensitivities './out.csv' is the same file as --output 'out.csv'"},
