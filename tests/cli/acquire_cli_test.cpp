@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <initializer_list>
+#include <sstream>
 #include <string>
 
 #include "common/test_support.hpp"
@@ -238,6 +239,23 @@ TEST(AcquireCli, PressureRefusesBadInputAndWritesNothing) {
     EXPECT_NE(r.err.find(b.message), std::string::npos) << b.message << "\nstderr: " << r.err;
     EXPECT_EQ(dir.entry_count(), 3u) << b.message << ": something was written";
   }
+}
+
+// A location whose sensor reads below zero on average (an offset left in)
+// would become a pull on the map: refused by location and column.
+TEST(AcquireCli, PressureRefusesANegativeMeanReading) {
+  ScratchDir dir;
+  copy_pressure_example(dir);
+  std::istringstream in(test::read_text(dir / "samples.csv"));
+  std::string text, line;
+  while (std::getline(in, line)) text += (line.rfind("3,", 0) == 0 ? "3,-" + line.substr(2) : line) + "\n";
+  dir.write("samples.csv", text);
+  const auto r = run_palpa(std::string(kPressure) + "-o map", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  for (const char* f : {"samples.csv", "column 'reading_V'", "the mean reading at location 3 is -", "below zero"}) {
+    EXPECT_NE(r.err.find(f), std::string::npos) << f << "\n" << r.err;
+  }
+  EXPECT_EQ(dir.entry_count(), 3u) << "something was written";
 }
 
 }  // namespace

@@ -133,6 +133,13 @@ PressureMap pressure_map(const SurfaceMesh& mesh, const std::filesystem::path& l
     };
     check_clipped(readings[i], reading_name);
     loc.reading = trimmed_stats(readings[i], o.trim);
+    // A pressure sensor reads zero unloaded: a negative mean would become a
+    // negative pressure (a pull) on the map.
+    if (loc.reading.mean < 0.0) {
+      throw_input_error(fmt::format("the mean reading at location {} is {:.4g}, below zero", loc.id, loc.reading.mean),
+                        ErrorContext{samples_file.string(), 0, 0, fmt::format("column '{}'", reading_name)},
+                        "readings of zero or more (with the sensors' unloaded offset removed)");
+    }
     if (reference) {
       check_clipped(references[i], reference_name);
       loc.reference = trimmed_stats(references[i], o.trim);
