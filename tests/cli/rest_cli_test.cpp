@@ -221,6 +221,10 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
                 "does not overlap the body"},
            Case{R"("cut": [{"min": ["500 mm", "500 mm", "500 mm"], "max": ["600 mm", "600 mm", "600 mm"]}])",
                 "does not overlap the body"},
+           // Keys that mean nothing for a generated body (once silently ignored).
+           Case{R"("scale": 0)", "field 'body.scale': applies to a surface file, not to a generated body"},
+           Case{R"("scale": 1e300)", "field 'body.scale': applies to a surface file"},
+           Case{R"("unit": "mm")", "field 'body.unit': applies to a surface file"},
        }) {
     dir.write("box.json", with_body_key(k.key));
     const auto r = run_palpa("rest box.json -o out", dir.path());

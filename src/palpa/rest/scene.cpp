@@ -77,7 +77,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
       // A scan in normalized units: a dimensionless factor on top of the unit.
       if (const auto sc = b.find("scale")) {
         const double f = sc->as_number();
-        if (!(f > 0.0)) sc->fail(fmt::format("{}", f), "a factor > 0");
+        if (!(f >= 1e-6 && f <= 1e6)) sc->fail(fmt::format("a factor of {}", f), "a factor from 1e-6 to 1e6");
         o.unit_to_si *= f;
       }
       scan = read_surface_mesh(resolve_scene_path(file, surf->as_string()), o);
@@ -85,6 +85,12 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     } else {
       const JsonView gen = b.at("generate");
       gen.expect_only({"shape", "length", "width", "height"});
+      for (const char* k : {"scale", "unit"}) {
+        if (b.has(k)) {
+          b.at(k).fail("applies to a surface file, not to a generated body",
+                       "the generated body's sizes: \"length\", \"width\", \"height\" with their units");
+        }
+      }
       mesh::BodyOptions o;
       o.shape = mesh::parse_body_shape(gen.at("shape").as_string());
       if (const auto v = gen.find("length")) o.size.x() = read_positive(*v, Dimension::Length);
