@@ -156,6 +156,11 @@ TEST(Gmsh, ErrorsNameTheLine) {
   EXPECT_TRUE(test::throws_error([&] { read_gmsh(c); }, ErrorKind::Input,
                                  {"coord.msh:34", "node 50 y", "'x' is not a number"}));
   text = kHandWritten;
+  text.replace(text.find("4 5 1 9"), 7, "4 6 1 9");
+  const auto count = dir.write("count.msh", text);
+  EXPECT_TRUE(test::throws_error([&] { read_gmsh(count); }, ErrorKind::Input,
+                                 {"count.msh:46", "the element blocks hold 5 elements, the $Elements header says 6"}));
+  text = kHandWritten;
   text.replace(text.find("$EndElements"), 12, "");
   const auto d = dir.write("open.msh", text);
   EXPECT_TRUE(

@@ -590,6 +590,8 @@ class MshReader {
     }
     const auto h = tokens(4, "numEntityBlocks numElements minElementTag maxElementTag");
     const long long blocks = count(h[0], "number of element blocks");
+    const long long total = count(h[1], "number of elements");
+    long long read = 0;
     NodeTags nodes{};
     for (long long b = 0; b < blocks; ++b) {
       const auto bh = tokens(4, "entityDim entityTag elementType numElementsInBlock");
@@ -608,6 +610,10 @@ class MshReader {
         }
         add_element(type, tag, label, nodes);
       }
+      read += n;
+    }
+    if (read != total) {
+      cursor_.fail(fmt::format("the element blocks hold {} elements, the $Elements header says {}", read, total));
     }
   }
 
@@ -617,11 +623,12 @@ class MshReader {
   void read_elements_binary() {
     MshBinary& b = begin_binary("$Elements");
     const std::uint64_t blocks = b.size("numEntityBlocks");
-    b.size("numElements");
+    const std::uint64_t total = b.size("numElements");
     b.size("minElementTag");
     b.size("maxElementTag");
     b.fits(blocks, 20, "element blocks");
     NodeTags nodes{};
+    std::uint64_t read = 0;
     for (std::uint64_t k = 0; k < blocks; ++k) {
       if (b.at_section_end()) {
         b.mark();
@@ -644,6 +651,11 @@ class MshReader {
         }
         add_element(type, tag, label, nodes);
       }
+      read += static_cast<std::uint64_t>(n);
+    }
+    if (read != total) {
+      b.mark();
+      b.fail(fmt::format("the element blocks hold {} elements, the $Elements header says {}", read, total));
     }
     end_binary();
   }
