@@ -80,6 +80,15 @@ TEST(Sim3dCli, RefusesBadScenesWithoutWritingAnything) {
   const auto floor = run_palpa("sim3d floor.json -o out", dir.path());
   EXPECT_EQ(floor.exit_code, 2);
   EXPECT_NE(floor.err.find("unknown vertex set 'floor'"), std::string::npos) << floor.err;
+
+  // A file's unit is a unit alone, not a quantity.
+  text = kScene;
+  const std::string sphere = R"({"sphere": {"radius": "5 mm", "level": 2}})";
+  text.replace(text.find(sphere), sphere.size(), R"({"file": "ball.obj", "unit": "0 mm"})");
+  dir.write("unit.json", text);
+  const auto unit = run_palpa("sim3d unit.json -o out", dir.path());
+  EXPECT_EQ(unit.exit_code, 2);
+  EXPECT_NE(unit.err.find("obstacles[0].shape.unit': '0 mm' is not a unit"), std::string::npos) << unit.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 

@@ -38,6 +38,18 @@ TEST(Units, UnknownUnitIsAnErrorWithAHint) {
                                  ErrorKind::Input, {"did you mean 'kPa'"}));
 }
 
+// A unit alone (a mesh file's "unit": "mm"): a quantity is not a unit.
+TEST(Units, AUnitAloneIsParsedByItsSymbol) {
+  EXPECT_DOUBLE_EQ(parse_unit("mm", Dimension::Length, kWhere), 1e-3);
+  EXPECT_DOUBLE_EQ(parse_unit(" kPa ", Dimension::Pressure, kWhere), 1e3);
+  EXPECT_TRUE(test::throws_error([] { parse_unit("0 mm", Dimension::Length, kWhere); }, ErrorKind::Input,
+                                 {"'0 mm' is not a unit", "a length unit such as m"}));
+  EXPECT_TRUE(test::throws_error([] { parse_unit("MM", Dimension::Length, kWhere); }, ErrorKind::Input,
+                                 {"'MM' is not a unit; did you mean 'mm'?"}));
+  EXPECT_TRUE(test::throws_error([] { parse_unit("kPa", Dimension::Length, kWhere); }, ErrorKind::Input,
+                                 {"'kPa' is a unit of pressure, not of length"}));
+}
+
 TEST(Units, UnitOfTheWrongKindIsAnError) {
   EXPECT_TRUE(test::throws_error([] { parse_quantity("5 kg", Dimension::Length, kWhere); },
                                  ErrorKind::Input, {"'5 kg' is a mass, not a length"}));

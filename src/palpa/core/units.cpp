@@ -192,6 +192,27 @@ const Unit* find_unit(std::string_view symbol) noexcept {
 
 std::span<const Unit> known_units() noexcept { return kUnits; }
 
+double parse_unit(std::string_view symbol, Dimension expected, const ErrorContext& where) {
+  const Unit* unit = find_unit(trim(symbol));
+  const std::string expect = fmt::format("a {} unit such as {}", dimension_name(expected), si_unit(expected));
+  if (unit == nullptr) {
+    std::string hint;
+    for (const Unit& u : kUnits) {
+      if (u.dimension == expected && to_lower(u.symbol) == to_lower(trim(symbol))) {
+        hint = fmt::format("; did you mean '{}'?", u.symbol);
+        break;
+      }
+    }
+    throw_input_error(fmt::format("'{}' is not a unit{}", symbol, hint), where, expect);
+  }
+  if (unit->dimension != expected) {
+    throw_input_error(fmt::format("'{}' is a unit of {}, not of {}", symbol, dimension_name(unit->dimension),
+                                  dimension_name(expected)),
+                      where, expect);
+  }
+  return unit->to_si;
+}
+
 double parse_quantity(std::string_view text, Dimension expected, const ErrorContext& where) {
   const std::string_view s = trim(text);
   const std::string shown(text);

@@ -57,6 +57,11 @@ std::span<const Unit> known_units() noexcept;
 // (and "%" divides by 100). Throws palpa::Error (kind Input) naming `where`.
 double parse_quantity(std::string_view text, Dimension expected, const ErrorContext& where);
 
+// The SI value of one `symbol` (a unit's symbol alone, "mm"), which must be a
+// unit of the expected dimension. Throws palpa::Error (kind Input) naming
+// `where` otherwise ("'0 mm' is not a unit").
+double parse_unit(std::string_view symbol, Dimension expected, const ErrorContext& where);
+
 // Converts an SI value to `unit` (which must exist and have dimension `d`).
 double si_to_unit(double value_si, std::string_view unit, Dimension d);
 

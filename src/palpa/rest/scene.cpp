@@ -39,7 +39,7 @@ std::shared_ptr<const material::Material> read_scene_material(const JsonView& mv
 }
 
 double unit_of(const JsonView& parent) {
-  if (const auto u = parent.find("unit")) return parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
+  if (const auto u = parent.find("unit")) return parse_unit(u->as_string(), Dimension::Length, u->context());
   return 1.0;
 }
 
@@ -351,7 +351,7 @@ RestScene read_rest_scene(const fs::path& path, const std::string& version_key,
     TemplateSpec spec;
     spec.file = resolve_scene_path(path, t->at("grid").as_string());
     const std::string unit = t->has("unit") ? t->at("unit").as_string() : "Pa";
-    const double to_pa = parse_quantity("1 " + unit, Dimension::Pressure, t->has("unit") ? t->at("unit").context() : t->context());
+    const double to_pa = parse_unit(unit, Dimension::Pressure, t->has("unit") ? t->at("unit").context() : t->context());
     spec.grid = report::read_pressure_grid(spec.file, read_positive(t->at("pixel"), Dimension::Length), to_pa);
     spec.title = t->has("title") ? t->at("title").as_string() : spec.file.filename().string();
     s.reference_map = std::move(spec);

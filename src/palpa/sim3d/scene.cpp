@@ -62,7 +62,7 @@ SurfaceMesh read_shape(const JsonView& shape, const fs::path& scene_file) {
   }
   if (const auto f = shape.find("file")) {
     MeshReadOptions opt;
-    if (const auto u = shape.find("unit")) opt.unit_to_si = parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
+    if (const auto u = shape.find("unit")) opt.unit_to_si = parse_unit(u->as_string(), Dimension::Length, u->context());
     return read_surface_mesh(resolve_scene_path(scene_file, f->as_string()), opt);
   }
   shape.fail("no shape given", "one of \"cylinder\", \"box\", \"sphere\", \"file\"");
@@ -145,7 +145,7 @@ Scene read_scene(const fs::path& path) {
   } else {
     const JsonView m = body.at("mesh");
     MeshReadOptions opt;
-    if (const auto u = body.find("unit")) opt.unit_to_si = parse_quantity("1 " + u->as_string(), Dimension::Length, u->context());
+    if (const auto u = body.find("unit")) opt.unit_to_si = parse_unit(u->as_string(), Dimension::Length, u->context());
     const fs::path mesh_path = resolve_scene_path(path, m.as_string());
     s.mesh = read_tet_mesh(mesh_path, opt);
     s.mesh_name = mesh_path.string();
