@@ -3,6 +3,7 @@
 
 #include <zlib.h>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -209,6 +210,43 @@ TEST(Vtu, ReadsZlibCompressedBlocksAndRefusesDamagedOnes) {
                                  {"cut.vtu", "truncated: the compression header is incomplete"}));
   test::write_bytes(dir / "short.vtu", file(points.substr(0, points.size() - 20)));
   EXPECT_TRUE(test::throws_error([&] { read_vtu(dir / "short.vtu"); }, ErrorKind::Input, {"short.vtu", "block"}));
+}
+
+// A header's claim is checked against the bytes present before anything is
+// allocated: 200 million points claimed by a few kB of compressed data (once
+// 4.7 GB and 24 s before the refusal).
+TEST(Vtu, ClaimsLargerThanTheFileAreRefusedBeforeAllocating) {
+  test::ScratchDir dir;
+  const std::uint64_t points = 200'000'000;
+  const std::uint64_t total = points * 24;
+  const std::string one_block = zlib_blocks(std::string(1 << 20, '\0'), 1 << 20);
+  const std::string packed = one_block.substr(4 * 8);  // the compressed bytes of 1 MiB of zeros
+  const auto file = [&](const std::vector<std::uint64_t>& header, const std::string& data) {
+    std::string bytes(reinterpret_cast<const char*>(header.data()), header.size() * 8);
+    return fmt::format(R"(<VTKFile type="UnstructuredGrid" byte_order="LittleEndian" header_type="UInt64" )"
+                       R"(compressor="vtkZLibDataCompressor">
+<UnstructuredGrid><Piece NumberOfPoints="{}" NumberOfCells="1">
+<Points><DataArray type="Float64" NumberOfComponents="3" format="appended" offset="0"/></Points>
+<Cells>
+<DataArray type="Int32" Name="connectivity" format="ascii">0 1 2</DataArray>
+<DataArray type="Int32" Name="offsets" format="ascii">3</DataArray>
+<DataArray type="UInt8" Name="types" format="ascii">5</DataArray>
+</Cells></Piece></UnstructuredGrid>
+<AppendedData encoding="raw">_)",
+                       points) +
+           bytes + data + "\n</AppendedData>\n</VTKFile>\n";
+  };
+  // One block said to inflate to the whole 4.8 GB.
+  test::write_bytes(dir / "ratio.vtu", file({1, total, 0, packed.size()}, packed));
+  EXPECT_TRUE(test::throws_error([&] { read_vtu(dir / "ratio.vtu"); }, ErrorKind::Input,
+                                 {"ratio.vtu", fmt::format("cannot inflate to the {} bytes the header claims", total)}));
+  // 4578 blocks of 1 MiB, of which the file holds one.
+  const std::uint64_t blocks = total / (1 << 20) + 1;
+  std::vector<std::uint64_t> header = {blocks, 1 << 20, total % (1 << 20)};
+  header.resize(3 + blocks, packed.size());
+  test::write_bytes(dir / "blocks.vtu", file(header, packed));
+  EXPECT_TRUE(test::throws_error([&] { read_vtu(dir / "blocks.vtu"); }, ErrorKind::Input,
+                                 {"blocks.vtu", "truncated: block 2 promises"}));
 }
 
 TEST(Vtu, TruncatedAppendedDataNamesTheArray) {

@@ -408,6 +408,22 @@ class VtuReader {
     }
     std::size_t at = static_cast<std::size_t>((3 + blocks) * header_bytes_);
     if (at > block.size()) fail(a, "truncated: the compression header is incomplete");
+    // Before anything is allocated: the blocks must be in the file, and hold
+    // what they claim (zlib inflates at most 1032:1).
+    std::uint64_t packed_total = 0;
+    for (std::uint64_t b = 0; b < blocks; ++b) {
+      const std::uint64_t packed = word(static_cast<std::size_t>(3 + b));
+      if (packed > block.size() - at - packed_total) {
+        fail(a, fmt::format("truncated: block {} promises {} compressed bytes, the file holds {}", b + 1, packed,
+                            block.size() - at - packed_total));
+      }
+      packed_total += packed;
+    }
+    constexpr std::uint64_t kZlibMaxRatio = 1032;
+    if (total / kZlibMaxRatio > packed_total) {
+      fail(a, fmt::format("{} compressed bytes cannot inflate to the {} bytes the header claims", packed_total,
+                          total));
+    }
     std::string out(static_cast<std::size_t>(total), '\0');
     std::size_t written = 0;
     for (std::uint64_t b = 0; b < blocks; ++b) {
