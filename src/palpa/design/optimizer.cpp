@@ -427,13 +427,14 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
       j.at("gamma").fail(fmt::format("γ = {:.6g} differs from this scene's {:.6g}", saved_gamma, gamma_),
                          "a checkpoint of the same scene and options");
     }
-    if (const auto mv = j.find("moves")) {
+    {
+      const JsonView mv = j.at("moves");
       std::vector<double> saved;
-      for (std::size_t i = 0; i < mv->size(); ++i) saved.push_back(mv->at(i).as_number());
+      for (std::size_t i = 0; i < mv.size(); ++i) saved.push_back(mv.at(i).as_number());
       if (saved != options_.moves) {
-        mv->fail(fmt::format("step lengths [{}] differ from this scene's [{}]", fmt::join(saved, ", "),
-                             fmt::join(options_.moves, ", ")),
-                 "a checkpoint of the same scene and options");
+        mv.fail(fmt::format("step lengths [{}] differ from this scene's [{}]", fmt::join(saved, ", "),
+                            fmt::join(options_.moves, ", ")),
+                "a checkpoint of the same scene and options");
       }
     }
     if (const auto fr = j.find("filter_radius")) {
