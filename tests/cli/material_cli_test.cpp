@@ -74,7 +74,7 @@ TEST(MaterialCli, BadInputIsRefusedAndNothingIsWritten) {
       {"material --model neo-hookean-isochoric --C10 1kPa --D1 1/Pa -o out.json", "unknown unit"},
       {"material --model stvk --E 10kPa --nu 0.3 --C10 1kPa -o out.json", "--C10 does not apply"},
       {"material --model spline -o out.json", "--from"},
-      {"material --model spline --from missing.json -o out.json", "missing.json: cannot open"},
+      {"material --model spline --from missing.json -o out.json", "missing.json: file not found"},
       {"material show broken.json", "broken.json:2:"},
       {"material curve good.json --stretch 1.5:1.0 -o out.json", "not an increasing range"},
       {"material curve good.json --test torsion -o out.json", "unknown test 'torsion'"},

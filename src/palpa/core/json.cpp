@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/input_file.hpp"
 
 namespace palpa {
 
@@ -95,11 +96,7 @@ class DuplicateKeys {
 Json read_json_file(const std::filesystem::path& path) {
   ErrorContext ctx;
   ctx.file = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw_input_error("cannot open the file", ctx, "an existing, readable JSON file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  const std::string text = read_input_file(path);
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
     throw_input_error("the file is empty", ctx, "a JSON object");
   }

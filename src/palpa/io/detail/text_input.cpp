@@ -12,29 +12,14 @@
 #include <sstream>
 #include <system_error>
 
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/text.hpp"
 
 namespace palpa::io_detail {
 
 std::string read_file_bytes(const std::filesystem::path& path, bool allow_empty) {
-  ErrorContext ctx;
-  ctx.file = path.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) {
-    throw_input_error("file not found", ctx, "an existing file");
-  }
-  if (std::filesystem::is_directory(path, ec)) {
-    throw_input_error("is a folder, not a file", ctx);
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw_input_error(fmt::format("cannot open the file: {}", std::strerror(errno)), ctx);
-  }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw_input_error("reading the file failed", ctx);
-  std::string bytes = std::move(buffer).str();
-  if (!allow_empty && bytes.empty()) throw_input_error("file is empty", ctx);
+  std::string bytes = read_input_file(path);
+  if (!allow_empty && bytes.empty()) throw_input_error("file is empty", ErrorContext{path.string(), 0, 0, ""});
   return bytes;
 }
 
