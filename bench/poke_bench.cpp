@@ -475,6 +475,14 @@ void write_node_set(std::ostringstream& out, const std::string& name, const std:
 // and lines of at most 132.
 std::string num(double v) { return fmt::format("{:.10g}", v); }
 
+// "*NODE, NSET=NALL" and palpa's nodes in mm: palpa node i is CalculiX node i + 1.
+void write_mesh_nodes(std::ostringstream& out, const AxisymMesh& mesh) {
+  out << "*NODE, NSET=NALL\n";
+  for (Eigen::Index n = 0; n < mesh.num_nodes(); ++n) {
+    out << n + 1 << ", " << num(mesh.nodes(n, 0) * kMm) << ", " << num(mesh.nodes(n, 1) * kMm) << "\n";
+  }
+}
+
 // The CalculiX input deck of the prescribed-node punch on palpa's mesh:
 // palpa node i is CalculiX node i + 1, element e is element e + 1.
 // With `print_displacements`, the nodal displacements of every node are
@@ -485,10 +493,7 @@ std::string ccx_deck(const AxisymMesh& mesh, const std::vector<int>& face_nodes,
   std::ostringstream out;
   out << "** palpa poke benchmark: flat punch on a layer, prescribed face nodes (stick)\n";
   out << "** units: mm, N, MPa; x = r, y = z (top surface y = 0)\n";
-  out << "*NODE, NSET=NALL\n";
-  for (Eigen::Index n = 0; n < mesh.num_nodes(); ++n) {
-    out << n + 1 << ", " << num(mesh.nodes(n, 0) * kMm) << ", " << num(mesh.nodes(n, 1) * kMm) << "\n";
-  }
+  write_mesh_nodes(out, mesh);
   out << "*ELEMENT, TYPE=CAX4, ELSET=EALL\n";
   for (Eigen::Index e = 0; e < mesh.num_elements(); ++e) {
     out << e + 1;
@@ -569,10 +574,7 @@ std::string ccx_deck_cax8(const AxisymMesh& mesh, const std::vector<int>& face_n
   std::ostringstream out;
   out << "** palpa poke benchmark: flat punch on a layer, CAX8, prescribed face nodes\n";
   out << "** units: mm, N, MPa; x = r, y = z (top surface y = 0)\n";
-  out << "*NODE, NSET=NALL\n";
-  for (Eigen::Index n = 0; n < mesh.num_nodes(); ++n) {
-    out << n + 1 << ", " << num(mesh.nodes(n, 0) * kMm) << ", " << num(mesh.nodes(n, 1) * kMm) << "\n";
-  }
+  write_mesh_nodes(out, mesh);
   for (std::size_t k = 0; k < extra.size(); ++k) {
     out << mesh.num_nodes() + static_cast<Eigen::Index>(k) + 1 << ", " << num(extra[k][0] * kMm) << ", "
         << num(extra[k][1] * kMm) << "\n";

@@ -175,23 +175,28 @@ std::string zlib_blocks(const std::string& raw, std::size_t block_size) {
   return bytes;
 }
 
-TEST(Vtu, ReadsZlibCompressedBlocksAndRefusesDamagedOnes) {
-  test::ScratchDir dir;
-  const double xyz[9] = {0, 0, 0, 1.5, 0, 0, 0, 2.25, 0};
-  const std::string points = zlib_blocks(std::string(reinterpret_cast<const char*>(xyz), sizeof xyz), 32);
-  const auto file = [&](const std::string& data) {
-    return std::string(R"(<VTKFile type="UnstructuredGrid" byte_order="LittleEndian" header_type="UInt64" )"
-                       R"(compressor="vtkZLibDataCompressor">
-<UnstructuredGrid><Piece NumberOfPoints="3" NumberOfCells="1">
+// A zlib-compressed VTU of `points` points (one triangle) whose appended data
+// (the points' array: compression header and blocks) is `data`.
+std::string compressed_points_file(std::uint64_t points, const std::string& data) {
+  return fmt::format(R"(<VTKFile type="UnstructuredGrid" byte_order="LittleEndian" header_type="UInt64" )"
+                     R"(compressor="vtkZLibDataCompressor">
+<UnstructuredGrid><Piece NumberOfPoints="{}" NumberOfCells="1">
 <Points><DataArray type="Float64" NumberOfComponents="3" format="appended" offset="0"/></Points>
 <Cells>
 <DataArray type="Int32" Name="connectivity" format="ascii">0 1 2</DataArray>
 <DataArray type="Int32" Name="offsets" format="ascii">3</DataArray>
 <DataArray type="UInt8" Name="types" format="ascii">5</DataArray>
 </Cells></Piece></UnstructuredGrid>
-<AppendedData encoding="raw">_)") +
-           data + "\n</AppendedData>\n</VTKFile>\n";
-  };
+<AppendedData encoding="raw">_)",
+                     points) +
+         data + "\n</AppendedData>\n</VTKFile>\n";
+}
+
+TEST(Vtu, ReadsZlibCompressedBlocksAndRefusesDamagedOnes) {
+  test::ScratchDir dir;
+  const double xyz[9] = {0, 0, 0, 1.5, 0, 0, 0, 2.25, 0};
+  const std::string points = zlib_blocks(std::string(reinterpret_cast<const char*>(xyz), sizeof xyz), 32);
+  const auto file = [](const std::string& data) { return compressed_points_file(3, data); };
   test::write_bytes(dir / "z.vtu", file(points));
   const UnstructuredGrid g = read_vtu(dir / "z.vtu");
   ASSERT_EQ(g.points.rows(), 3);
@@ -222,19 +227,8 @@ TEST(Vtu, ClaimsLargerThanTheFileAreRefusedBeforeAllocating) {
   const std::string one_block = zlib_blocks(std::string(1 << 20, '\0'), 1 << 20);
   const std::string packed = one_block.substr(4 * 8);  // the compressed bytes of 1 MiB of zeros
   const auto file = [&](const std::vector<std::uint64_t>& header, const std::string& data) {
-    std::string bytes(reinterpret_cast<const char*>(header.data()), header.size() * 8);
-    return fmt::format(R"(<VTKFile type="UnstructuredGrid" byte_order="LittleEndian" header_type="UInt64" )"
-                       R"(compressor="vtkZLibDataCompressor">
-<UnstructuredGrid><Piece NumberOfPoints="{}" NumberOfCells="1">
-<Points><DataArray type="Float64" NumberOfComponents="3" format="appended" offset="0"/></Points>
-<Cells>
-<DataArray type="Int32" Name="connectivity" format="ascii">0 1 2</DataArray>
-<DataArray type="Int32" Name="offsets" format="ascii">3</DataArray>
-<DataArray type="UInt8" Name="types" format="ascii">5</DataArray>
-</Cells></Piece></UnstructuredGrid>
-<AppendedData encoding="raw">_)",
-                       points) +
-           bytes + data + "\n</AppendedData>\n</VTKFile>\n";
+    return compressed_points_file(points, std::string(reinterpret_cast<const char*>(header.data()), header.size() * 8) +
+                                              data);
   };
   // One block said to inflate to the whole 4.8 GB.
   test::write_bytes(dir / "ratio.vtu", file({1, total, 0, packed.size()}, packed));
