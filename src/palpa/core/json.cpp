@@ -29,6 +29,7 @@ std::string type_name(const Json& j) {
     default: return "an unsupported value";
   }
 }
+
 // Watches the parser's events for a key that appears twice in one object
 // (the parser itself keeps the last value silently).
 class DuplicateKeys {
