@@ -39,10 +39,17 @@ CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double&
 }
 
 void require_empty_output(const std::filesystem::path& out, std::string_view what) {
-  // What a killed run left half-written does not count.
+  // What a killed run left half-written does not count, nor the lock of a run
+  // still writing there (OutputFolder refuses that one by name).
   remove_stale_temporaries(out);
   std::error_code ec;
-  if (std::filesystem::is_directory(out, ec) && !std::filesystem::is_empty(out, ec)) {
+  bool empty = true;
+  if (std::filesystem::is_directory(out, ec)) {
+    for (const auto& e : std::filesystem::directory_iterator(out, ec)) {
+      if (e.path().filename() != kOutputLockName) empty = false;
+    }
+  }
+  if (!empty) {
     throw_input_error(fmt::format("output folder '{}' is not empty", out.string()),
                       ErrorContext{out.string(), 0, 0, "option -o"},
                       fmt::format("a new or empty folder, --resume to continue an interrupted {} there, or --overwrite",

@@ -9,6 +9,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/rest/output.hpp"
 #include "palpa/rest/rest.hpp"
 #include "palpa/rest/scene.hpp"
@@ -30,9 +31,11 @@ void run_rest_command(const RestArgs& a) {
   spdlog::info("rest: {}: body from {} ({} vertices, {} tetrahedra, {} attached), support {}", a.scene,
                scene.body_source, scene.body.mesh.V.rows(), scene.body.mesh.T.rows(), scene.body.attached.size(),
                scene.support_source);
+  OutputFolder folder(out);  // only now: bad input leaves nothing behind
   rest::RestSimulation sim(scene.body, scene.support, scene.options);
   const rest::RestResult r = sim.solve();
   rest::write_rest_outputs(out, scene, sim, r);
+  folder.keep();
   spdlog::info("rest: contact force {:.4g} N against a load of {:.4g} N (balance {:.2g}%), peak pressure {:.3g} kPa "
                "(body) / {:.3g} kPa (support), max penetration {:.3g} mm, core moved ({:.3g}, {:.3g}, {:.3g}) mm; "
                "{} Newton iterations in {} solve(s), {:.1f} s; wrote {}",

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa fit` end to end.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -9,6 +10,7 @@
 
 #include "common/test_support.hpp"
 #include "fit/bad_datasets.hpp"
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/core/json.hpp"
 
 namespace palpa {
@@ -192,6 +194,23 @@ TEST(FitCli, ANonEmptyOutputFolderOrAMissingCheckpointIsRefused) {
   EXPECT_NE(model.err.find("nosuch"), std::string::npos) << model.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "fresh"));
   EXPECT_EQ(files_in(dir / "out"), 1u);
+}
+
+// A second run into a folder that a run is writing into is refused, before it
+// writes anything, with or without --overwrite.
+TEST(FitCli, ASecondRunIntoABusyFolderIsRefused) {
+  ScratchDir dir;
+  dir.write("a.csv", fit::test::kGoodCurve);
+  dir.write("dataset.json", fit::test::indentation_dataset());
+  OutputFolder busy(dir / "out");  // this process plays the run in progress
+  for (const char* extra : {"", " --overwrite", " --resume"}) {
+    const auto r = run_palpa(fmt::format("fit dataset.json -o out --mesh-level 0{}", extra), dir.path());
+    EXPECT_EQ(r.exit_code, 2) << extra << r.err;
+    EXPECT_NE(r.err.find(fmt::format("another palpa run (process {}) is writing into this output folder", ::getpid())),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(files_in(dir / "out"), 1u);  // the lock alone
+  }
 }
 
 }  // namespace

@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -132,6 +136,58 @@ TEST(OutputFolder, AFailedRunLeavesNoEmptyFolderAndKeepsWhatItHolds) {
   const auto file = dir.write("g", "");
   EXPECT_TRUE(test::throws_error([&] { OutputFolder f(file); }, ErrorKind::Input, {"not a folder"}));
   EXPECT_TRUE(std::filesystem::exists(file));
+}
+
+// Two runs into one folder: the second is refused while the first holds the
+// folder, by name and with the process holding it. A run killed with SIGKILL
+// holds nothing any more; its lock file is cleared by the next run.
+TEST(OutputFolder, ASecondRunIsRefusedUntilTheFirstEndsHoweverItEnds) {
+  test::ScratchDir dir;
+  const auto out = dir / "out";
+  {
+    OutputFolder first(out);
+    EXPECT_TRUE(std::filesystem::exists(out / kOutputLockName));
+    EXPECT_TRUE(test::throws_error([&] { OutputFolder second(out); }, ErrorKind::Input,
+                                   {"another palpa run", fmt::format("(process {})", ::getpid()), "out"}));
+    OutputFolder frames(out / "frames", OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::None);
+    EXPECT_FALSE(std::filesystem::exists(out / "frames" / kOutputLockName));
+    first.keep();
+  }
+  EXPECT_TRUE(std::filesystem::is_directory(out));
+  EXPECT_TRUE(std::filesystem::is_empty(out));  // the lock went with the run
+
+  // Another process takes the lock as a run does (raw calls only after fork).
+  const std::string lock = (out / kOutputLockName).string();
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t other = fork();
+  if (other == 0) {
+    const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0 || ::flock(fd, LOCK_EX) != 0) _exit(1);
+    char pid[32];
+    const int n = std::snprintf(pid, sizeof(pid), "%d\n", static_cast<int>(::getpid()));
+    if (::write(fd, pid, static_cast<std::size_t>(n)) != n || ::write(ready[1], "x", 1) != 1) _exit(1);
+    for (;;) ::pause();
+  }
+  ASSERT_GT(other, 0);
+  char byte = 0;
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  ::close(ready[0]);
+  ::close(ready[1]);
+  EXPECT_TRUE(test::throws_error([&] { OutputFolder second(out); }, ErrorKind::Input,
+                                 {"another palpa run", fmt::format("(process {})", other)}));
+  EXPECT_EQ(remove_stale_temporaries(out), 0u);  // held: stays
+  ::kill(other, SIGKILL);
+  waitpid(other, nullptr, 0);
+  EXPECT_TRUE(std::filesystem::exists(out / kOutputLockName));  // left behind, held by no one
+  {
+    OutputFolder after(out);
+    after.keep();
+  }
+  EXPECT_FALSE(std::filesystem::exists(out / kOutputLockName));
+  dir.write("out/.palpa-lock", "12345\n");
+  EXPECT_EQ(remove_stale_temporaries(out), 1u);
+  EXPECT_FALSE(std::filesystem::exists(out / kOutputLockName));
 }
 
 }  // namespace

@@ -3,12 +3,17 @@
 
 #include "palpa/core/interrupt.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <signal.h>
+#include <spdlog/spdlog.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <system_error>
 
@@ -22,6 +27,77 @@ std::filesystem::path temporary_name(const std::filesystem::path& target) {
   const std::string name =
       fmt::format(".{}.tmp-{}-{}", target.filename().string(), ::getpid(), counter.fetch_add(1));
   return target.parent_path() / name;
+}
+
+// True when the open file `fd` is still the file at `path` (not unlinked or
+// replaced by the run that held it before).
+bool same_inode(int fd, const std::filesystem::path& path) {
+  struct stat open_file {};
+  struct stat named {};
+  return ::fstat(fd, &open_file) == 0 && ::stat(path.c_str(), &named) == 0 && open_file.st_dev == named.st_dev &&
+         open_file.st_ino == named.st_ino;
+}
+
+// Removes the lock file at `path` if no process holds it; true if it did.
+bool remove_unheld_lock(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  if (fd < 0) return false;
+  bool removed = false;
+  if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && same_inode(fd, path)) removed = ::unlink(path.c_str()) == 0;
+  ::close(fd);
+  return removed;
+}
+
+// The pid a lock holder wrote into its lock file (0 if none can be read).
+long lock_holder(int fd) {
+  char text[32] = {};
+  const ssize_t n = ::pread(fd, text, sizeof(text) - 1, 0);
+  if (n <= 0) return 0;
+  char* end = nullptr;
+  const long pid = std::strtol(text, &end, 10);
+  return end != text && pid > 0 ? pid : 0;
+}
+
+// Takes the exclusive lock on `path` (creating the file), or throws an Input
+// error naming `dir` when another run holds it. Returns the descriptor, or −1
+// where the file system offers no locks (the run goes on unlocked).
+int lock_output_folder(const std::filesystem::path& dir, const std::filesystem::path& path) {
+  ErrorContext ctx;
+  ctx.file = dir.string();
+  // A few tries: the file may be unlinked by its last holder between our open
+  // and our lock, and then the lock we got is on a file no one else sees.
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) {
+      const int err = errno;
+      throw_input_error(fmt::format("cannot write into the output folder: {}", std::strerror(err)), ctx,
+                        "a folder palpa may write into");
+    }
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      const long holder = lock_holder(fd);
+      ::close(fd);
+      if (err == EWOULDBLOCK) {
+        throw_input_error(
+            fmt::format("another palpa run{} is writing into this output folder",
+                        holder > 0 ? fmt::format(" (process {})", holder) : std::string()),
+            ctx, "a folder no other run is using: wait for that run to end, or choose another folder");
+      }
+      spdlog::warn("{}: the output folder cannot be locked ({}); a second run into it would not be refused",
+                   dir.string(), std::strerror(err));
+      ::unlink(path.c_str());
+      return -1;
+    }
+    if (same_inode(fd, path)) {
+      const std::string pid = fmt::format("{}\n", ::getpid());
+      if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
+        spdlog::debug("{}: could not record this process in the lock file", path.string());
+      }
+      return fd;
+    }
+    ::close(fd);
+  }
+  throw Error(ErrorKind::Internal, fmt::format("{}: the output folder's lock kept changing hands", dir.string()));
 }
 }  // namespace
 
@@ -132,6 +208,10 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir) {
   for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     if (name.size() < 2 || name[0] != '.') continue;
+    if (name == kOutputLockName) {
+      if (remove_unheld_lock(e.path())) ++removed;
+      continue;
+    }
     const auto tmp = name.rfind(".tmp-");
     if (tmp == std::string::npos) continue;
     const auto dash = name.find('-', tmp + 5);
@@ -147,7 +227,7 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir) {
   return removed;
 }
 
-OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy) : policy_(policy) {
+OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy, Lock lock) : policy_(policy) {
   std::error_code ec;
   for (std::filesystem::path p = std::filesystem::absolute(dir, ec).lexically_normal();
        !p.empty() && !std::filesystem::exists(p, ec); p = p.parent_path()) {
@@ -156,10 +236,26 @@ OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy) :
   }
   ensure_directory(dir);
   remove_stale_temporaries(dir);
+  if (lock == Lock::Exclusive) {
+    try {
+      lock_path_ = dir / kOutputLockName;
+      lock_fd_ = lock_output_folder(dir, lock_path_);
+    } catch (...) {
+      remove_created();
+      throw;
+    }
+  }
 }
 
 OutputFolder::~OutputFolder() {
-  if (keep_) return;
+  if (lock_fd_ >= 0) {
+    ::unlink(lock_path_.c_str());  // while still held: no other run can take the lock on it now
+    ::close(lock_fd_);
+  }
+  if (!keep_) remove_created();
+}
+
+void OutputFolder::remove_created() noexcept {
   std::error_code ec;
   if (policy_ == OnFailure::Wipe && !created_.empty()) std::filesystem::remove_all(created_.front(), ec);
   for (const auto& p : created_) {

@@ -59,6 +59,16 @@ class OutputBatch {
 // it exists as a file or cannot be created.
 void ensure_directory(const std::filesystem::path& dir);
 
+// The hidden file in an output folder that a running command holds locked.
+inline constexpr const char* kOutputLockName = ".palpa-lock";
+
+// Removes from `dir` the temporaries that AtomicFile left behind in a process
+// that no longer runs (killed with SIGKILL or by the out-of-memory killer:
+// ".<name>.tmp-<pid>-<n>" of a pid that is gone) and a folder lock that no run
+// holds (kOutputLockName); returns how many. Files of running processes and
+// every other file stay.
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
+
 // An output folder for the length of a run: created (with missing parents) as
 // ensure_directory does; if the run ends without keep() — an exception, bad
 // input found late — the folders it created are removed again as long as they
@@ -66,23 +76,29 @@ void ensure_directory(const std::filesystem::path& dir);
 // Folders that hold a checkpoint or any finished file stay, unless the run
 // asks for `Wipe`: then a folder it created goes with whatever it wrote there
 // (outputs that only count together, such as a VTU series).
-// Removes from `dir` the temporaries that AtomicFile left behind in a process
-// that no longer runs (killed with SIGKILL or by the out-of-memory killer:
-// ".<name>.tmp-<pid>-<n>" of a pid that is gone); returns how many. Files of
-// running processes and every other file stay.
-std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
-
+// With Lock::Exclusive (the default) the folder is also locked for the run: a
+// second palpa run into the same folder is refused (Input error naming the
+// folder and the process holding it) instead of mixing its outputs with this
+// one's. The lock is an advisory lock on the hidden file kOutputLockName, which
+// the kernel releases when the process ends however it ends; the file itself
+// goes when the OutputFolder does. Nested folders of one run take Lock::None.
 class OutputFolder {
  public:
   enum class OnFailure { RemoveIfEmpty, Wipe };
-  explicit OutputFolder(const std::filesystem::path& dir, OnFailure policy = OnFailure::RemoveIfEmpty);
+  enum class Lock { Exclusive, None };
+  explicit OutputFolder(const std::filesystem::path& dir, OnFailure policy = OnFailure::RemoveIfEmpty,
+                        Lock lock = Lock::Exclusive);
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;
   void keep() noexcept { keep_ = true; }
 
  private:
+  void remove_created() noexcept;
+
   std::vector<std::filesystem::path> created_;  // deepest first
+  std::filesystem::path lock_path_;
+  int lock_fd_ = -1;
   OnFailure policy_;
   bool keep_ = false;
 };
