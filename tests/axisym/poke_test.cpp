@@ -422,6 +422,14 @@ TEST(PokeInput, AFailedDepthHalvesTheStepOrGivesUpOnCrushedCells) {
   // Below it, the step is halved as before.
   o.give_up_below_jacobian = 0.5;
   EXPECT_TRUE(throws_error([&] { sim.run(o); }, ErrorKind::Solver, {"after 3 halvings of the step"}));
+  // A material that gives way in compression is named as the likely cause,
+  // with the advice that holds for it (a finer mesh does not help).
+  const auto yeoh = material::IsochoricInvariant::yeoh(8e3, 2e3, 500.0, 7.5e-5);
+  PokeSimulator foam(yeoh, setup_for(3 * kA, 0, PunchContact::Stick));
+  EXPECT_TRUE(throws_error([&] { foam.run(o); }, ErrorKind::Solver,
+                           {"stops resisting compression below a uniaxial stretch of 0.5",
+                            "a finer --mesh-level stops sooner"}));
+  EXPECT_FALSE(throws_error([&] { sim.run(o); }, ErrorKind::Solver, {"stops resisting compression"}));
 }
 
 TEST(PokeInput, InterruptStopsTheRun) {

@@ -197,5 +197,20 @@ TEST(Checks, ClassicModelsPassAndABrokenSplineIsFlagged) {
   EXPECT_NE(bad.problems.front().find("uniaxial"), std::string::npos) << bad.problems.front();
 }
 
+// The foam example's material (Yeoh, ν = 0.25) gives way in uniaxial
+// compression near a stretch of 0.51 (its bulk term (J − 1)²/D1 stops growing
+// as J → 0); a neo-Hookean with a logarithmic volumetric term never does.
+TEST(Checks, TheCompressionLimitOfAMaterialThatGivesWay) {
+  const IsochoricInvariant foam = IsochoricInvariant::yeoh(8e3, 2e3, 500.0, 7.5e-5);
+  const double limit = uniaxial_compression_limit(foam);
+  EXPECT_GE(limit, 0.5);
+  EXPECT_LE(limit, 0.525);
+  const auto below = homogeneous_point(foam, LoadCase::Uniaxial, limit - 0.01).nominal;
+  const auto at = homogeneous_point(foam, LoadCase::Uniaxial, limit).nominal;
+  EXPECT_GE(below, at);  // no more resistance below it
+  EXPECT_EQ(uniaxial_compression_limit(NeoHookean(kE, 0.45)), 0.0);
+  EXPECT_EQ(uniaxial_compression_limit(NeoHookean(kE, 0.25)), 0.0);
+}
+
 }  // namespace
 }  // namespace palpa::material

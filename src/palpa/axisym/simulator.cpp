@@ -11,6 +11,7 @@
 #include "palpa/axisym/poke.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
+#include "palpa/material/checks.hpp"
 
 namespace palpa::axisym {
 
@@ -196,23 +197,36 @@ bool Continuation::predict(double delta, bool first_attempt, int k, Eigen::Vecto
 void Continuation::give_up(double next, const NewtonResult& r, bool crushed) const {
   const auto diag = m_.diagnostics(x_);
   const std::string why = r.message.empty() ? std::string("the starting point was inadmissible") : r.message;
+  // A material that gives way in compression localizes under the punch: then
+  // a finer mesh follows it less far, not further (measured: the foam example's
+  // 1.03 mm punch stops at 3.52 mm on level 2 and at 3.04 mm on level 3).
+  const double limit = material::uniaxial_compression_limit(m_.material());
+  const std::string advice =
+      limit > 0.0
+          ? fmt::format("This material stops resisting compression below a uniaxial stretch of {:.3g} (palpa "
+                        "material show): cells compressed past it localize, and a finer --mesh-level stops "
+                        "sooner, not later; shallower depths, a fillet radius or a material stable in "
+                        "compression would help",
+                        limit)
+          : std::string();
   if (crushed) {
     throw_solver_error(fmt::format(
         "the equilibrium at depth {:.6g} mm was not found ({}), and halving the step would not help: "
         "at {:.6g} mm the most crushed cell keeps {:.3g}% of its volume (det F {:.3g}), "
-        "so this mesh cannot follow the material much deeper. A finer --mesh-level or a fillet "
-        "radius would help",
-        next * 1e3, why, depth_ * 1e3, 100.0 * diag.min_jacobian, diag.min_jacobian));
+        "so this mesh cannot follow the material much deeper. {}",
+        next * 1e3, why, depth_ * 1e3, 100.0 * diag.min_jacobian, diag.min_jacobian,
+        advice.empty() ? "A finer --mesh-level or a fillet radius would help" : advice));
   }
   throw_solver_error(fmt::format(
       "the equilibrium at depth {:.6g} mm{} was not found after {} halvings of the step "
       "(last attempt from {:.6g} mm: {}); at {:.6g} mm the smallest det F was {:.3g}, "
-      "{} surface nodes touched the {}, largest penetration {:.3g} um. Try a finer "
-      "--mesh-level, {}",
+      "{} surface nodes touched the {}, largest penetration {:.3g} um. {}",
       next * 1e3, compression_ ? fmt::format(" ({:.3g}% compression)", 100.0 * next / thickness_) : "",
       options_.max_step_cuts, depth_ * 1e3, why, depth_ * 1e3, diag.min_jacobian, diag.contact_nodes,
       compression_ ? "platens" : "punch", diag.max_penetration * 1e6,
-      compression_ ? "or a smaller final compression" : "a fillet radius, or fewer extreme depths"));
+      !advice.empty() ? advice
+      : compression_  ? "Try a finer --mesh-level or a smaller final compression"
+                      : "Try a finer --mesh-level, a fillet radius, or fewer extreme depths"));
 }
 
 void Continuation::sensitivities(PokeSample& sample) {

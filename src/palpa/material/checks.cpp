@@ -51,4 +51,23 @@ MaterialCheck check_material(const Material& m, double lo, double hi) {
   return c;
 }
 
+double uniaxial_compression_limit(const Material& m, double floor) {
+  // Down from rest one point at a time, each from its neighbour's lateral
+  // stretch; a state that cannot be solved ends the search (what was found
+  // before it stands).
+  const int count = static_cast<int>(std::lround((1.0 - floor) / 0.005));
+  CurvePoint last = homogeneous_point(m, LoadCase::Uniaxial, 1.0);
+  for (int i = 1; i <= count; ++i) {
+    CurvePoint next;
+    try {
+      next = homogeneous_point(m, LoadCase::Uniaxial, 1.0 - 0.005 * i, last.lateral);
+    } catch (const Error&) {
+      return 0.0;
+    }
+    if (!(next.nominal < last.nominal)) return last.load;
+    last = next;
+  }
+  return 0.0;
+}
+
 }  // namespace palpa::material

@@ -22,4 +22,11 @@ struct MaterialCheck {
 // shear for |γ| <= hi − 1.
 MaterialCheck check_material(const Material& m, double lo = 0.5, double hi = 2.0);
 
+// Where `m` stops resisting uniaxial compression: the stretch below which its
+// nominal stress no longer grows in magnitude as the stretch falls (searched
+// from 1 down to `floor` in steps of 0.005), or 0 when it keeps growing down to
+// `floor`. A body compressed past it can localize (Drucker's condition fails),
+// so no mesh resolves its deformation there.
+double uniaxial_compression_limit(const Material& m, double floor = 0.1);
+
 }  // namespace palpa::material
