@@ -69,6 +69,9 @@ TEST(PokeCli, AFailedDepthWritesTheConvergedOnesMarkedIncomplete) {
       dir.path());
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("the equilibrium at depth 1."), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("This material stops resisting compression below a uniaxial stretch of 0.63"),
+            std::string::npos)
+      << r.err;
   EXPECT_NE(r.err.find("wrote the 1 converged depth, to 1 mm, to curve.csv, marked INCOMPLETE"), std::string::npos)
       << r.err;
   const std::string curve = test::read_text(dir / "curve.csv");
@@ -83,6 +86,27 @@ TEST(PokeCli, AFailedDepthWritesTheConvergedOnesMarkedIncomplete) {
   EXPECT_NE(sens.find("INCOMPLETE"), std::string::npos) << sens;
   EXPECT_NE(sens.find("\n0.001,"), std::string::npos) << sens;
   EXPECT_FALSE(std::filesystem::exists(dir / "frames"));
+}
+
+// A failed depth says what would help: with a stable material and a sharp
+// rim, the cells beside the rim are crushed, and a fillet (not a finer mesh)
+// is the remedy; with a fillet, a finer mesh.
+TEST(PokeCli, AFailedDepthSaysWhatWouldHelp) {
+  ScratchDir dir;
+  dir.write("nh.json", R"({"model": "neo-hookean", "parameters": {"E": "54 kPa", "nu": 0.25}})");
+  const std::string poke =
+      "poke --material nh.json --thickness 10mm --radius 1.03mm --depth 8mm --steps 20 --contact frictionless "
+      "--mesh-level 0 --no-extrapolation -o curve.csv";
+  const auto sharp = run_palpa(poke, dir.path());
+  EXPECT_EQ(sharp.exit_code, 3) << sharp.err;
+  EXPECT_NE(sharp.err.find("The sharp rim of the punch crushes the cells beside it, and a finer --mesh-level "
+                           "crushes them sooner: a fillet radius (--fillet"),
+            std::string::npos)
+      << sharp.err;
+  const auto rounded = run_palpa(poke + " --fillet 0.1mm", dir.path());
+  EXPECT_EQ(rounded.exit_code, 3) << rounded.err;
+  EXPECT_NE(rounded.err.find("Try a finer --mesh-level or fewer extreme depths"), std::string::npos) << rounded.err;
+  EXPECT_EQ(rounded.err.find("sharp rim"), std::string::npos) << rounded.err;
 }
 
 TEST(PokeCli, ExtrapolatesTheForceUnlessAskedNotTo) {

@@ -260,8 +260,9 @@ struct PokeOptions {
   int steps = 20;                // equal depth increments up to max_depth
   bool sensitivities = false;    // dF/dθ per depth
   int max_step_cuts = 10;        // halvings of a depth increment that fails
-  // When > 0: a depth that fails while the last equilibrium's smallest det F
-  // is below this gives up at once instead of halving the step. The cells at
+  // When > 0: a depth whose Newton iterations fail while the last
+  // equilibrium's smallest det F is below this gives up at once instead of
+  // halving the step (a depth whose every guess inverts a cell still halves). The cells at
   // the punch rim are then crushed to that fraction of their volume and the
   // mesh cannot follow the material much deeper (for curves that are shown,
   // not fitted; 0 = always halve).
