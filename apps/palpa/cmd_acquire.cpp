@@ -141,7 +141,7 @@ void run_acquire_poke(AcquirePokeArgs& a) {
            {"max_force_N", peak_force},
            {"max_indentation_m", depth},
            {"points", o.points}};
-    batch.add(a.summary) << s.dump(2) << "\n";
+    batch.add(a.summary) << format_json(s, a.summary);
   }
   batch.commit();
   if (plots) plots->keep();
@@ -273,7 +273,7 @@ void run_acquire_ultrasound(const UltrasoundArgs& a) {
            {"rank_correlation", r.correlation},
            {"rest_depth", rest},
            {"max_force_N", r.force.back()}};
-    batch.add(a.summary) << s.dump(2) << "\n";
+    batch.add(a.summary) << format_json(s, a.summary);
   }
   batch.commit();
   if (plots) plots->keep();
@@ -407,7 +407,7 @@ void run_acquire_pressure(const PressureArgs& a) {
                      {"locations", locations}};
   OutputBatch batch;
   batch.add(out / "locations.csv") << format_csv(location_table(m));
-  batch.add(out / "summary.json") << summary.dump(2) << "\n";
+  batch.add(out / "summary.json") << format_json(summary, out / "summary.json");
   write_ply(out / "pressure.ply", mesh, ply);
   write_vtu(out / "pressure.vtu", grid);
   batch.commit();

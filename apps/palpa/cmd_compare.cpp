@@ -49,7 +49,7 @@ void run_compare_command(const CompareArgs& a) {
                              {"rms_difference_Pa", c.rms_difference},
                              {"relative_rms", c.relative_rms},
                              {"max_difference_Pa", c.max_difference},
-                             {"correlation", correlated ? Json(c.correlation) : Json(nullptr)},
+                             {"correlation", number_or_null(c.correlation)},
                              {"map_side", report::to_json(c.a)},
                              {"reference_side", report::to_json(c.b)}});
   }

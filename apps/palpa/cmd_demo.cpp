@@ -21,6 +21,7 @@
 #include "palpa/axisym/poke.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/json.hpp"
 #include "palpa/core/progress.hpp"
 #include "palpa/io/csv.hpp"
 #include "palpa/material/checks.hpp"
@@ -111,8 +112,8 @@ void run_demo(const std::filesystem::path& examples, const std::filesystem::path
                              c.name, c.load == LoadCase::SimpleShear ? "shear" : "stretch", c.from, c.to,
                              format_quantity(peak, Dimension::Pressure), 100.0 * err / peak);
     }
-    batch.add(out / fmt::format("{}_spline.json", stem))
-        << material_to_json(spline).dump(2) << "\n";
+    const auto spline_file = out / fmt::format("{}_spline.json", stem);
+    batch.add(spline_file) << format_json(material_to_json(spline), spline_file);
 
     // Indentation: a 3 mm punch into a 10 mm layer, 2 mm deep.
     axisym::PokeSetup setup;

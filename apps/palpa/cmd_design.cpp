@@ -52,7 +52,7 @@ void run_design_command(const DesignArgs& a) {
   // A finished run is resumed only to go on past the iteration limit it
   // stopped at; otherwise it is left exactly as it is.
   if (resume && std::filesystem::exists(finished)) {
-    const Json done = read_json_file(finished);
+    const Json done = read_json_file(finished, InputUse::RunState);
     const JsonView d(done, finished.string());
     const int iterations = static_cast<int>(d.at("iterations").as_integer());
     const std::string reason = d.at("stop_reason").as_string();

@@ -15,6 +15,7 @@
 #include "fit_output.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/progress.hpp"
 #include "palpa/fit/fit.hpp"
 #include "palpa/material/material_file.hpp"
@@ -65,6 +66,8 @@ fit::FitOptions fit_options_from(const std::string& model, const std::string& op
 FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
                    const fit::FitOptions& o, bool resume, const std::string& command) {
   const fit::Dataset d = fit::read_dataset(dataset_file);
+  // An input inside the output folder is refused now, not after the fit.
+  for (const auto& f : fit_output_files(out, d)) refuse_overwriting_an_input(f);
   const auto t0 = std::chrono::steady_clock::now();
   OutputFolder folder(out);
   fit::FitControl control;

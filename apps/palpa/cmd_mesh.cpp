@@ -21,6 +21,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/core/text.hpp"
@@ -144,8 +145,10 @@ class Staging {
   Staging(const Staging&) = delete;
   Staging& operator=(const Staging&) = delete;
 
-  // Where to write `target` for now.
+  // Where to write `target` for now. (An input of the run is never a target,
+  // side outputs included: refused before anything is renamed.)
   std::filesystem::path stage(const std::filesystem::path& target) {
+    refuse_overwriting_an_input(target);
     targets_.push_back(target);
     return dir_ / target.filename();
   }

@@ -32,7 +32,7 @@ void run_sim3d_command(const Sim3dArgs& a) {
   if (resume && !std::filesystem::exists(out / "state.json")) {
     // A finished run is left exactly as it is.
     if (std::filesystem::exists(out / "summary.json")) {
-      const Json done = read_json_file(out / "summary.json");
+      const Json done = read_json_file(out / "summary.json", InputUse::RunState);
       if (done.value("complete", false)) {
         spdlog::info("sim3d: the run in {} is finished ({} steps); nothing to resume", out.string(),
                      done.value("steps_done", 0));

@@ -74,6 +74,16 @@ struct Errors {
 
 }  // namespace
 
+std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path& out, const fit::Dataset& d) {
+  std::vector<std::filesystem::path> files;
+  for (const char* name : {"checkpoint.json", "report.json", "material.json", "curves.svg", "objective.svg"}) {
+    files.push_back(out / name);
+  }
+  if (d.depth_search()) files.push_back(out / "depth.svg");
+  for (const auto& c : d.curves) files.push_back(out / "curves" / (c.name + ".csv"));
+  return files;
+}
+
 FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Dataset& d, const fit::FitOptions& o,
                              const fit::FitResult& r, double seconds, const std::string& command) {
   const fit::GuessResult& best = r.guesses[r.best];
@@ -140,8 +150,8 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
             {"role", std::string(fit::to_string(c.role))},
             {"file", c.file.string()},
             {"points", c.y.size()},
-            {"rms_error_stage1", fit::rms_error(c, before[i])},
-            {"rms_error_fitted", fit::rms_error(c, after[i])},
+            {"rms_error_stage1", number_or_null(fit::rms_error(c, before[i]))},
+            {"rms_error_fitted", number_or_null(fit::rms_error(c, after[i]))},
             {"max_abs_error_fitted", max_err},
             {"largest_measured", *std::max_element(c.y.begin(), c.y.end())},
             {"points_compared_fitted", compared},
@@ -209,7 +219,7 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
       {"stop_reason", best.stop_reason},
       {"curves", curves},
       {"guesses", guesses}};
-  batch.add(out / "report.json") << report.dump(2) << '\n';
+  batch.add(out / "report.json") << format_json(report, out / "report.json");
 
   // Material with provenance.
   material::Provenance prov = material::make_provenance(command);

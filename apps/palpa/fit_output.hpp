@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "palpa/fit/fit.hpp"
 
@@ -18,6 +19,9 @@ struct FitSummary {
   double rms_validate = 0.0;  // over all validation points (0 if none)
   double seconds = 0.0;
 };
+
+// Every file write_fit_outputs and the checkpoint write into `out`.
+std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path& out, const fit::Dataset& d);
 
 // Simulates every curve with the best guess's stage-1 and fitted materials and
 // writes the folder. `command` is recorded in the provenance.

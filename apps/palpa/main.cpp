@@ -12,6 +12,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/log.hpp"
 #include "palpa/core/version.hpp"
@@ -46,6 +47,8 @@ int main(int argc, char** argv) {
   if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr && std::getenv("OMP_NUM_THREADS") == nullptr) {
     palpa::set_blas_threads(1);
   }
+  // No output of a run replaces a file it read as an input (input_file.hpp).
+  palpa::guard_inputs(true);
   CLI::App app{
       "palpa: soft-tissue mechanics. Turns poking measurements into fitted nonlinear tissue\n"
       "materials and uses them to shape supports (chairs, soles, mice) for even contact\n"

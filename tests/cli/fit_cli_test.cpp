@@ -213,5 +213,22 @@ TEST(FitCli, ASecondRunIntoABusyFolderIsRefused) {
   }
 }
 
+// An input inside the output folder is never replaced by an output, even with
+// --overwrite: the fit is refused before it starts and writes nothing.
+TEST(FitCli, AnInputInsideTheOutputFolderIsNotOverwritten) {
+  ScratchDir dir;
+  dir.write("a.csv", fit::test::kGoodCurve);
+  dir.write("dataset.json", fit::test::indentation_dataset());
+  std::filesystem::create_directories(dir / "prev");
+  dir.write("prev/material.json", kTruth);
+  const auto r = run_palpa(
+      "fit dataset.json --model neo-hookean --initial prev/material.json -o prev --overwrite --mesh-level 0",
+      dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("prev/material.json: is one of this run's inputs"), std::string::npos) << r.err;
+  EXPECT_EQ(test::read_text(dir / "prev" / "material.json"), kTruth);
+  EXPECT_EQ(files_in(dir / "prev"), 1u);
+}
+
 }  // namespace
 }  // namespace palpa

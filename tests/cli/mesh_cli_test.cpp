@@ -68,6 +68,20 @@ TEST_F(MeshCli, LayerOfASphereWritesEveryOutputAndTheShellVolume) {
   EXPECT_NE(test::read_text(out / "b_attached.csv").find("vertex\n"), std::string::npos);
 }
 
+// A side output (<name>_core.obj beside -o) that is the input surface is
+// refused, and nothing is written: the input stays as it was.
+TEST_F(MeshCli, ASideOutputThatIsTheInputIsRefused) {
+  const auto s = sphere();
+  std::filesystem::copy_file(s, out / "b_core.obj");
+  const std::string before = test::read_text(out / "b_core.obj");
+  const test::CommandResult r = test::run_palpa("mesh layer --surface " + shell_quote(out / "b_core.obj") +
+                                                " --depth 10mm --edge 10mm -o " + shell_quote(out / "b.vtu"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("b_core.obj: is one of this run's inputs"), std::string::npos) << r.err;
+  EXPECT_EQ(test::read_text(out / "b_core.obj"), before);
+  EXPECT_EQ(out.entry_count(), 1u);
+}
+
 TEST_F(MeshCli, ASigtermInsideTheRemeshingEndsTheRunWithinASecond) {
   // The sphere's coordinates in millimetres, read as metres: a 100 m body
   // that remeshing to 10 mm edges would take hours over.

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "common/test_support.hpp"
 #include "palpa/core/json.hpp"
 
@@ -70,6 +73,24 @@ TEST(Json, WriteIsAtomicAndRoundTrips) {
   write_json_file(dir / "m.json", j);
   EXPECT_EQ(read_json_file(dir / "m.json"), j);
   EXPECT_EQ(dir.entry_count(), 1u);
+}
+
+// JSON has no NaN or infinity (nlohmann would write null): an output holding
+// one is refused by file and field, and nothing is written; null on purpose
+// stays null.
+TEST(Json, ANonFiniteValueIsRefusedByFieldAndNothingIsWritten) {
+  test::ScratchDir dir;
+  Json j = {{"curves", Json::array({Json{{"force", 1.5}}, Json{{"force", std::nan("")}}})}};
+  EXPECT_TRUE(test::throws_error([&] { write_json_file(dir / "r.json", j); }, ErrorKind::Internal,
+                                 {"r.json", "curves[1].force", "not a finite number"}));
+  EXPECT_EQ(dir.entry_count(), 0u);
+  j["curves"][1]["force"] = -std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(test::throws_error([&] { (void)format_json(j, "s.json"); }, ErrorKind::Internal, {"curves[1].force"}));
+  j["curves"][1]["force"] = nullptr;
+  j["top"] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(test::throws_error([&] { (void)format_json(j, "s.json"); }, ErrorKind::Internal, {"field 'top'"}));
+  j.erase("top");
+  EXPECT_EQ(format_json(j, "s.json"), j.dump(2) + "\n");
 }
 
 }  // namespace

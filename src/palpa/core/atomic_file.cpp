@@ -18,6 +18,7 @@
 #include <system_error>
 
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 
 namespace palpa {
 
@@ -113,6 +114,7 @@ AtomicFile::AtomicFile(std::filesystem::path target, bool binary) : target_(std:
     throw_input_error(fmt::format("output folder '{}' does not exist", dir.string()), ctx,
                       "an existing folder (create it first)");
   }
+  refuse_overwriting_an_input(target_);
   if (std::filesystem::is_directory(target_, ec)) {
     throw_input_error("output path is a folder", ctx, "a file name");
   }

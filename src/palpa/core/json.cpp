@@ -94,10 +94,10 @@ class DuplicateKeys {
 
 }  // namespace
 
-Json read_json_file(const std::filesystem::path& path) {
+Json read_json_file(const std::filesystem::path& path, InputUse use) {
   ErrorContext ctx;
   ctx.file = path.string();
-  const std::string text = read_input_file(path);
+  const std::string text = read_input_file(path, use);
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
     throw_input_error("the file is empty", ctx, "a JSON object");
   }
@@ -139,8 +139,40 @@ Json read_json_file(const std::filesystem::path& path) {
   }
 }
 
+namespace {
+
+// The path of the first non-finite number in `j` ("curves[2].force"), or
+// nothing.
+std::optional<std::string> first_non_finite(const Json& j, const std::string& at) {
+  if (j.is_number_float()) {
+    if (!std::isfinite(j.get<double>())) return at;
+  } else if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) {
+      if (auto bad = first_non_finite(value, at.empty() ? key : at + "." + key)) return bad;
+    }
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      if (auto bad = first_non_finite(j[i], fmt::format("{}[{}]", at, i))) return bad;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string format_json(const Json& j, const std::filesystem::path& path) {
+  if (const auto bad = first_non_finite(j, "")) {
+    ErrorContext ctx;
+    ctx.file = path.string();
+    ctx.field = fmt::format("field '{}'", *bad);
+    throw Error(ErrorKind::Internal, "a value that is not a finite number cannot be written to JSON", ctx);
+  }
+  return j.dump(2) + '\n';
+}
+
 void write_json_file(const std::filesystem::path& path, const Json& j) {
-  write_file_atomic(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+  const std::string text = format_json(j, path);
+  write_file_atomic(path, [&](std::ostream& out) { out << text; });
 }
 
 ErrorContext JsonView::context() const {

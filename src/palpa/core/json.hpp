@@ -6,6 +6,7 @@
 // ("12 kPa") converted to SI here; plain numbers are accepted only where the
 // quantity is dimensionless.
 
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/units.hpp"
 
 namespace palpa {
@@ -20,10 +22,23 @@ namespace palpa {
 using Json = nlohmann::json;
 
 // Reads and parses a JSON file; a syntax error names the line and column.
-Json read_json_file(const std::filesystem::path& path);
+// `use`: see read_input_file (RunState for a checkpoint the run rewrites).
+Json read_json_file(const std::filesystem::path& path, InputUse use = InputUse::Input);
 
 // Writes `j` pretty-printed (2-space indent), atomically.
 void write_json_file(const std::filesystem::path& path, const Json& j);
+
+// `j` pretty-printed (2-space indent) with a final newline, for an output
+// file `path`. A NaN or infinity anywhere in it (which JSON cannot hold, and
+// nlohmann would write as null) is an Internal error naming the file and the
+// field, so no output hides a value that went wrong; a value that is not known
+// is written as null on purpose instead.
+std::string format_json(const Json& j, const std::filesystem::path& path);
+
+// `v`, or null where it is not a finite number: for a value that may be
+// undefined on purpose (an error over no points, the correlation of a uniform
+// map).
+inline Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
 class JsonView {
  public:

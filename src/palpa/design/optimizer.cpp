@@ -412,7 +412,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
 
   if (options_.resume) {
     if (options_.checkpoint.empty()) throw Error(ErrorKind::Input, "--resume needs a checkpoint file");
-    const Json doc = read_json_file(options_.checkpoint);
+    const Json doc = read_json_file(options_.checkpoint, InputUse::RunState);
     const JsonView j(doc, options_.checkpoint.string());
     if (j.at("palpa_design_checkpoint").as_integer() != kCheckpointVersion) {
       j.at("palpa_design_checkpoint").fail("unsupported version", std::to_string(kCheckpointVersion));

@@ -89,7 +89,7 @@ Json write_state(const std::filesystem::path& out, const std::string& tag, rest:
         report::PressureMap{world, e.score.support_pressure, "palpa"});
     j["against_palpa_on_the_support"] = {{"rms_difference_Pa", c.rms_difference},
                                          {"relative_rms", c.relative_rms},
-                                         {"correlation", c.correlation},
+                                         {"correlation", number_or_null(c.correlation)},
                                          {"contact_area_m2", c.a.contact_area},
                                          {"palpa_contact_area_m2", c.b.contact_area}};
   }

@@ -127,7 +127,7 @@ void Checkpoint::load() {
     throw_input_error(fmt::format("checkpoint '{}' does not exist", path_.string()),
                       ErrorContext{path_.string(), 0, 0, ""}, "the output folder of an interrupted fit");
   }
-  Json j = read_json_file(path_);
+  Json j = read_json_file(path_, InputUse::RunState);
   const JsonView v(j, path_.string());
   if (!v.is_object() || !v.has("palpa_fit_checkpoint")) v.fail("not a fit checkpoint", "a palpa fit checkpoint");
   if (v.at("fingerprint").as_string() != fingerprint_) {

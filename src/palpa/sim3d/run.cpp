@@ -444,7 +444,7 @@ Json run(const Scene& scene, const RunOptions& options) {
     if (!fs::exists(state_path)) {
       throw Error(ErrorKind::Input, fmt::format("{}: there is no interrupted run to resume (no state.json)", options.out.string()));
     }
-    const Json doc = read_json_file(state_path);
+    const Json doc = read_json_file(state_path, InputUse::RunState);
     const JsonView v(doc, state_path.string());
     if (v.at("fingerprint").as_string() != fp) {
       v.at("fingerprint").fail("the scene differs from the interrupted run's", "the same scene file and mesh");
