@@ -244,7 +244,8 @@ void run_acquire_ultrasound(const UltrasoundArgs& a) {
   std::optional<std::array<double, 3>> position;
   if (!a.position.empty()) position = parse_position(a.position, "--position");
   CsvTable table;
-  if (position && std::filesystem::exists(a.depth_table)) table = read_csv(a.depth_table);
+  // (The table is an output this run adds a row to: not an input to protect.)
+  if (position && std::filesystem::exists(a.depth_table)) table = read_csv(a.depth_table, InputUse::RunState);
 
   const acquire::UltrasoundResult r = acquire::process_ultrasound(a.force, interfaces, o);
   CsvTable depths;

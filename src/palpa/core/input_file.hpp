@@ -13,7 +13,8 @@ namespace palpa {
 inline constexpr std::uintmax_t kMaxInputBytes = std::uintmax_t{4} << 30;
 
 // What a file read is to the run: one of its inputs, or state the run itself
-// wrote and will write again (a checkpoint, a resumed run's state).
+// writes again on purpose (a checkpoint, a resumed run's state, a table it
+// adds a row to).
 enum class InputUse { Input, RunState };
 
 // The bytes of the regular file at `path`. Throws palpa::Error (Input) naming

@@ -293,8 +293,8 @@ CsvTable parse_csv(std::string_view text, const std::string& source) {
   return table;
 }
 
-CsvTable read_csv(const std::filesystem::path& path) {
-  const std::string bytes = io_detail::read_file_bytes(path);
+CsvTable read_csv(const std::filesystem::path& path, InputUse use) {
+  const std::string bytes = io_detail::read_file_bytes(path, false, use);
   return parse_csv(bytes, path.string());
 }
 

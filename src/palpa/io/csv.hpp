@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/units.hpp"
 
 namespace palpa {
@@ -114,8 +115,9 @@ class CsvTable {
 // and, where there is one, the line and column: missing or empty file, no header
 // row (first line holds numbers), empty or duplicate column names, a row with
 // the wrong number of fields, an empty, non-numeric, NaN or infinite value, a
-// header with no data rows.
-CsvTable read_csv(const std::filesystem::path& path);
+// header with no data rows. `use`: see read_input_file (RunState for a table
+// the run adds to and writes back).
+CsvTable read_csv(const std::filesystem::path& path, InputUse use = InputUse::Input);
 // The same from text in memory; `source` names it in messages.
 CsvTable parse_csv(std::string_view text, const std::string& source);
 

@@ -17,8 +17,8 @@
 
 namespace palpa::io_detail {
 
-std::string read_file_bytes(const std::filesystem::path& path, bool allow_empty) {
-  std::string bytes = read_input_file(path);
+std::string read_file_bytes(const std::filesystem::path& path, bool allow_empty, InputUse use) {
+  std::string bytes = read_input_file(path, use);
   if (!allow_empty && bytes.empty()) throw_input_error("file is empty", ErrorContext{path.string(), 0, 0, ""});
   return bytes;
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 
 namespace palpa::io_detail {
 
@@ -21,8 +22,9 @@ inline constexpr const char* kAxisNames[3] = {"x", "y", "z"};
 // The whole file as bytes. Throws palpa::Error (Input) naming the file if it does
 // not exist, is a folder or cannot be read. With `allow_empty` false, an empty
 // file (0 bytes, or only white space for text formats: see require_content) is an
-// error too.
-std::string read_file_bytes(const std::filesystem::path& path, bool allow_empty = false);
+// error too. `use`: see read_input_file.
+std::string read_file_bytes(const std::filesystem::path& path, bool allow_empty = false,
+                            InputUse use = InputUse::Input);
 
 // Throws "file is empty" if `text` holds nothing but white space.
 void require_content(std::string_view text, const std::string& file);
