@@ -262,10 +262,10 @@ struct PokeOptions {
   int max_step_cuts = 10;        // halvings of a depth increment that fails
   // When > 0: a depth whose Newton iterations fail while the last
   // equilibrium's smallest det F is below this gives up at once instead of
-  // halving the step (a depth whose every guess inverts a cell still halves). The cells at
-  // the punch rim are then crushed to that fraction of their volume and the
-  // mesh cannot follow the material much deeper (for curves that are shown,
-  // not fitted; 0 = always halve).
+  // halving the step (a depth whose every guess inverts a cell still halves).
+  // The cells at the punch rim are then crushed to that fraction of their
+  // volume and the mesh cannot follow the material much deeper (for curves
+  // that are shown, not fitted; 0 = always halve).
   double give_up_below_jacobian = 0.0;
   // Also start each depth from the equilibrium the previous run() of this
   // simulator reached there (same depth schedule), where that is closer to

@@ -100,6 +100,7 @@ int lock_output_folder(const std::filesystem::path& dir, const std::filesystem::
   }
   throw Error(ErrorKind::Internal, fmt::format("{}: the output folder's lock kept changing hands", dir.string()));
 }
+
 }  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path target, bool binary) : target_(std::move(target)) {

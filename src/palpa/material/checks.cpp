@@ -56,16 +56,15 @@ double uniaxial_compression_limit(const Material& m, double floor) {
   // stretch; a state that cannot be solved ends the search (what was found
   // before it stands).
   const int count = static_cast<int>(std::lround((1.0 - floor) / 0.005));
-  CurvePoint last = homogeneous_point(m, LoadCase::Uniaxial, 1.0);
-  for (int i = 1; i <= count; ++i) {
-    CurvePoint next;
-    try {
-      next = homogeneous_point(m, LoadCase::Uniaxial, 1.0 - 0.005 * i, last.lateral);
-    } catch (const Error&) {
-      return 0.0;
+  try {
+    CurvePoint last = homogeneous_point(m, LoadCase::Uniaxial, 1.0);
+    for (int i = 1; i <= count; ++i) {
+      const CurvePoint next = homogeneous_point(m, LoadCase::Uniaxial, 1.0 - 0.005 * i, last.lateral);
+      if (!(next.nominal < last.nominal)) return last.load;
+      last = next;
     }
-    if (!(next.nominal < last.nominal)) return last.load;
-    last = next;
+  } catch (const Error&) {
+    // no homogeneous state from here on: nothing more to say
   }
   return 0.0;
 }
