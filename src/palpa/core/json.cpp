@@ -5,9 +5,7 @@
 
 #include <cmath>
 #include <functional>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <vector>
 
 #include "palpa/core/atomic_file.hpp"

@@ -192,18 +192,28 @@ const Unit* find_unit(std::string_view symbol) noexcept {
 
 std::span<const Unit> known_units() noexcept { return kUnits; }
 
+namespace {
+
+// For a symbol that is no unit: a case slip ("KPA", "Mm") is the usual cause,
+// so name the unit of `expected` it was meant to be ("; did you mean 'kPa'?"),
+// or nothing.
+std::string case_slip_hint(std::string_view symbol, Dimension expected) {
+  for (const Unit& u : kUnits) {
+    if (u.dimension == expected && to_lower(u.symbol) == to_lower(symbol)) {
+      return fmt::format("; did you mean '{}'?", u.symbol);
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
 double parse_unit(std::string_view symbol, Dimension expected, const ErrorContext& where) {
   const Unit* unit = find_unit(trim(symbol));
   const std::string expect = fmt::format("a {} unit such as {}", dimension_name(expected), si_unit(expected));
   if (unit == nullptr) {
-    std::string hint;
-    for (const Unit& u : kUnits) {
-      if (u.dimension == expected && to_lower(u.symbol) == to_lower(trim(symbol))) {
-        hint = fmt::format("; did you mean '{}'?", u.symbol);
-        break;
-      }
-    }
-    throw_input_error(fmt::format("'{}' is not a unit{}", symbol, hint), where, expect);
+    throw_input_error(fmt::format("'{}' is not a unit{}", symbol, case_slip_hint(trim(symbol), expected)), where,
+                      expect);
   }
   if (unit->dimension != expected) {
     throw_input_error(fmt::format("'{}' is a unit of {}, not of {}", symbol, dimension_name(unit->dimension),
@@ -243,16 +253,8 @@ double parse_quantity(std::string_view text, Dimension expected, const ErrorCont
 
   const Unit* unit = find_unit(unit_text);
   if (unit == nullptr) {
-    // A case slip ("KPA", "Mm") is the usual cause: say which unit was meant.
-    std::string hint;
-    for (const Unit& u : kUnits) {
-      if (u.dimension == expected && to_lower(u.symbol) == to_lower(unit_text)) {
-        hint = fmt::format("; did you mean '{}'?", u.symbol);
-        break;
-      }
-    }
-    throw_input_error(fmt::format("unknown unit '{}' in '{}'{}", unit_text, shown, hint), where,
-                      dimension_example(expected));
+    throw_input_error(fmt::format("unknown unit '{}' in '{}'{}", unit_text, shown, case_slip_hint(unit_text, expected)),
+                      where, dimension_example(expected));
   }
   if (unit->dimension != expected) {
     throw_input_error(fmt::format("'{}' is a {}, not a {}", shown, dimension_name(unit->dimension),
