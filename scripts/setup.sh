@@ -7,10 +7,13 @@
 # supernodal factorizations run on it (`palpa --version` names the BLAS in use).
 # clang (with its sanitizer runtimes) builds palpa: about 25% faster than g++
 # for the Release build, and half the time for the ASan + UBSan build.
+# ccache: the build uses it when present (see CMakeLists.txt), so a build in a
+# fresh clone or worktree reuses what an earlier build of the same sources
+# compiled.
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config ccache
   clang libclang-rt-14-dev
   libeigen3-dev libsuitesparse-dev libtbb-dev
   libcgal-dev libgmp-dev libmpfr-dev libtet1.5-dev

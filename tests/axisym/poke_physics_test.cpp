@@ -76,7 +76,7 @@ TEST(PokePhysics, MatchesCalculixQuadraticElementsExtrapolated) {
   // stick and frictionless, small and moderate depths, against palpa's
   // default force (level 2 extrapolated with level 1) with the same
   // material (CalculiX's NEO HOOKE is palpa's neo-hookean-isochoric).
-  std::ifstream in(std::string(PALPA_SOURCE_DIR) + "/tests/axisym/calculix/cax8_reference.csv");
+  std::ifstream in(::palpa::test::source_path("tests/axisym/calculix/cax8_reference.csv"));
   ASSERT_TRUE(in) << "tests/axisym/calculix/cax8_reference.csv";
   std::string line;
   int rows = 0;

@@ -414,7 +414,7 @@ TEST(DesignCli, TheFlatChairLosesMostOfItsScore) {
   // (ζ_body 69%, body peak 2.2× lower; 85%, 88% and 3.4× in the scene's 30).
   test::ScratchDir dir;
   const std::filesystem::path scene =
-      std::filesystem::path(PALPA_SOURCE_DIR) / "examples" / "design" / "chair" / "scene.json";
+      test::source_path("examples/design/chair/scene.json");
   const auto r = test::run_palpa("design " + scene.string() + " -o chair --iterations 6 --no-baselines", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto s = nlohmann::json::parse(test::read_text(dir / "chair" / "summary.json"));

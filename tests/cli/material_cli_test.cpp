@@ -111,7 +111,7 @@ TEST(Cli, BlasRunsOnOneThreadUnlessTheEnvironmentSaysOtherwise) {
   const auto version = [&](const std::string& env) {
     const auto out = dir / "version.txt";
     const std::string cmd = fmt::format("env -u OPENBLAS_NUM_THREADS -u OMP_NUM_THREADS {} '{}' --version >'{}' 2>&1",
-                                        env, PALPA_BINARY, out.string());
+                                        env, test::palpa_binary(), out.string());
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
     return test::read_text(out);
   };

@@ -157,7 +157,7 @@ Ran run_in(const ReadmeCommand& c, const std::string& command, const std::filesy
   const auto err = dir / ".readme-stderr";
   const std::string script =
       fmt::format("cd '{}' && palpa() {{ '{}' \"$@\"; }}; {}{} >'{}' 2>'{}' </dev/null",
-                  dir.string(), PALPA_BINARY, c.assignments, command, out.string(), err.string());
+                  dir.string(), test::palpa_binary(), c.assignments, command, out.string(), err.string());
   const auto start = std::chrono::steady_clock::now();
   const int status = std::system(script.c_str());
   Ran r;

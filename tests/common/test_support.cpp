@@ -77,6 +77,8 @@ std::filesystem::path source_path(const std::string& relative) {
   return std::filesystem::path(PALPA_SOURCE_DIR) / relative;
 }
 
+const char* palpa_binary() { return PALPA_BINARY; }
+
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream s;
@@ -90,7 +92,7 @@ CommandResult run_palpa(const std::string& args, const std::filesystem::path& cw
   const auto err = capture / "stderr";
   std::string cmd;
   if (!cwd.empty()) cmd += fmt::format("cd '{}' && ", cwd.string());
-  cmd += fmt::format("'{}' {} >'{}' 2>'{}' </dev/null", PALPA_BINARY, args, out.string(), err.string());
+  cmd += fmt::format("'{}' {} >'{}' 2>'{}' </dev/null", palpa_binary(), args, out.string(), err.string());
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -112,7 +114,7 @@ int run_palpa_signalled_after(const std::string& args, const std::filesystem::pa
 int run_palpa_signalled_when(const std::string& args, const std::filesystem::path& cwd,
                              const std::function<bool()>& ready, int signal, double timeout) {
   const std::string cmd =
-      fmt::format("cd '{}' && exec '{}' {} >/dev/null 2>&1 </dev/null", cwd.string(), PALPA_BINARY, args);
+      fmt::format("cd '{}' && exec '{}' {} >/dev/null 2>&1 </dev/null", cwd.string(), palpa_binary(), args);
   const pid_t pid = fork();
   if (pid == 0) {
     execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));

@@ -51,6 +51,10 @@ std::string read_text(const std::filesystem::path& path);
 // Path of a file in the source tree (examples, test data).
 std::filesystem::path source_path(const std::string& relative);
 
+// The palpa program the command-line tests run ("palpa-not-built" where the
+// build has none).
+const char* palpa_binary();
+
 // A path in single quotes, for the command lines of run_palpa.
 std::string shell_quote(const std::filesystem::path& p);
 
