@@ -9,18 +9,87 @@
 #include <random>
 
 #include "palpa/design/baselines.hpp"
+#include "palpa/design/checkpoint.hpp"
 #include "palpa/design/optimizer.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/geometry/umbrella.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/sim3d/shapes.hpp"
 #include "palpa/tet/mesh.hpp"
+#include "common/test_support.hpp"
 #include "design_fixtures.hpp"
 
 namespace palpa::design {
 namespace {
 
 using namespace fixture;
+
+// A checkpoint reads back as written, and one of another run (method, γ,
+// step lengths, filter, sizes) is refused by field.
+TEST(DesignCheckpointFile, ReadsBackWhatWasWrittenAndRefusesAnotherRunsByField) {
+  test::ScratchDir dir;
+  DesignCheckpoint c;
+  c.method = DesignMethod::ConjugateGradient;
+  c.gamma = 2.5;
+  c.moves = {1e-6, 1e-4};
+  c.filter_radius = 0.01;
+  c.iteration = 3;
+  c.theta = Eigen::VectorXd::LinSpaced(4, -1e-4, 2e-4);
+  c.direction = Eigen::VectorXd::Constant(4, 0.5);
+  c.gradient = Eigen::VectorXd::Constant(4, -0.25);
+  c.steepest = false;
+  c.state.x = Eigen::VectorXd::LinSpaced(6, 0.0, 1e-3);
+  c.state.core.omega = Eigen::Vector3d(0.0, 0.01, 0.0);
+  c.state.spring_areas = {1e-4, 2e-4};
+  c.state.stiffness = 3e4;
+  c.state.support = Eigen::VectorXd::Constant(3, 1e-5);
+  c.phi = 10.0;
+  c.zeta = 9.0;
+  c.psi = 1.0;
+  c.max_penetration = 2e-4;
+  c.refreeze_failed = true;
+  c.history = {IterationRecord{1, 11.0, 10.0, 1.0, 1e-4, 3, true, 0.5, 3e4, true}};
+  c.evaluations = 7;
+  c.newton_iterations = 55;
+  c.seconds = 12.5;
+  const auto file = dir / "checkpoint.json";
+  write_json_file(file, checkpoint_json(c));
+  DesignCheckpoint like = c;
+  like.theta.setZero();
+  like.history.clear();
+  const DesignCheckpoint r = read_design_checkpoint(file, like);
+  EXPECT_EQ(r.iteration, 3);
+  EXPECT_EQ(r.theta, c.theta);
+  EXPECT_EQ(r.direction, c.direction);
+  EXPECT_EQ(r.gradient, c.gradient);
+  EXPECT_FALSE(r.steepest);
+  EXPECT_EQ(r.state.x, c.state.x);
+  EXPECT_EQ(r.state.core.omega, c.state.core.omega);
+  EXPECT_EQ(r.state.spring_areas, c.state.spring_areas);
+  EXPECT_EQ(r.state.support, c.state.support);
+  EXPECT_EQ(r.state.stiffness, c.state.stiffness);
+  EXPECT_EQ(r.max_penetration, 2e-4);
+  EXPECT_TRUE(r.refreeze_failed);
+  ASSERT_EQ(r.history.size(), 1u);
+  EXPECT_EQ(r.history[0].phi, 11.0);
+  EXPECT_TRUE(r.history[0].refrozen);
+  EXPECT_EQ(r.evaluations, 7);
+  EXPECT_EQ(r.newton_iterations, 55);
+  EXPECT_EQ(r.seconds, 12.5);
+
+  const auto refused = [&](const std::function<void(DesignCheckpoint&)>& change,
+                           const std::vector<std::string>& fragments) {
+    DesignCheckpoint other = like;
+    change(other);
+    return test::throws_error([&] { read_design_checkpoint(file, other); }, ErrorKind::Input, fragments);
+  };
+  EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.method = DesignMethod::Lbfgs; }, {"'method'", "cg method"}));
+  EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.gamma = 2.6; }, {"'gamma'", "differs"}));
+  EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.moves = {1e-6}; }, {"'moves'", "step lengths"}));
+  EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.filter_radius = 0.02; }, {"'filter_radius'"}));
+  EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.theta = Eigen::VectorXd::Zero(5); }, {"'theta'", "another design"}));
+  EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.state.x = Eigen::VectorXd::Zero(9); }, {"'state.x'"}));
+}
 
 // The design filter on the slab's top (5 mm edges): Sᵀ is S's adjoint, a
 // move of one vertex becomes a smooth bump that stays in the region, and a

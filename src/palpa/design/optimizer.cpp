@@ -11,7 +11,6 @@
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <random>
 #include <thread>
 
@@ -21,6 +20,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/design/checkpoint.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/csg.hpp"
 #include "palpa/rest/adjoint.hpp"
@@ -34,10 +34,7 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-constexpr int kCheckpointVersion = 1;
 constexpr int kTrialNewtonIterations = 50;
-
-const char* method_name(DesignMethod m) { return m == DesignMethod::Lbfgs ? "lbfgs" : "cg"; }
 
 // φ/φ0 over u = θ/c for Ceres. Exceptions (Ctrl-C) are kept and the
 // evaluation reported as failed; the callback then stops the solver. The
@@ -103,62 +100,6 @@ class LbfgsCallback final : public ceres::IterationCallback {
  private:
   std::function<bool(const ceres::IterationSummary&)> f_;
 };
-
-Json to_json(const Eigen::VectorXd& v) { return Json(std::vector<double>(v.data(), v.data() + v.size())); }
-
-Eigen::VectorXd vector_of(const JsonView& j, Eigen::Index expected) {
-  const std::vector<double> v = j.as_number_array();
-  if (static_cast<Eigen::Index>(v.size()) != expected) {
-    j.fail(fmt::format("{} values", v.size()), fmt::format("{} (the checkpoint is of another design)", expected));
-  }
-  return Eigen::Map<const Eigen::VectorXd>(v.data(), expected);
-}
-
-Json state_json(const rest::RestState& s) {
-  const Eigen::Map<const Eigen::VectorXd> R(s.core.rotation.data(), 9);
-  Json j = {{"x", to_json(s.x)},
-            {"rotation", to_json(R)},
-            {"omega", to_json(s.core.omega)},
-            {"spring_areas", s.spring_areas},
-            {"stiffness", s.stiffness}};
-  if (s.support.size() > 0) j["support"] = to_json(s.support);
-  return j;
-}
-
-rest::RestState state_of(const JsonView& j, const rest::RestState& like) {
-  rest::RestState s;
-  s.x = vector_of(j.at("x"), like.x.size());
-  const Eigen::VectorXd R = vector_of(j.at("rotation"), 9);
-  s.core.rotation = Eigen::Map<const Eigen::Matrix3d>(R.data());
-  s.core.omega = vector_of(j.at("omega"), 3);
-  const Eigen::VectorXd a = vector_of(j.at("spring_areas"), static_cast<Eigen::Index>(like.spring_areas.size()));
-  s.spring_areas.assign(a.data(), a.data() + a.size());
-  s.stiffness = j.at("stiffness").as_number();
-  // A deformable support's DOFs (a rigid support has none).
-  if (like.support.size() > 0) s.support = vector_of(j.at("support"), like.support.size());
-  return s;
-}
-
-Json record_json(const IterationRecord& r) {
-  return {{"iteration", r.iteration}, {"phi", r.phi},   {"zeta", r.zeta},         {"psi", r.psi},
-          {"move_m", r.move},         {"evaluations", r.evaluations}, {"restarted", r.restarted},
-          {"seconds", r.seconds},     {"stiffness", r.stiffness},     {"refrozen", r.refrozen}};
-}
-
-IterationRecord record_of(const JsonView& j) {
-  IterationRecord r;
-  r.iteration = static_cast<int>(j.at("iteration").as_integer());
-  r.phi = j.at("phi").as_number();
-  r.zeta = j.at("zeta").as_number();
-  r.psi = j.at("psi").as_number();
-  r.move = j.at("move_m").as_number();
-  r.evaluations = static_cast<int>(j.at("evaluations").as_integer());
-  r.restarted = j.at("restarted").as_bool();
-  r.seconds = j.at("seconds").as_number();
-  if (const auto k = j.find("stiffness")) r.stiffness = k->as_number();
-  if (const auto f = j.find("refrozen")) r.refrozen = f->as_bool();
-  return r;
-}
 
 }  // namespace
 
@@ -410,61 +351,50 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   double earlier_seconds = 0.0;  // a resumed run: the seconds before the resume
   bool refreeze_failed = false;   // the contact model could not be chosen anew: it stays frozen
 
+  // This run's checkpoint as it would stand now; `like` for reading one.
+  const auto checkpoint = [&](int iteration) {
+    DesignCheckpoint c;
+    c.method = options_.method;
+    c.gamma = gamma_;
+    c.moves = options_.moves;
+    c.filter_radius = space_->filter_radius();
+    c.iteration = iteration;
+    c.theta = theta;
+    c.direction = d;
+    c.gradient = g;
+    c.steepest = steepest;
+    c.state = base.state;
+    c.phi = base.phi;
+    c.zeta = base.zeta;
+    c.psi = base.psi;
+    c.max_penetration = base.rest.max_penetration;
+    c.refreeze_failed = refreeze_failed;
+    c.history = result.history;
+    c.evaluations = result.evaluations;
+    c.newton_iterations = result.newton_iterations;
+    c.seconds = earlier_seconds + seconds_since(t0);
+    return c;
+  };
   if (options_.resume) {
     if (options_.checkpoint.empty()) throw Error(ErrorKind::Input, "--resume needs a checkpoint file");
-    const Json doc = read_json_file(options_.checkpoint, InputUse::RunState);
-    const JsonView j(doc, options_.checkpoint.string());
-    if (j.at("palpa_design_checkpoint").as_integer() != kCheckpointVersion) {
-      j.at("palpa_design_checkpoint").fail("unsupported version", std::to_string(kCheckpointVersion));
-    }
-    const std::string method = j.at("method").as_string();
-    if (method != method_name(options_.method)) {
-      j.at("method").fail(fmt::format("a checkpoint of the {} method", method),
-                          fmt::format("{} (the method of this run)", method_name(options_.method)));
-    }
-    const double saved_gamma = j.at("gamma").as_number();
-    if (std::abs(saved_gamma - gamma_) > 1e-9 * std::max(std::abs(gamma_), 1e-300)) {
-      j.at("gamma").fail(fmt::format("γ = {:.6g} differs from this scene's {:.6g}", saved_gamma, gamma_),
-                         "a checkpoint of the same scene and options");
-    }
-    {
-      const JsonView mv = j.at("moves");
-      std::vector<double> saved;
-      for (std::size_t i = 0; i < mv.size(); ++i) saved.push_back(mv.at(i).as_number());
-      if (saved != options_.moves) {
-        mv.fail(fmt::format("step lengths [{}] differ from this scene's [{}]", fmt::join(saved, ", "),
-                            fmt::join(options_.moves, ", ")),
-                "a checkpoint of the same scene and options");
-      }
-    }
-    if (const auto fr = j.find("filter_radius")) {
-      const double saved = fr->as_number();
-      if (std::abs(saved - space_->filter_radius()) > 1e-12) {
-        fr->fail(fmt::format("a design filter of radius {:.6g} m differs from this scene's {:.6g} m", saved,
-                             space_->filter_radius()),
-                 "a checkpoint of the same scene and options");
-      }
-    } else if (space_->filter_radius() > 0.0) {
-      j.fail("a checkpoint of per-vertex moves", "one of this scene's filtered design (its θ means other shapes)");
-    }
-    if (const auto sec = j.find("seconds")) earlier_seconds = sec->as_number();
-    theta = vector_of(j.at("theta"), space_->size());
-    d = vector_of(j.at("direction"), space_->size());
-    g = vector_of(j.at("gradient"), space_->size());
-    steepest = j.at("steepest").as_bool();
-    base.state = state_of(j.at("state"), initial_.state);
+    const DesignCheckpoint c = read_design_checkpoint(options_.checkpoint, checkpoint(0));
+    earlier_seconds = c.seconds;
+    theta = c.theta;
+    d = c.direction;
+    g = c.gradient;
+    steepest = c.steepest;
+    base.state = c.state;
     base.support = space_->shape(theta);
     accepted_ = base.support;
-    base.phi = j.at("phi").as_number();
-    base.zeta = j.at("zeta").as_number();
-    base.psi = j.at("psi").as_number();
-    if (const auto p = j.find("max_penetration")) base.rest.max_penetration = p->as_number();
-    const JsonView h = j.at("history");
-    for (std::size_t i = 0; i < h.size(); ++i) result.history.push_back(record_of(h.at(i)));
-    result.evaluations = static_cast<int>(j.at("evaluations").as_integer());
-    result.newton_iterations = static_cast<int>(j.at("newton_iterations").as_integer());
-    first = static_cast<int>(j.at("iteration").as_integer()) + 1;
-    if (const auto rf = j.find("refreeze_failed")) refreeze_failed = rf->as_bool();
+    base.phi = c.phi;
+    base.zeta = c.zeta;
+    base.psi = c.psi;
+    base.rest.max_penetration = c.max_penetration;
+    result.history = c.history;
+    result.evaluations = c.evaluations;
+    result.newton_iterations = c.newton_iterations;
+    first = c.iteration + 1;
+    refreeze_failed = c.refreeze_failed;
     result.resumed = true;
     spdlog::info("design: resuming after iteration {} (φ = {:.6g})", first - 1, base.phi);
   }
@@ -472,29 +402,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   auto save = [&](int iteration) {
     accepted_ = base.support;
     if (options_.checkpoint.empty()) return;
-    Json hist = Json::array();
-    for (const IterationRecord& r : result.history) hist.push_back(record_json(r));
-    const Json j = {{"palpa_design_checkpoint", kCheckpointVersion},
-                    {"method", method_name(options_.method)},
-                    {"iteration", iteration},
-                    {"gamma", gamma_},
-                    {"theta", to_json(theta)},
-                    {"direction", to_json(d)},
-                    {"gradient", to_json(g)},
-                    {"steepest", steepest},
-                    {"phi", base.phi},
-                    {"zeta", base.zeta},
-                    {"psi", base.psi},
-                    {"max_penetration", base.rest.max_penetration},
-                    {"refreeze_failed", refreeze_failed},
-                    {"state", state_json(base.state)},
-                    {"history", hist},
-                    {"evaluations", result.evaluations},
-                    {"newton_iterations", result.newton_iterations},
-                    {"moves", options_.moves},
-                    {"filter_radius", space_->filter_radius()},
-                    {"seconds", earlier_seconds + seconds_since(t0)}};
-    write_json_file(options_.checkpoint, j);
+    write_json_file(options_.checkpoint, checkpoint_json(checkpoint(iteration)));
   };
 
   // The contact model follows the design: when an accepted shape's deepest
