@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-// A libFuzzer program for one target of targets.hpp (PALPA_FUZZ_TARGET).
+// A libFuzzer program for one target of targets.hpp: the one named by the
+// compile definition PALPA_FUZZ_TARGET (the fuzz preset's palpa_fuzz_<name>),
+// or else by the environment variable of that name (the sanitizer build's
+// palpa_fuzz_smoke, one program that the unit tests run on every target).
 #include <spdlog/spdlog.h>
 
 #include <cstddef>
@@ -15,9 +18,15 @@ const palpa::fuzz::Target* target = nullptr;
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   spdlog::set_level(spdlog::level::off);  // readers warn about unlikely units
-  target = palpa::fuzz::find_target(PALPA_FUZZ_TARGET);
+#ifdef PALPA_FUZZ_TARGET
+  const char* name = PALPA_FUZZ_TARGET;
+#else
+  const char* name = std::getenv("PALPA_FUZZ_TARGET");
+  if (name == nullptr) name = "";
+#endif
+  target = palpa::fuzz::find_target(name);
   if (target == nullptr) {
-    std::fprintf(stderr, "palpa fuzz: no target '%s'\n", PALPA_FUZZ_TARGET);
+    std::fprintf(stderr, "palpa fuzz: no target '%s' (set PALPA_FUZZ_TARGET)\n", name);
     std::abort();
   }
   return 0;

@@ -8,6 +8,12 @@
 # Prints one line per target: executions, coverage features, corpus size,
 # findings. Exit status 1 if any target found something. FUZZ_TARGETS="csv obj"
 # runs only those.
+#
+# The fuzzers start from the seeds and from the corpus that earlier campaigns
+# grew (fuzz/campaign/<target>, kept in the repository). FUZZ_MERGE=1 merges
+# what this run found into that folder, minimized (libFuzzer's -merge=1: only
+# inputs that add coverage), for the next campaign and for the unit test that
+# replays it; record the run in fuzz/CAMPAIGNS.md.
 set -u
 build=${1:?usage: fuzz/run.sh BUILD_DIR [SECONDS]}
 seconds=${2:-60}
@@ -21,10 +27,20 @@ for prog in "$build"/fuzz/palpa_fuzz_*; do
   art="$build/fuzz/artifacts/$t"
   mkdir -p "$work" "$art"
   log="$build/fuzz/$t.log"
+  grown="$src/campaign/$t"
+  inputs=("$work" "$src/corpus/$t")
+  [ -d "$grown" ] && inputs+=("$grown")
   "$prog" -max_total_time="$seconds" -timeout=1 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
-    -max_len=1048576 -print_final_stats=1 -artifact_prefix="$art/" "$work" "$src/corpus/$t" >"$log" 2>&1
+    -max_len=1048576 -print_final_stats=1 -artifact_prefix="$art/" "${inputs[@]}" >"$log" 2>&1
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
   ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*' || echo 0)
+  if [ "${FUZZ_MERGE:-0}" = 1 ]; then
+    merged="$build/fuzz/merged/$t"
+    rm -rf "$merged" && mkdir -p "$merged"
+    "$prog" -merge=1 -timeout=1 -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=1048576 \
+      -artifact_prefix="$art/" "$merged" "${inputs[@]}" >"$build/fuzz/$t.merge.log" 2>&1
+    rm -rf "$grown" && mkdir -p "$grown" && cp "$merged"/* "$grown"/ 2>/dev/null
+  fi
   found=$(find "$art" -type f | wc -l)
   [ "$found" -gt 0 ] && status=1
   printf '%-10s %12s %10s %8s  %s\n' "$t" "${execs:-0}" "${ft:-0}" "$(ls "$work" | wc -l)" \

@@ -6,13 +6,20 @@
 #include <fstream>
 
 #include "palpa/core/error.hpp"
+#include "palpa/design/checkpoint.hpp"
+#include "palpa/design/scene.hpp"
+#include "palpa/fit/checkpoint.hpp"
 #include "palpa/fit/dataset.hpp"
+#include "palpa/fit/optimize.hpp"
 #include "palpa/io/csv.hpp"
 #include "palpa/io/mesh.hpp"
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
 #include "palpa/material/material_file.hpp"
+#include "palpa/material/models.hpp"
+#include "palpa/rest/scene.hpp"
 #include "palpa/sim3d/scene.hpp"
+#include "palpa/sim3d/shapes.hpp"
 
 namespace palpa::fuzz {
 
@@ -52,12 +59,88 @@ void read_tetgen_files(const std::filesystem::path& p) {
   (void)read_tet_mesh(stem.string() + ".node");
 }
 
+// Splits the input at the first `mark`: the part before it is returned, the
+// part after it (if any) is written to `companion` beside the input (removed
+// when there is no mark), so that the fuzzer mutates both files together.
+std::string split_off(const std::filesystem::path& p, const std::string& mark, const std::filesystem::path& companion) {
+  std::ifstream in(p, std::ios::binary);
+  const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto at = all.find(mark);
+  std::error_code ec;
+  std::filesystem::remove(companion, ec);
+  if (at == std::string::npos) return all;
+  std::ofstream(companion, std::ios::binary | std::ios::trunc) << all.substr(at + mark.size());
+  return all.substr(0, at);
+}
+
 void read_csv_table(const std::filesystem::path& p) { (void)read_csv(p); }
 void read_ply_scalars(const std::filesystem::path& p) { (void)read_ply_with_scalars(p); }
 void read_vtu_grid(const std::filesystem::path& p) { (void)read_vtu(p); }
 void read_material(const std::filesystem::path& p) { (void)material::read_material_file(p); }
 void read_fit_dataset(const std::filesystem::path& p) { (void)fit::read_dataset(p); }
 void read_sim3d_scene(const std::filesystem::path& p) { (void)sim3d::read_scene(p); }
+void read_rest(const std::filesystem::path& p) { (void)rest::read_rest_scene(p); }
+// Without the baselines' supports (each a mesh generation of its own), as
+// `palpa design --resume` and the summary read them; their entries are read.
+void read_design(const std::filesystem::path& p) { (void)design::read_design_scene(p, false); }
+
+// A fit checkpoint against the companion dataset (fit.json, curve.csv) with
+// the default options and a neo-Hookean start; the input's part after
+// "\n--warm\n" is the warm-start file its first guess names.
+void read_fit_checkpoint(const std::filesystem::path& p) {
+  const auto dir = p.parent_path();
+  const std::string text = split_off(p, "\n--warm\n", dir / "checkpoint.warm-0-1.bin");
+  const auto path = dir / "checkpoint.json";
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+  const fit::Dataset d = fit::read_dataset(dir / "fit.json");
+  fit::FitOptions o;
+  o.model = "neo-hookean";
+  const material::NeoHookean initial(30e3, 0.45);
+  fit::Checkpoint c(path, d, o, initial);
+  c.load();
+  for (std::size_t g = 0; g < 3; ++g) {
+    fit::GuessResult r;
+    fit::GuessState s;
+    std::vector<axisym::WarmStart> warm;
+    (void)c.done(g);
+    (void)c.restore(g, r, s, &warm);
+  }
+}
+
+// A design checkpoint against a run of per-vertex moves on 4 design
+// variables and a body of 6 DOFs with 2 springs.
+void read_design_checkpoint_file(const std::filesystem::path& p) {
+  design::DesignCheckpoint like;
+  like.method = design::DesignMethod::Lbfgs;
+  like.gamma = 1.0;
+  like.moves = {1e-6, 1e-5, 1e-4};
+  like.theta = Eigen::VectorXd::Zero(4);
+  like.state.x = Eigen::VectorXd::Zero(6);
+  like.state.spring_areas.assign(2, 0.0);
+  (void)design::read_design_checkpoint(p, like);
+}
+
+// The files that seeds name beside the input: a curve of each kind, a fit
+// dataset of one curve, a tet layer (a cube of five tets, attached at its
+// base) and a support surface.
+void write_companions(const std::filesystem::path& dir) {
+  std::ofstream(dir / "curve.csv") << "indentation_mm,force_N\n0,0\n0.2,0.05\n0.4,0.11\n0.6,0.18\n0.8,0.26\n";
+  std::ofstream(dir / "stress.csv") << "stretch,stress_kPa\n1,0\n0.95,-1.6\n0.9,-3.4\n0.85,-5.5\n0.8,-7.9\n";
+  std::ofstream(dir / "fit.json")
+      << R"({"palpa_dataset": 1, "test": "indentation", "layer_depth": "10 mm", "lateral_size": "100 mm",)"
+         R"( "contact": "frictionless", "poisson": 0.45,)"
+         R"( "curves": [{"file": "curve.csv", "radius": "3 mm", "role": "train"}]})";
+  TetMesh cube;
+  cube.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i) cube.V.row(i) << 0.05 * (i & 1), 0.05 * ((i >> 1) & 1), 0.05 * ((i >> 2) & 1);
+  cube.T.resize(5, 4);
+  cube.T << 0, 1, 2, 4, 1, 3, 2, 7, 1, 4, 5, 7, 2, 4, 7, 6, 1, 2, 4, 7;
+  UnstructuredGrid g = grid_of(cube);
+  g.point_data.push_back({"attached", (cube.V.col(2).array() == 0.0).cast<double>().matrix()});
+  write_vtu(dir / "layer.vtu", g);
+  write_surface_mesh(dir / "support.obj", sim3d::make_box_surface(Eigen::Vector3d(0.2, 0.2, 0.05), 2));
+}
+
 
 }  // namespace
 
@@ -74,6 +157,10 @@ const std::vector<Target>& targets() {
       {"material", "material.json", read_material},
       {"dataset", "dataset.json", read_fit_dataset},
       {"scene", "scene.json", read_sim3d_scene},
+      {"rest", "rest.json", read_rest},
+      {"design", "design.json", read_design},
+      {"fit_checkpoint", "fit-checkpoint.txt", read_fit_checkpoint},
+      {"design_checkpoint", "design-checkpoint.json", read_design_checkpoint_file},
   };
   return all;
 }
@@ -89,6 +176,7 @@ std::filesystem::path write_input(const std::string& file_name, const void* data
   static const std::filesystem::path dir = [] {
     auto d = std::filesystem::temp_directory_path() / ("palpa-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
+    write_companions(d);
     return d;
   }();
   const auto path = dir / file_name;
@@ -97,12 +185,13 @@ std::filesystem::path write_input(const std::string& file_name, const void* data
   return path;
 }
 
-bool run_target(const Target& t, const void* data, std::size_t size) {
+bool run_target(const Target& t, const void* data, std::size_t size, std::string* refusal) {
   const auto path = write_input(t.file_name, data, size);
   try {
     t.read(path);
     return true;
-  } catch (const Error&) {
+  } catch (const Error& e) {
+    if (refusal != nullptr) *refusal = e.what();
     return false;
   }
 }

@@ -29,7 +29,8 @@ const Target* find_target(const std::string& name);
 std::filesystem::path write_input(const std::string& file_name, const void* data, std::size_t size);
 
 // Runs one target on one input: true if it was read, false if refused with
-// palpa::Error; anything else propagates.
-bool run_target(const Target& t, const void* data, std::size_t size);
+// palpa::Error (its message then goes to `refusal`, if given); anything else
+// propagates.
+bool run_target(const Target& t, const void* data, std::size_t size, std::string* refusal = nullptr);
 
 }  // namespace palpa::fuzz
