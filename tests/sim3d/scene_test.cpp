@@ -148,6 +148,50 @@ TEST(Scene, RefusesUnknownSetsMembersAndRegionsWithoutMaterial) {
   EXPECT_TRUE(throws_error([&] { read_scene(two); }, ErrorKind::Input, {"two.json", "region 1", "has no material"}));
 }
 
+// A punch 10 mm high driven 100 mm in 2 steps into a 10 mm block would pass
+// through it between two equilibria and report 0 N: refused, with the steps
+// that would do; a step of just under half the thinner of the two is taken.
+TEST(Scene, RefusesAStepThatCouldCarryAnObstacleThroughTheBody) {
+  ScratchDir dir;
+  PunchScene p;
+  p.depth = "100 mm";
+  p.steps = 2;
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"field 'steps'", "obstacle 'punch' moves 50 mm per step", "pass through the body",
+                            "at least 20 steps"}));
+  p.steps = 20;
+  EXPECT_NO_THROW(read_scene(write_punch_scene(dir, p)));
+  // The thinner one counts: a 2 mm-thick plate as the obstacle.
+  p.shape = R"({"box": {"size": ["20 mm", "20 mm", "2 mm"]}})";
+  p.depth = "4 mm";
+  p.steps = 2;
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"moves 2 mm per step", "at least 4 steps"}));
+  p.depth = "3.9 mm";
+  p.steps = 4;
+  EXPECT_NO_THROW(read_scene(write_punch_scene(dir, p)));
+}
+
+// Sizes that would not fit in memory or time are refused by field, before
+// anything is built.
+TEST(Scene, RefusesSizesBeyondWhatPalpaBuilds) {
+  ScratchDir dir;
+  PunchScene p;
+  p.shape = R"({"cylinder": {"radius": "5 mm", "height": "10 mm", "segments": 100000000}})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"obstacles[0].shape.cylinder.segments", "100000000", "3 to 4096"}));
+  p.shape = R"({"sphere": {"radius": "5 mm", "level": 20}})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"obstacles[0].shape.sphere.level", "0 to 7"}));
+  p.shape = R"({"box": {"size": ["5 mm", "5 mm", "5 mm"], "divisions": 100000}})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"obstacles[0].shape.box.divisions", "1 to 500"}));
+  p = PunchScene{};
+  p.cells = "[1000, 1000, 1000]";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"body.box.cells", "6e+09 tetrahedra", "at most 5000000"}));
+}
+
 TEST(Scene, RefusesInvertedTetsAndAnOpenObstacle) {
   ScratchDir dir;
   tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d(-0.01, -0.01, -0.01), Eigen::Vector3d(0.01, 0.01, 0.0),

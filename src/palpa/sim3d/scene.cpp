@@ -47,17 +47,17 @@ SurfaceMesh read_shape(const JsonView& shape, const fs::path& scene_file) {
   shape.expect_only({"cylinder", "box", "sphere", "file", "unit"});
   if (const auto c = shape.find("cylinder")) {
     c->expect_only({"radius", "height", "segments"});
-    const int seg = c->has("segments") ? static_cast<int>(c->at("segments").as_integer()) : 64;
+    const int seg = c->has("segments") ? read_count(c->at("segments"), 3, 4096) : 64;
     return make_cylinder(read_positive(c->at("radius"), Dimension::Length), read_positive(c->at("height"), Dimension::Length), seg);
   }
   if (const auto b = shape.find("box")) {
     b->expect_only({"size", "divisions"});
-    const int n = b->has("divisions") ? static_cast<int>(b->at("divisions").as_integer()) : 4;
+    const int n = b->has("divisions") ? read_count(b->at("divisions"), 1, 500) : 4;
     return make_box_surface(read_quantity3(b->at("size"), Dimension::Length), n);
   }
   if (const auto s = shape.find("sphere")) {
     s->expect_only({"radius", "level"});
-    const int level = s->has("level") ? static_cast<int>(s->at("level").as_integer()) : 3;
+    const int level = s->has("level") ? read_count(s->at("level"), 0, 7) : 3;
     return make_sphere(read_positive(s->at("radius"), Dimension::Length), level);
   }
   if (const auto f = shape.find("file")) {
@@ -134,6 +134,13 @@ Scene read_scene(const fs::path& path) {
     const std::vector<double> cells = box->at("cells").as_number_array();
     if (cells.size() != 3 || std::any_of(cells.begin(), cells.end(), [](double c) { return c < 1 || c != std::floor(c) || c > 1000; })) {
       box->at("cells").fail("expected 3 whole numbers from 1 to 1000", "[nx, ny, nz]");
+    }
+    // Six tets per cell; beyond kMaxBoxTets the run would not fit in memory.
+    constexpr double kMaxBoxTets = 5e6;
+    if (const double tets = 6.0 * cells[0] * cells[1] * cells[2]; tets > kMaxBoxTets) {
+      box->at("cells").fail(fmt::format("{:.0f} × {:.0f} × {:.0f} cells, {:.3g} tetrahedra", cells[0], cells[1],
+                                        cells[2], tets),
+                            fmt::format("at most {:.0f} tetrahedra (6 per cell)", kMaxBoxTets));
     }
     const Eigen::Vector3d lo(-size[0] / 2, -size[1] / 2, -size[2]);
     const Eigen::Vector3d hi(size[0] / 2, size[1] / 2, 0.0);
@@ -281,6 +288,29 @@ Scene read_scene(const fs::path& path) {
     s.steps = static_cast<int>(n);
   } else if (any_path) {
     s.steps = 10;
+  }
+  // A step longer than half the thinner of the obstacle and the body along
+  // the path could carry the obstacle through the body between two
+  // equilibria (the contact sees only the poses): refused with the steps
+  // that would do.
+  for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
+    const ObstacleSpec& o = s.obstacles[i];
+    if (!o.has_path || o.mesh.V.rows() == 0 || s.mesh.V.rows() == 0) continue;
+    const auto extent = [&](const Eigen::VectorXd& along) { return along.maxCoeff() - along.minCoeff(); };
+    const double own = extent(o.mesh.V * (o.rotation.transpose() * o.direction));
+    const double thickness = extent(s.mesh.V * o.direction);
+    const double limit = 0.5 * std::min(own, thickness);
+    const double travel = o.depth / s.steps;
+    if (travel > limit) {
+      const double needed = std::ceil(o.depth / limit);
+      const JsonView where = root.has("steps") ? root.at("steps") : root.at("obstacles").at(i).at("path").at("depth");
+      where.fail(fmt::format("obstacle '{}' moves {} per step, more than half the thinner of itself ({}) and the "
+                             "body ({}) along its path: it could pass through the body between two steps",
+                             o.name, format_quantity(travel, Dimension::Length),
+                             format_quantity(own, Dimension::Length), format_quantity(thickness, Dimension::Length)),
+                 needed <= 100000 ? fmt::format("at least {:.0f} steps for this depth", needed)
+                                  : "a shallower path, or a thicker obstacle or body");
+    }
   }
 
   if (const auto c = root.find("contact")) {
