@@ -103,8 +103,9 @@ void run_acquire_poke(AcquirePokeArgs& a) {
   set_columns(a.calibration_columns, "--calibration-columns", o.calibration_voltage, o.calibration_distance);
   if (!a.force_window.empty()) o.force_window = parse_window(a.force_window, "--force-window");
   if (!a.laser_window.empty()) o.laser_window = parse_window(a.laser_window, "--laser-window");
-  if (a.points < 3) {
-    throw_input_error(fmt::format("{} grid points", a.points), ErrorContext{"", 0, 0, "option --points"}, "at least 3");
+  if (a.points < 3 || static_cast<std::size_t>(a.points) > acquire::kMaxCurvePoints) {
+    throw_input_error(fmt::format("{} grid points", a.points), ErrorContext{"", 0, 0, "option --points"},
+                      fmt::format("3 to {}", acquire::kMaxCurvePoints));
   }
   o.points = static_cast<std::size_t>(a.points);
   o.tare = !a.no_tare;

@@ -82,6 +82,18 @@ ErrorContext option(const std::string& name) {
   return c;
 }
 
+// A surface of `area` remeshed to --edge: refused by the option's name when it
+// would make more triangles than palpa makes (mesh::kMaxRemeshTriangles).
+void check_edge_for(double area, double edge, const std::string& what) {
+  const double n = mesh::remeshed_triangles(area, edge);
+  if (!(n <= mesh::kMaxRemeshTriangles)) {
+    throw_input_error(fmt::format("{} of {:.4g} m² remeshed to edges of {} would make about {:.3g} triangles, "
+                                  "more than the {:.0f} palpa makes",
+                                  what, area, format_quantity(edge, Dimension::Length), n, mesh::kMaxRemeshTriangles),
+                      option("--edge"), "a longer --edge, or --unit for a surface whose coordinates are not metres");
+  }
+}
+
 // Metres per coordinate unit: a unit symbol ("mm") or a length ("0.1 m").
 double length_unit(const std::string& text) {
   if (text.empty()) return 1.0;
@@ -185,6 +197,7 @@ void run_layer(const LayerArgs& a) {
   MeshReadOptions read;
   read.unit_to_si = length_unit(a.unit);
   const SurfaceMesh scan = read_surface_mesh(a.surface, read);
+  if (a.edge > 0.0) check_edge_for(mesh::surface_area(scan), a.edge, a.surface);
   const bool uniform = !std::isnan(a.depth);  // --depth given
   if (uniform && !a.depth_samples.empty()) {
     throw_input_error("both --depth and --depth-samples given", option("--depth"),
@@ -314,6 +327,9 @@ void run_body(const BodyArgs& a) {
   }
   o.radius = a.radius;
   o.edge_length = a.edge;
+  // The body's area is at most its bounding box's.
+  check_edge_for(2.0 * (o.size.x() * o.size.y() + o.size.y() * o.size.z() + o.size.z() * o.size.x()), a.edge,
+                 fmt::format("a {}", mesh::body_shape_name(o.shape)));
   const SurfaceMesh m = mesh::make_body(o);
   write_surface_mesh(a.output, m);
   spdlog::info("wrote {}: {} {} with {} vertices, {} triangles, volume {:.4g} cm3",
@@ -327,7 +343,10 @@ void run_solid(const SolidArgs& a) {
   SurfaceMesh s = mesh::repair_surface(read_surface_mesh(a.surface, read));
   existing_folder_of(a.output);
   mesh::check_closed_surface(s, a.surface);
-  if (a.edge > 0.0) s = mesh::remesh_surface(s, a.edge);
+  if (a.edge > 0.0) {
+    check_edge_for(mesh::surface_area(s), a.edge, a.surface);
+    s = mesh::remesh_surface(s, a.edge);
+  }
   const mesh::TetQuality q = quality_from(a.quality);
   const TetMesh tets = mesh::tetrahedralize(s, q);
   const mesh::TetStatistics st = mesh::tet_statistics(tets, q);

@@ -82,6 +82,7 @@ TEST(AcquireCli, PokeRefusesBadLogsAndWritesNothing) {
       {"force.csv", "", "", "", "--rest 0s", "--rest: 0s is zero (expected a positive value)"},
       {"force.csv", "", "", "", "--saturation -1s", "--saturation: -1s is negative (expected a positive value)"},
       {"force.csv", "", "", "", "--cutoff 0Hz", "--cutoff: 0Hz is zero"},
+      {"force.csv", "", "", "", "--points 100000000", "100000000 grid points (expected 3 to 100000)"},
   };
   for (const Bad& b : cases) {
     ScratchDir dir;

@@ -157,6 +157,12 @@ TEST_F(MeshCli, BadInputLeavesNothing) {
                  {"--width: -1mm is negative"});
   expect_failure("layer --surface " + shell_quote(s) + " --depth 10mm --tet-size 0mm -o " + shell_quote(out / "b.vtu"),
                  {"--tet-size: 0mm is zero"});
+  // Work beyond what palpa makes is refused at once, naming the option.
+  expect_failure("body sphere --length 10m --edge 1mm -o " + shell_quote(out / "h.obj"),
+                 {"option --edge", "a sphere of", "would make about", "triangles"});
+  expect_failure("layer --surface " + shell_quote(s) + " --unit '1000 m' --depth 10mm --edge 10mm -o " +
+                     shell_quote(out / "b.vtu"),
+                 {"option --edge", "sphere.obj of", "would make about", "--unit"});
 }
 
 }  // namespace

@@ -194,6 +194,11 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
   const auto b = run_palpa("rest bevel.json -o out", dir.path());
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("bevel.radius"), std::string::npos) << b.err;
+  dir.write("fine.json", with_support(R"({"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 1000}})"));
+  const auto fine = run_palpa("rest fine.json -o out", dir.path());
+  EXPECT_EQ(fine.exit_code, 2);
+  EXPECT_NE(fine.err.find("support.box.divisions': 1000 × 1000 × 1000 divisions, 1.2e+07 triangles"),
+            std::string::npos) << fine.err;
   std::string cut = kRestScene;
   const std::string edge = "\"edge\": \"7 mm\"";
   cut.replace(cut.find(edge), edge.size(),

@@ -57,6 +57,17 @@ TEST(SurfaceRepair, ReversesAnInwardWinding) {
   EXPECT_NEAR(enclosed_volume(cube), 1.0, 1e-15);
 }
 
+// A remeshing far beyond what palpa makes (a metre cube at 0.1 mm edges,
+// 3e8 triangles) is refused before it starts.
+TEST(SurfaceCheck, RefusesARemeshingIntoTooManyTriangles) {
+  const SurfaceMesh cube = repair_surface(cube_soup());
+  EXPECT_NEAR(surface_area(cube), 6.0, 1e-12);
+  EXPECT_NEAR(remeshed_triangles(6.0, 1e-4), 6.0 / (std::sqrt(3.0) / 4.0 * 1e-8), 1.0);
+  EXPECT_TRUE(test::throws_error([&] { (void)remesh_surface(cube, 1e-4); }, ErrorKind::Input,
+                                 {"remeshing a surface of 6 m²", "would make about 1.39e+09 triangles",
+                                  "a longer edge length"}));
+}
+
 TEST(SurfaceCheck, RefusesAnOpenSurfaceNamingTheFileAndAnEdge) {
   SurfaceMesh cube = repair_surface(cube_soup());
   cube.F.conservativeResize(11, 3);

@@ -101,9 +101,9 @@ Curve uniform_curve(std::span<const double> indentation, std::span<const double>
 
 PokeResult process_poke(const std::filesystem::path& force_file, const std::filesystem::path& laser_file,
                         const std::optional<std::filesystem::path>& calibration_file, const PokeOptions& o) {
-  if (o.points < 3) {
+  if (o.points < 3 || o.points > kMaxCurvePoints) {
     throw_input_error(fmt::format("{} grid points", o.points), ErrorContext{"", 0, 0, "option --points"},
-                      "at least 3");
+                      fmt::format("3 to {}", kMaxCurvePoints));
   }
   PokeResult r;
   const Dimension force_kind[] = {Dimension::Force};

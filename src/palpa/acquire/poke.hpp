@@ -33,6 +33,10 @@ struct TimeWindow {
   double start = 0.0, end = 0.0;
 };
 
+// The most points of a resampled curve (a curve is a few dozen to a few
+// hundred; more than the logs hold samples would mean nothing).
+inline constexpr std::size_t kMaxCurvePoints = 100000;
+
 struct PokeOptions {
   ColumnSpec force_time{"time", ""}, force_value{"force", ""};
   ColumnSpec laser_time{"time", ""}, laser_value{"voltage", ""};
@@ -47,7 +51,7 @@ struct PokeOptions {
   // Fine alignment searches this fraction of the poke's duration either side of
   // the coarse shift.
   double search = 0.25;
-  std::size_t points = 50;  // uniform indentation grid points (>= 3)
+  std::size_t points = 50;  // uniform indentation grid points (3 to kMaxCurvePoints)
   bool tare = true;         // subtract the force's rest level
 };
 

@@ -284,9 +284,31 @@ void check_closed_surface(const SurfaceMesh& mesh, const std::string& source) {
   }
 }
 
+double remeshed_triangles(double area, double edge_length) {
+  return area / (std::sqrt(3.0) / 4.0 * edge_length * edge_length);
+}
+
+double surface_area(const SurfaceMesh& mesh) {
+  double a = 0.0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d p = mesh.V.row(mesh.F(f, 0)).transpose();
+    const Eigen::Vector3d q = mesh.V.row(mesh.F(f, 1)).transpose();
+    const Eigen::Vector3d r = mesh.V.row(mesh.F(f, 2)).transpose();
+    a += 0.5 * (q - p).cross(r - p).norm();
+  }
+  return a;
+}
+
 SurfaceMesh remesh_surface(const SurfaceMesh& mesh, double edge_length, int iterations) {
   if (!(edge_length > 0.0) || !std::isfinite(edge_length)) {
     throw_input_error("the target edge length is not positive", {}, "an edge length > 0");
+  }
+  const double area = surface_area(mesh);
+  if (const double n = remeshed_triangles(area, edge_length); !(n <= kMaxRemeshTriangles)) {
+    throw_input_error(fmt::format("remeshing a surface of {:.4g} m² to edges of {} would make about {:.3g} "
+                                  "triangles, more than the {:.0f} palpa makes",
+                                  area, format_quantity(edge_length, Dimension::Length), n, kMaxRemeshTriangles),
+                      {}, "a longer edge length, or the surface's true unit");
   }
   return detail::cgal_remesh(mesh, edge_length, iterations);
 }

@@ -42,8 +42,22 @@ double enclosed_volume(const SurfaceMesh& mesh);
 
 // Isotropic remeshing to `edge_length` [m] (> 0): every edge near that length,
 // triangles near equilateral, vertices on the input surface. The input must
-// pass check_closed_surface().
+// pass check_closed_surface(). A remeshing that would make more than
+// kMaxRemeshTriangles is refused (palpa::Error, Input) before it starts.
 SurfaceMesh remesh_surface(const SurfaceMesh& mesh, double edge_length, int iterations = 5);
+
+// The most triangles palpa remeshes a surface into (a few GB of memory and
+// many minutes on a workstation): beyond it the edge length is surely wrong
+// for the surface, or the surface's unit is (a scan in millimetres read as
+// metres has a million times its area).
+inline constexpr double kMaxRemeshTriangles = 4e6;
+
+// About how many triangles a remeshing of a surface of `area` [m²] to
+// `edge_length` makes: the area over that of an equilateral triangle.
+double remeshed_triangles(double area, double edge_length);
+
+// Total triangle area [m²].
+double surface_area(const SurfaceMesh& mesh);
 
 // Mean edge length [m] of a surface.
 double mean_edge_length(const SurfaceMesh& mesh);

@@ -190,6 +190,14 @@ SurfaceMesh read_box(const JsonView& box) {
       n.setConstant(static_cast<int>(d->as_integer()));
     }
     if (n.minCoeff() < 1 || n.maxCoeff() > 1000) d->fail(fmt::format("{} {} {}", n[0], n[1], n[2]), "1 to 1000");
+    // Two triangles per face cell; a support beyond that is no support a
+    // contact solve gets through.
+    constexpr double kMaxBoxTriangles = 2e6;
+    const double triangles = 4.0 * (double(n[0]) * n[1] + double(n[1]) * n[2] + double(n[2]) * n[0]);
+    if (triangles > kMaxBoxTriangles) {
+      d->fail(fmt::format("{} × {} × {} divisions, {:.3g} triangles", n[0], n[1], n[2], triangles),
+              fmt::format("at most {:.0f} triangles (about 400 divisions a side)", kMaxBoxTriangles));
+    }
   }
   SurfaceMesh m = sim3d::make_box_surface(size, n);
   m.V.col(2).array() -= size.z();  // the top face at the origin
