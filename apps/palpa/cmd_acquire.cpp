@@ -114,12 +114,14 @@ void run_acquire_poke(AcquirePokeArgs& a) {
   const acquire::PokeResult r = acquire::process_poke(a.force, a.laser, cal, o);
 
   const std::string source = fmt::format("palpa acquire poke: {} + {}", a.force, a.laser);
+  // The folder before the batch: on failure the batch's temporaries go first,
+  // so that a plots folder this run created is empty again and goes too.
+  std::optional<OutputFolder> plots;
   OutputBatch batch;
   batch.add(a.output) << format_csv(curve_table(r.loading, source + "; loading (start -> maximum force)"));
   if (!a.unloading.empty()) {
     batch.add(a.unloading) << format_csv(curve_table(r.unloading, source + "; unloading (maximum force -> end)"));
   }
-  std::optional<OutputFolder> plots;
   if (!a.plots.empty()) {
     plots.emplace(a.plots);
     batch.add(std::filesystem::path(a.plots) / "signals.svg") << report::render_svg(acquire::poke_signals_figure(r));
@@ -256,12 +258,12 @@ void run_acquire_ultrasound(const UltrasoundArgs& a) {
   depths.add_column("time_s", r.time);
   depths.add_column("force_N", r.force);
   for (std::size_t k = 0; k < names.size(); ++k) depths.add_column(names[k] + "_depth_m", r.depth[k]);
+  std::optional<OutputFolder> plots;  // before the batch, as for a poke
   OutputBatch batch;
   batch.add(a.output) << format_csv(depths);
   if (position) {
     batch.add(a.depth_table) << format_csv(acquire::add_depth_row(table, *position, names, r.rest_depth, main_interface));
   }
-  std::optional<OutputFolder> plots;
   if (!a.plots.empty()) {
     plots.emplace(a.plots);
     batch.add(std::filesystem::path(a.plots) / "depths.svg") << report::render_svg(acquire::ultrasound_figure(r));

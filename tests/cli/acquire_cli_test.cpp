@@ -103,6 +103,19 @@ TEST(AcquireCli, PokeRefusesBadLogsAndWritesNothing) {
   }
 }
 
+// A side output that is a folder is refused with nothing written, the plots
+// folder the run had created included.
+TEST(AcquireCli, PokeWithASummaryThatIsAFolderWritesNothing) {
+  ScratchDir dir;
+  copy_poke_example(dir);
+  std::filesystem::create_directory(dir / "taken");
+  const auto r = run_palpa(std::string(kPoke) + "-o curve.csv --plots plots --summary taken", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("taken: output path is a folder"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "plots"));
+  EXPECT_EQ(dir.entry_count(), 4u) << "something was written";
+}
+
 TEST(AcquireCli, PokeRefusesAClippedForceGauge) {
   ScratchDir dir;
   copy_poke_example(dir);
