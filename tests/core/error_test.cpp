@@ -19,6 +19,14 @@ TEST(Error, MessageNamesFileLineFieldAndExpectation) {
   EXPECT_EQ(e.problem(), "'abc' is not a number");
 }
 
+// Bytes of a file quoted in a message are shown: a NUL no longer ends the
+// message where it is printed, a carriage return or escape is visible.
+TEST(Error, ControlBytesInAMessageAreShown) {
+  const Error e(ErrorKind::Input, std::string("'3\0" "4' is not a number\r", 22), ErrorContext{"a.csv", 3, 0, ""},
+                "a finite\tnumber\x1b");
+  EXPECT_EQ(std::string(e.what()), "a.csv:3: '3\\x004' is not a number\\x0d (expected a finite\tnumber\\x1b)");
+}
+
 TEST(Error, MessageWithoutContextIsTheProblemOnly) {
   const Error e(ErrorKind::Solver, "Newton did not converge");
   EXPECT_EQ(std::string(e.what()), "Newton did not converge");

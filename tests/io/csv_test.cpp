@@ -139,6 +139,24 @@ TEST(Csv, RejectsNanAndInfinityNamingThePlace) {
                                  {"empty_field.csv:2:2", "column 'force_N'", "empty value"}));
 }
 
+// A value that is finite as written but not in SI (1e300 GPa is 1e309 Pa) is
+// refused at its line and column, not carried on as infinity.
+TEST(Csv, RefusesAValueBeyondRangeInSi) {
+  test::ScratchDir dir;
+  const auto p = dir.write("far.csv", "time_s,pressure_GPa\n0,1\n1,1e300\n");
+  const CsvTable raw = read_csv(p);
+  EXPECT_TRUE(test::throws_error([&] { (void)csv_to_si(raw); }, ErrorKind::Input,
+                                 {"far.csv:3:2", "column 'pressure_GPa'", "1e+300 GPa is beyond the range of a number in Pa"}));
+}
+
+// A NUL byte in a file is shown in the message, which goes on after it.
+TEST(Csv, ANulByteIsShownInTheMessage) {
+  test::ScratchDir dir;
+  const auto p = dir.write("nul.csv", std::string("time_s,force_N\n0,1\n0.1,2\0" "3\n", 27));
+  EXPECT_TRUE(test::throws_error([&] { read_csv(p); }, ErrorKind::Input,
+                                 {"nul.csv:3:2", "column 'force_N'", "\\x00", "(expected a finite number)"}));
+}
+
 TEST(Csv, EmptyFileIsAnError) {
   test::ScratchDir dir;
   const auto p = dir.write("empty.csv", "");

@@ -23,7 +23,19 @@ std::string format_error_message(const ErrorContext& context, const std::string&
   if (!context.field.empty()) out += fmt::format("{}: ", context.field);
   out += problem;
   if (!expected.empty()) out += fmt::format(" (expected {})", expected);
-  return out;
+  // Bytes of a file quoted in a message (a NUL would end it where it is
+  // printed; other control bytes are invisible) are shown as \xNN.
+  std::string shown;
+  shown.reserve(out.size());
+  for (const char c : out) {
+    const auto u = static_cast<unsigned char>(c);
+    if ((u < 0x20 && c != '\n' && c != '\t') || u == 0x7f) {
+      shown += fmt::format("\\x{:02x}", u);
+    } else {
+      shown += c;
+    }
+  }
+  return shown;
 }
 
 Error::Error(ErrorKind kind, std::string what, ErrorContext context, std::string expected)

@@ -374,7 +374,15 @@ CsvTable csv_to_si(const CsvTable& table) {
       }
       const std::string_view si = si_unit(q.unit->dimension);
       si_name = si.empty() ? std::string(q.base) : fmt::format("{}_{}", q.base, si);
-      for (double& v : values) v *= q.unit->to_si;
+      for (std::size_t r = 0; r < values.size(); ++r) {
+        const double si_value = values[r] * q.unit->to_si;
+        if (!std::isfinite(si_value)) {
+          throw_input_error(fmt::format("{:g} {} is beyond the range of a number in {}", values[r], q.suffix,
+                                        si.empty() ? std::string("SI units") : std::string(si)),
+                            table.context_of(r, name), "a finite value");
+        }
+        values[r] = si_value;
+      }
     }
     if (out.has_column(si_name)) {
       throw_input_error(fmt::format("becomes '{}' in SI, like an earlier column", si_name), ctx,
