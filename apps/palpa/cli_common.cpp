@@ -40,13 +40,14 @@ CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double&
 
 void require_empty_output(const std::filesystem::path& out, std::string_view what) {
   // What a killed run left half-written does not count, nor the lock of a run
-  // still writing there (OutputFolder refuses that one by name).
+  // still writing there (OutputFolder refuses that one by name), nor the
+  // journals of the outputs of earlier runs.
   remove_stale_temporaries(out);
   std::error_code ec;
   bool empty = true;
   if (std::filesystem::is_directory(out, ec)) {
     for (const auto& e : std::filesystem::directory_iterator(out, ec)) {
-      if (e.path().filename() != kOutputLockName) empty = false;
+      if (!is_output_bookkeeping(e.path())) empty = false;
     }
   }
   if (!empty) {

@@ -83,7 +83,9 @@ void run_design_command(const DesignArgs& a) {
                                    scene.options);
   spdlog::info("design: initial shape: ζ = {:.6g}, γ = {:.4g}, φ = {:.6g}; {} design variables",
                optimizer.initial().zeta, optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
-  OutputFolder folder(out);  // only now: bad input leaves nothing behind
+  // Only now: bad input leaves nothing behind.
+  OutputFolder folder(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
+                      resume ? OutputFolder::Start::Resumed : OutputFolder::Start::Fresh);
   design::DesignResult r;
   try {
     r = optimizer.run();

@@ -69,7 +69,8 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
   // An input inside the output folder is refused now, not after the fit.
   for (const auto& f : fit_output_files(out, d)) refuse_overwriting_an_input(f);
   const auto t0 = std::chrono::steady_clock::now();
-  OutputFolder folder(out);
+  OutputFolder folder(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
+                      resume ? OutputFolder::Start::Resumed : OutputFolder::Start::Fresh);
   fit::FitControl control;
   control.checkpoint = out / "checkpoint.json";
   control.resume = resume;

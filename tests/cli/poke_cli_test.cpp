@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // `palpa poke` end to end.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -34,6 +37,28 @@ TEST(PokeCli, WritesTheCurveSensitivitiesAndVtuSeries) {
   EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "poke.pvd"));
   EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "poke_0001.vtu"));  // two frames
   EXPECT_NE(r.err.find("poke: depth 1 mm -> force"), std::string::npos) << r.err;
+}
+
+// A disk that fills while the outputs are written (a file size limit stands
+// in for it: a write beyond it fails as on a full disk, EFBIG for ENOSPC):
+// exit 2 naming the file, and nothing left — no frame, no curve, no folder.
+TEST(PokeCli, AFullDiskFailsNamingTheFileAndLeavesNothing) {
+  ScratchDir dir;
+  dir.write("m.json", kMaterial);
+  const auto err = dir / "stderr.txt";
+  const std::string cmd = fmt::format(
+      "cd {} && trap '' XFSZ && ulimit -f 8 && exec '{}' poke --material m.json --thickness 10mm --radius 3mm "
+      "--depth 1mm --steps 4 --mesh-level 0 --vtu frames -o curve.csv 2>{} </dev/null",
+      test::shell_quote(dir.path()), test::palpa_binary(), test::shell_quote(err));
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  const std::string text = test::read_text(err);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << text;
+  EXPECT_NE(text.find("frames/poke_"), std::string::npos) << text;
+  EXPECT_NE(text.find("writing failed (disk full or the file system refused it)"), std::string::npos) << text;
+  EXPECT_FALSE(std::filesystem::exists(dir / "frames"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "curve.csv"));
+  EXPECT_EQ(dir.entry_count(), 2u) << "the run left files behind";
 }
 
 TEST(PokeCli, CompressesACylinderBetweenTwoPlates) {

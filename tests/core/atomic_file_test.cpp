@@ -14,6 +14,7 @@
 
 #include "common/test_support.hpp"
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/interrupt.hpp"
 
 namespace palpa {
 namespace {
@@ -188,6 +189,97 @@ TEST(OutputFolder, ASecondRunIsRefusedUntilTheFirstEndsHoweverItEnds) {
   dir.write("out/.palpa-lock", "12345\n");
   EXPECT_EQ(remove_stale_temporaries(out), 1u);
   EXPECT_FALSE(std::filesystem::exists(out / kOutputLockName));
+}
+
+// A run that the interrupt watchdog ends, inside a step that never checks for
+// interrupts, leaves no folder it created: the lock file goes, a folder of
+// outputs that only count together goes with its files, and the empty folders
+// above it go too; a folder that was there before stays.
+TEST(OutputFolder, ARunEndedByTheWatchdogLeavesNoFolderItCreated) {
+  test::ScratchDir dir;
+  const auto out = dir / "out";
+  std::filesystem::create_directories(out);
+  const pid_t run = fork();
+  if (run == 0) {
+    ::alarm(20);  // never hang the suite
+    install_interrupt_handlers();
+    OutputFolder folder(out / "run" / "deep");
+    OutputFolder frames(out / "run" / "deep" / "frames", OutputFolder::OnFailure::Wipe, OutputFolder::Lock::None);
+    std::ofstream(out / "run" / "deep" / "frames" / "frame_0001.vtu") << "finished frame";
+    ::raise(SIGINT);
+    for (;;) ::pause();  // a library call that never returns to a check
+  }
+  ASSERT_GT(run, 0);
+  int status = 0;
+  ASSERT_EQ(waitpid(run, &status, 0), run);
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_TRUE(std::filesystem::is_directory(out));
+  EXPECT_FALSE(std::filesystem::exists(out / "run")) << "the forced exit left the folders it created";
+}
+
+// After --overwrite the folder holds this run's outputs only: what the
+// previous run wrote and this one did not goes when this one succeeds (with
+// the folders it leaves empty), and not before; a file palpa did not write
+// stays. A run that is interrupted and resumed clears the same files.
+TEST(OutputFolder, ASucceedingRunRemovesWhatThePreviousRunWroteAndItDidNot) {
+  test::ScratchDir dir;
+  const auto out = dir / "out";
+  const auto write = [&](const std::string& name) {
+    std::filesystem::create_directories((out / name).parent_path());
+    write_file_atomic(out / name, [&](std::ostream& o) { o << name; });
+  };
+  {
+    OutputFolder first(out);
+    for (const char* f : {"summary.json", "frames/body_0001.vtu", "frames/body_0002.vtu", "curves/a.csv"}) write(f);
+    first.keep();
+  }
+  dir.write("out/notes.txt", "the user's own file");
+  {
+    OutputFolder second(out);
+    write("summary.json");
+    write("frames/body_0001.vtu");
+    // Until the run succeeds, the previous run's outputs stay.
+    EXPECT_TRUE(std::filesystem::exists(out / "curves" / "a.csv"));
+    second.keep();
+  }
+  EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));
+  EXPECT_TRUE(std::filesystem::exists(out / "frames" / "body_0001.vtu"));
+  EXPECT_FALSE(std::filesystem::exists(out / "frames" / "body_0002.vtu"));
+  EXPECT_FALSE(std::filesystem::exists(out / "curves")) << "a folder the stale files left empty stays";
+  EXPECT_TRUE(std::filesystem::exists(out / "notes.txt"));
+  EXPECT_FALSE(std::filesystem::exists(out / kPreviousJournalName));
+
+  // A fresh run that fails, then another fresh one that is interrupted and
+  // resumed: the resumed run ends with its own files only.
+  {
+    OutputFolder failed(out);
+    write("frames/body_0009.vtu");
+  }
+  {
+    OutputFolder interrupted(out);
+    write("part1.csv");
+  }
+  {
+    OutputFolder resumed(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
+                         OutputFolder::Start::Resumed);
+    write("part2.csv");
+    resumed.keep();
+  }
+  for (const char* gone : {"summary.json", "frames", "frames/body_0009.vtu"}) {
+    EXPECT_FALSE(std::filesystem::exists(out / gone)) << gone;
+  }
+  for (const char* kept : {"part1.csv", "part2.csv", "notes.txt"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / kept)) << kept;
+  }
+  // A journal edited to name a file outside the folder removes nothing there.
+  dir.write("elsewhere.txt", "outside");
+  dir.write(std::string("out/") + kOutputJournalName, "../elsewhere.txt\n/etc/hostname\n");
+  {
+    OutputFolder next(out);
+    next.keep();
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "elsewhere.txt"));
 }
 
 }  // namespace

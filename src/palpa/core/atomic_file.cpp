@@ -11,10 +11,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
+#include <set>
+#include <string>
 #include <system_error>
 
 #include "palpa/core/error.hpp"
@@ -101,7 +105,43 @@ int lock_output_folder(const std::filesystem::path& dir, const std::filesystem::
   throw Error(ErrorKind::Internal, fmt::format("{}: the output folder's lock kept changing hands", dir.string()));
 }
 
+// The output folders that keep a journal now (OutputFolder with a lock).
+struct Journals {
+  std::mutex mutex;
+  std::vector<OutputFolder*> folders;
+};
+
+Journals& journals() {
+  static Journals j;
+  return j;
+}
+
+void note_written(const std::filesystem::path& file) noexcept {
+  std::error_code ec;
+  const std::filesystem::path abs = std::filesystem::absolute(file, ec).lexically_normal();
+  if (ec) return;
+  Journals& j = journals();
+  std::lock_guard lock(j.mutex);
+  for (OutputFolder* f : j.folders) f->note_written(abs);
+}
+
+// The lines of a journal, in order, without repeats.
+std::vector<std::string> journal_lines(const std::filesystem::path& file) {
+  std::vector<std::string> lines;
+  std::set<std::string> seen;
+  std::ifstream in(file);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && seen.insert(line).second) lines.push_back(line);
+  }
+  return lines;
+}
+
 }  // namespace
+
+bool is_output_bookkeeping(const std::filesystem::path& name) {
+  const std::string n = name.filename().string();
+  return n == kOutputLockName || n == kOutputJournalName || n == kPreviousJournalName;
+}
 
 AtomicFile::AtomicFile(std::filesystem::path target, bool binary) : target_(std::move(target)) {
   ErrorContext ctx;
@@ -152,6 +192,7 @@ void AtomicFile::commit() {
     throw_input_error(fmt::format("cannot replace the file: {}", ec.message()), ctx);
   }
   done_ = true;
+  note_written(target_);
 }
 
 void AtomicFile::discard() noexcept {
@@ -230,7 +271,8 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir) {
   return removed;
 }
 
-OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy, Lock lock) : policy_(policy) {
+OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy, Lock lock, Start start)
+    : policy_(policy) {
   std::error_code ec;
   for (std::filesystem::path p = std::filesystem::absolute(dir, ec).lexically_normal();
        !p.empty() && !std::filesystem::exists(p, ec); p = p.parent_path()) {
@@ -248,14 +290,101 @@ OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy, L
       throw;
     }
   }
+  if (lock == Lock::Exclusive) {
+    dir_ = std::filesystem::absolute(dir, ec).lexically_normal();
+    const auto journal = dir / kOutputJournalName;
+    const auto previous = dir / kPreviousJournalName;
+    if (start == Start::Fresh && std::filesystem::exists(journal, ec)) {
+      // A run that neither finished nor was resumed set a journal aside
+      // already: its files and those of the run before it are both stale.
+      if (std::filesystem::exists(previous, ec)) {
+        std::ofstream out(previous, std::ios::app);
+        for (const std::string& line : journal_lines(journal)) out << line << '\n';
+        out.close();
+        std::filesystem::remove(journal, ec);
+      } else {
+        std::filesystem::rename(journal, previous, ec);
+      }
+    }
+    Journals& j = journals();
+    std::lock_guard guard(j.mutex);
+    j.folders.push_back(this);
+  }
+  tidy_handle_ = register_forced_exit_tidy([this] {
+    if (keep_) return;
+    unlock();
+    remove_created();
+  });
 }
 
 OutputFolder::~OutputFolder() {
-  if (lock_fd_ >= 0) {
-    ::unlink(lock_path_.c_str());  // while still held: no other run can take the lock on it now
-    ::close(lock_fd_);
+  unregister_forced_exit_tidy(tidy_handle_);
+  if (!dir_.empty()) {
+    Journals& j = journals();
+    std::lock_guard guard(j.mutex);
+    j.folders.erase(std::remove(j.folders.begin(), j.folders.end(), this), j.folders.end());
   }
+  unlock();
   if (!keep_) remove_created();
+}
+
+void OutputFolder::keep() noexcept {
+  keep_ = true;
+  if (dir_.empty()) return;
+  try {
+    remove_previous_outputs();
+  } catch (const std::exception& e) {
+    spdlog::warn("{}: the previous run's outputs could not all be removed: {}", dir_.string(), e.what());
+  }
+}
+
+void OutputFolder::note_written(const std::filesystem::path& file) noexcept {
+  if (dir_.empty()) return;
+  const std::filesystem::path rel = file.lexically_relative(dir_);
+  if (rel.empty() || *rel.begin() == ".." || is_output_bookkeeping(rel)) return;
+  std::ofstream out(dir_ / kOutputJournalName, std::ios::app);
+  out << rel.generic_string() << '\n';
+}
+
+void OutputFolder::remove_previous_outputs() {
+  const auto previous = dir_ / kPreviousJournalName;
+  std::error_code ec;
+  if (!std::filesystem::exists(previous, ec)) return;
+  const std::vector<std::string> now = journal_lines(dir_ / kOutputJournalName);
+  const std::set<std::string> written(now.begin(), now.end());
+  std::size_t removed = 0;
+  for (const std::string& line : journal_lines(previous)) {
+    if (written.count(line) != 0) continue;
+    const std::filesystem::path rel = std::filesystem::path(line).lexically_normal();
+    // A hand-edited journal names nothing outside the folder.
+    if (rel.is_absolute() || rel.empty() || *rel.begin() == ".." || is_output_bookkeeping(rel)) continue;
+    const std::filesystem::path p = dir_ / rel;
+    if (!std::filesystem::is_regular_file(std::filesystem::symlink_status(p, ec))) continue;
+    try {
+      refuse_overwriting_an_input(p);  // one of this run's inputs stays
+    } catch (const Error&) {
+      continue;
+    }
+    if (!std::filesystem::remove(p, ec)) continue;
+    ++removed;
+    // Folders the previous run's files leave empty go too (not the output folder).
+    for (auto up = p.parent_path(); up != dir_ && up.string().size() > dir_.string().size();
+         up = up.parent_path()) {
+      if (!std::filesystem::is_empty(up, ec) || !std::filesystem::remove(up, ec)) break;
+    }
+  }
+  std::filesystem::remove(previous, ec);
+  if (removed > 0) {
+    spdlog::info("{}: removed {} file{} of the previous run that this run did not write", dir_.string(), removed,
+                 removed == 1 ? "" : "s");
+  }
+}
+
+void OutputFolder::unlock() noexcept {
+  if (lock_fd_ < 0) return;
+  ::unlink(lock_path_.c_str());  // while still held: no other run can take the lock on it now
+  ::close(lock_fd_);
+  lock_fd_ = -1;
 }
 
 void OutputFolder::remove_created() noexcept {

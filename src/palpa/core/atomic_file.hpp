@@ -5,6 +5,8 @@
 // or Ctrl-C never leaves a half-written file. A command that writes several files
 // collects them in an OutputBatch and commits them together after all succeeded.
 
+#include <atomic>
+#include <cstddef>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -61,6 +63,15 @@ void ensure_directory(const std::filesystem::path& dir);
 
 // The hidden file in an output folder that a running command holds locked.
 inline constexpr const char* kOutputLockName = ".palpa-lock";
+// The hidden files in an output folder that list what palpa runs wrote there
+// (one path per line, relative to the folder): the run's own, and the
+// previous run's until the run that replaces it has succeeded.
+inline constexpr const char* kOutputJournalName = ".palpa-outputs";
+inline constexpr const char* kPreviousJournalName = ".palpa-outputs-previous";
+
+// Whether a file name in an output folder is one of palpa's own bookkeeping
+// files (lock, journals), which do not make a folder non-empty.
+bool is_output_bookkeeping(const std::filesystem::path& name);
 
 // Removes from `dir` the temporaries that AtomicFile left behind in a process
 // that no longer runs (killed with SIGKILL or by the out-of-memory killer:
@@ -82,25 +93,45 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 // one's. The lock is an advisory lock on the hidden file kOutputLockName, which
 // the kernel releases when the process ends however it ends; the file itself
 // goes when the OutputFolder does. Nested folders of one run take Lock::None.
+// A locked folder keeps a journal of the files the run writes under it
+// (kOutputJournalName, appended as each AtomicFile is committed). A Fresh run
+// sets the previous run's journal aside (kPreviousJournalName); when it
+// succeeds (keep()), the files that run wrote and this one did not — frames,
+// curves or baselines of a run with other inputs — are removed, so that after
+// --overwrite the folder holds this run's outputs only. A Resumed run adds to
+// the journal of the run it continues, and clears what that one set aside.
+// Files palpa did not write there, and this run's inputs, are never removed.
+// A run that the interrupt watchdog ends (interrupt.hpp) is tidied the same
+// way: the lock file and the folders it created go as they would on failure.
 class OutputFolder {
  public:
   enum class OnFailure { RemoveIfEmpty, Wipe };
   enum class Lock { Exclusive, None };
+  enum class Start { Fresh, Resumed };
   explicit OutputFolder(const std::filesystem::path& dir, OnFailure policy = OnFailure::RemoveIfEmpty,
-                        Lock lock = Lock::Exclusive);
+                        Lock lock = Lock::Exclusive, Start start = Start::Fresh);
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;
-  void keep() noexcept { keep_ = true; }
+  // The run succeeded: its folders stay, and the previous run's files that it
+  // did not write again are removed.
+  void keep() noexcept;
+
+  // Adds `file` (absolute, normalized) to the journal if it lies in this folder.
+  void note_written(const std::filesystem::path& file) noexcept;
 
  private:
   void remove_created() noexcept;
+  void unlock() noexcept;
+  void remove_previous_outputs();
 
   std::vector<std::filesystem::path> created_;  // deepest first
   std::filesystem::path lock_path_;
+  std::filesystem::path dir_;  // absolute, normalized; empty: no journal
   int lock_fd_ = -1;
   OnFailure policy_;
-  bool keep_ = false;
+  std::atomic<bool> keep_ = false;  // read by the interrupt watchdog's thread too
+  std::size_t tidy_handle_ = 0;     // register_forced_exit_tidy
 };
 
 }  // namespace palpa

@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -36,6 +37,8 @@ extern "C" void palpa_on_signal(int sig) {
 struct Temporaries {
   std::mutex mutex;
   std::set<std::string> paths;
+  std::map<std::size_t, std::function<void()>> tidy;
+  std::size_t next_tidy = 0;
 };
 
 Temporaries& temporaries() {
@@ -55,6 +58,8 @@ void watchdog() {
     Temporaries& t = temporaries();
     std::lock_guard lock(t.mutex);
     for (const std::string& p : t.paths) std::remove(p.c_str());
+    // The last registered first, as destructors run (a nested folder before its parent).
+    for (auto it = t.tidy.rbegin(); it != t.tidy.rend(); ++it) it->second();
   }
   std::fprintf(stderr,
                "palpa: interrupted; stopped at once, inside a step that does not check for interrupts: no partial "
@@ -85,6 +90,19 @@ void unregister_temporary(const std::string& path) {
   Temporaries& t = temporaries();
   std::lock_guard lock(t.mutex);
   t.paths.erase(path);
+}
+
+std::size_t register_forced_exit_tidy(std::function<void()> tidy) {
+  Temporaries& t = temporaries();
+  std::lock_guard lock(t.mutex);
+  t.tidy.emplace(t.next_tidy, std::move(tidy));
+  return t.next_tidy++;
+}
+
+void unregister_forced_exit_tidy(std::size_t handle) {
+  Temporaries& t = temporaries();
+  std::lock_guard lock(t.mutex);
+  t.tidy.erase(handle);
 }
 
 bool interrupt_requested() noexcept { return g_interrupted != 0; }

@@ -5,6 +5,8 @@
 // palpa::Error (kind Interrupted) so that destructors run: temporary output files
 // are removed and checkpoints already written stay valid for --resume.
 
+#include <cstddef>
+#include <functional>
 #include <string>
 
 namespace palpa {
@@ -27,6 +29,14 @@ int interrupt_exit_code() noexcept;
 // The temporaries the watchdog removes (AtomicFile registers its own).
 void register_temporary(const std::string& path);
 void unregister_temporary(const std::string& path);
+
+// Tidying the watchdog does after removing the temporaries, just before it
+// ends the process (OutputFolder removes the folders a failed run created):
+// `tidy` must be quick and not throw; it runs on the watchdog's thread while
+// the registry is locked, so unregistering waits for it. Returns the handle
+// to unregister with.
+std::size_t register_forced_exit_tidy(std::function<void()> tidy);
+void unregister_forced_exit_tidy(std::size_t handle);
 
 // True once an interrupt was requested.
 bool interrupt_requested() noexcept;

@@ -430,7 +430,8 @@ void write_curves(const fs::path& out, const Scene& scene, const std::vector<Jso
 
 Json run(const Scene& scene, const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  OutputFolder folder(options.out);
+  OutputFolder folder(options.out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
+                      options.resume ? OutputFolder::Start::Resumed : OutputFolder::Start::Fresh);
   OutputFolder frames(options.out / "frames", OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::None);
   const fs::path state_path = options.out / "state.json";
   const std::string fp = scene_fingerprint(scene);
