@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/core/interrupt.hpp"
 
+#include <time.h>
+
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -20,16 +22,29 @@ namespace {
 volatile std::sig_atomic_t g_interrupted = 0;
 volatile std::sig_atomic_t g_signal = SIGINT;
 
+// When the first signal came [s, CLOCK_MONOTONIC]; written and read by the
+// handler only (clock_gettime is async-signal-safe).
+double g_first_signal_seconds = 0.0;
+
+double monotonic_seconds() noexcept {
+  timespec t{};
+  ::clock_gettime(CLOCK_MONOTONIC, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 extern "C" void palpa_on_signal(int sig) {
   // A second Ctrl-C kills at once. A repeated SIGTERM does not: process
   // managers send it to the process and to its group at the same moment, and
-  // the watchdog ends the run within the grace period anyway.
-  if (g_interrupted != 0 && sig == SIGINT) {
+  // the watchdog ends the run within the grace period anyway. Nor does a
+  // SIGINT within 0.2 s of the first: the same signal sent to the process and
+  // its group (`timeout -s INT`, `kill -INT 0`), not a person's second Ctrl-C.
+  if (g_interrupted != 0 && sig == SIGINT && monotonic_seconds() - g_first_signal_seconds > 0.2) {
     std::signal(sig, SIG_DFL);
     std::raise(sig);
     return;
   }
   if (g_interrupted != 0) return;
+  g_first_signal_seconds = monotonic_seconds();
   g_signal = sig;
   g_interrupted = 1;
 }

@@ -13,7 +13,8 @@ namespace palpa {
 
 // Installs the SIGINT/SIGTERM handlers (idempotent). A second Ctrl-C while the
 // first is being honoured restores the default action, so it kills at once (a
-// repeated SIGTERM is ignored).
+// repeated SIGTERM is ignored, and so is a SIGINT within 0.2 s of the first:
+// one signal sent to the process and to its group).
 // A watchdog thread makes sure a signal is honoured within a second, even
 // inside a library call that never reaches a check_interrupt() (a CGAL
 // remeshing, one large factorization): kInterruptGraceSeconds after the
