@@ -6,7 +6,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <limits>
 #include <filesystem>
@@ -147,10 +149,17 @@ class Staging {
  public:
   explicit Staging(const std::filesystem::path& first_target) {
     const auto folder = existing_folder_of(first_target);
-    dir_ = folder / fmt::format(".palpa-mesh-{}", ::getpid());
+    remove_stale_staging(folder);
+    dir_ = folder / fmt::format("{}{}", kPrefix, ::getpid());
     std::filesystem::create_directory(dir_);
+    // A forced exit after an interrupt takes the staging folder with it.
+    tidy_ = register_forced_exit_tidy([dir = dir_] {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    });
   }
   ~Staging() {
+    unregister_forced_exit_tidy(tidy_);
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
   }
@@ -169,8 +178,25 @@ class Staging {
   }
 
  private:
+  static constexpr const char* kPrefix = ".palpa-mesh-";
+
+  // The staging folders of runs that no longer run (killed with SIGKILL, or by
+  // the out-of-memory killer, before their last rename).
+  static void remove_stale_staging(const std::filesystem::path& folder) {
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(folder, ec)) {
+      const std::string name = e.path().filename().string();
+      if (name.rfind(kPrefix, 0) != 0 || !e.is_directory(ec)) continue;
+      const std::string pid = name.substr(std::string_view(kPrefix).size());
+      if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+      if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) continue;  // running, or not ours
+      std::filesystem::remove_all(e.path(), ec);
+    }
+  }
+
   std::filesystem::path dir_;
   std::vector<std::filesystem::path> targets_;
+  std::size_t tidy_ = 0;
 };
 
 std::filesystem::path with_suffix(const std::filesystem::path& out, const std::string& suffix,

@@ -4,6 +4,7 @@
 // code 2, a message naming the file and place, and no output at all.
 
 #include <fmt/format.h>
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -70,6 +71,22 @@ TEST_F(MeshCli, LayerOfASphereWritesEveryOutputAndTheShellVolume) {
 
 // A side output (<name>_core.obj beside -o) that is the input surface is
 // refused, and nothing is written: the input stays as it was.
+// The staging folder of a run killed between its final renames is cleared
+// by the next run into that folder; one of a running process stays.
+TEST_F(MeshCli, AStagingFolderLeftByAKilledRunIsCleared) {
+  const auto dead = out / ".palpa-mesh-4194304";  // above any pid the kernel hands out
+  std::filesystem::create_directory(dead);
+  out.write(".palpa-mesh-4194304/half.obj", "v 0 0 0\n");
+  const auto alive = out / fmt::format(".palpa-mesh-{}", ::getpid());
+  std::filesystem::create_directory(alive);
+  const test::CommandResult r = test::run_palpa("mesh layer --surface " + shell_quote(sphere()) +
+                                                " --depth 10mm --edge 10mm -o " + shell_quote(out / "b.vtu"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dead));
+  EXPECT_TRUE(std::filesystem::exists(alive));
+  EXPECT_TRUE(std::filesystem::exists(out / "b.vtu"));
+}
+
 TEST_F(MeshCli, ASideOutputThatIsTheInputIsRefused) {
   const auto s = sphere();
   std::filesystem::copy_file(s, out / "b_core.obj");
