@@ -353,6 +353,12 @@ void run_body(const BodyArgs& a) {
   }
   o.radius = a.radius;
   o.edge_length = a.edge;
+  if (const double smallest = mesh::body_smallest_feature(o); !(a.edge <= smallest / 4.0)) {
+    throw_input_error(fmt::format("an edge of {} for a {} whose smallest feature is {}",
+                                  format_quantity(a.edge, Dimension::Length), mesh::body_shape_name(o.shape),
+                                  format_quantity(smallest, Dimension::Length)),
+                      option("--edge"), "at most a quarter of the smallest feature");
+  }
   // The body's area is at most its bounding box's.
   check_edge_for(2.0 * (o.size.x() * o.size.y() + o.size.y() * o.size.z() + o.size.z() * o.size.x()), a.edge,
                  fmt::format("a {}", mesh::body_shape_name(o.shape)));

@@ -179,6 +179,8 @@ TEST_F(MeshCli, BadInputLeavesNothing) {
                  {"--width: -1mm is negative"});
   expect_failure("layer --surface " + shell_quote(s) + " --depth 10mm --tet-size 0mm -o " + shell_quote(out / "b.vtu"),
                  {"--tet-size: 0mm is zero"});
+  expect_failure("body sphere --length 10mm --edge 5mm -o " + shell_quote(out / "h.obj"),
+                 {"option --edge", "an edge of 5 mm for a sphere whose smallest feature is"});
   // Work beyond what palpa makes is refused at once, naming the option.
   expect_failure("body sphere --length 10m --edge 1mm -o " + shell_quote(out / "h.obj"),
                  {"option --edge", "a sphere of", "would make about", "triangles"});

@@ -208,6 +208,13 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
   EXPECT_EQ(c.exit_code, 2);
   EXPECT_NE(c.err.find("min is not below max"), std::string::npos) << c.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  std::string coarse = kRestScene;
+  coarse.replace(coarse.find(edge), edge.size(), R"("edge": "20 mm")");
+  dir.write("coarse.json", coarse);
+  const auto e = run_palpa("rest coarse.json -o out", dir.path());
+  EXPECT_EQ(e.exit_code, 2);
+  EXPECT_NE(e.err.find("field 'body.edge': an edge of 20 mm for a sphere whose smallest feature is 30 mm"),
+            std::string::npos) << e.err;
   // Clip boxes without volume (once a segfault), and boxes that miss the
   // body (once silently ignored), are refused by name.
   const auto with_body_key = [&](const std::string& key) {

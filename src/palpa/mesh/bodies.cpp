@@ -178,6 +178,8 @@ Eigen::VectorXd body_level(const BodyOptions& options, const Eigen::MatrixX3d& P
   return values;
 }
 
+double body_smallest_feature(const BodyOptions& options) { return shape_of(options).smallest; }
+
 double body_volume(const BodyOptions& options) {
   const Eigen::Vector3d size = size_of(options);
   const double pi = std::numbers::pi;

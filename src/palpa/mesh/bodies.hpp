@@ -56,6 +56,10 @@ SurfaceMesh make_body(const BodyOptions& options);
 // level function for the others) at points P (#P×3) [m]; used by tests.
 Eigen::VectorXd body_level(const BodyOptions& options, const Eigen::MatrixX3d& P);
 
+// The body's smallest feature [m] (a sphere's radius, a block's or a thigh's
+// smallest size, ...): make_body refuses an edge length above a quarter of it.
+double body_smallest_feature(const BodyOptions& options);
+
 // Exact enclosed volume [m³] for the sphere, block and thigh (nullopt-like NaN
 // for the foot).
 double body_volume(const BodyOptions& options);

@@ -97,6 +97,13 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
       if (const auto v = gen.find("width")) o.size.y() = read_positive(*v, Dimension::Length);
       if (const auto v = gen.find("height")) o.size.z() = read_positive(*v, Dimension::Length);
       o.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
+      if (const double smallest = mesh::body_smallest_feature(o); !(o.edge_length <= smallest / 4.0)) {
+        const JsonView where = b.has("edge") ? b.at("edge") : gen;
+        where.fail(fmt::format("an edge of {} for a {} whose smallest feature is {}",
+                               format_quantity(o.edge_length, Dimension::Length), mesh::body_shape_name(o.shape),
+                               format_quantity(smallest, Dimension::Length)),
+                   "at most a quarter of the smallest feature");
+      }
       scan = mesh::make_body(o);
       s.body_source = fmt::format("generated {}", gen.at("shape").as_string());
     }
