@@ -186,6 +186,9 @@ TEST(Scene, RefusesSizesBeyondWhatPalpaBuilds) {
   p.shape = R"({"box": {"size": ["5 mm", "5 mm", "5 mm"], "divisions": 100000}})";
   EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
                            {"obstacles[0].shape.box.divisions", "1 to 500"}));
+  p.shape = R"({"box": {"size": ["0 mm", "5 mm", "5 mm"]}})";
+  EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,
+                           {"scene.json", "obstacles[0].shape.box.size", "sizes must be > 0"}));
   p = PunchScene{};
   p.cells = "[1000, 1000, 1000]";
   EXPECT_TRUE(throws_error([&] { read_scene(write_punch_scene(dir, p)); }, ErrorKind::Input,

@@ -53,7 +53,9 @@ SurfaceMesh read_shape(const JsonView& shape, const fs::path& scene_file) {
   if (const auto b = shape.find("box")) {
     b->expect_only({"size", "divisions"});
     const int n = b->has("divisions") ? read_count(b->at("divisions"), 1, 500) : 4;
-    return make_box_surface(read_quantity3(b->at("size"), Dimension::Length), n);
+    const Eigen::Vector3d size = read_quantity3(b->at("size"), Dimension::Length);
+    if (!(size.minCoeff() > 0.0)) b->at("size").fail("sizes must be > 0", "three positive lengths");
+    return make_box_surface(size, n);
   }
   if (const auto s = shape.find("sphere")) {
     s->expect_only({"radius", "level"});
