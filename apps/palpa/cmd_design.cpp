@@ -105,7 +105,16 @@ void run_design_command(const DesignArgs& a) {
     }
     throw;
   }
-  const Json s = design::write_design_outputs(out, scene, optimizer, r);
+  // The outputs count together: a failure part way (a full disk, a shape that
+  // no longer solves from scratch) takes back the ones already written.
+  const std::size_t written_before = folder.written_count();
+  Json s;
+  try {
+    s = design::write_design_outputs(out, scene, optimizer, r);
+  } catch (...) {
+    folder.remove_written_since(written_before);
+    throw;
+  }
   for (const char* f : {"support_interrupted.obj", "support_interrupted_mm.stl"}) {
     std::error_code ec;
     std::filesystem::remove(out / f, ec);  // an interruption's shape is not this run's result

@@ -282,5 +282,24 @@ TEST(OutputFolder, ASucceedingRunRemovesWhatThePreviousRunWroteAndItDidNot) {
   EXPECT_TRUE(std::filesystem::exists(dir / "elsewhere.txt"));
 }
 
+// A stage of outputs that failed part way takes back what it wrote, and only
+// that.
+TEST(OutputFolder, AFailedStageTakesBackTheFilesItWrote) {
+  test::ScratchDir dir;
+  const auto out = dir / "out";
+  OutputFolder folder(out);
+  write_file_atomic(out / "checkpoint.json", [](std::ostream& o) { o << "{}"; });
+  const std::size_t mark = folder.written_count();
+  EXPECT_EQ(mark, 1u);
+  write_file_atomic(out / "body_before.vtu", [](std::ostream& o) { o << "frame"; });
+  write_file_atomic(out / "skin_before.ply", [](std::ostream& o) { o << "ply"; });
+  folder.remove_written_since(mark);
+  EXPECT_TRUE(std::filesystem::exists(out / "checkpoint.json"));
+  EXPECT_FALSE(std::filesystem::exists(out / "body_before.vtu"));
+  EXPECT_FALSE(std::filesystem::exists(out / "skin_before.ply"));
+  EXPECT_EQ(folder.written_count(), 1u);
+  folder.keep();
+}
+
 }  // namespace
 }  // namespace palpa

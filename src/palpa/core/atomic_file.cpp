@@ -344,6 +344,21 @@ void OutputFolder::note_written(const std::filesystem::path& file) noexcept {
   if (rel.empty() || *rel.begin() == ".." || is_output_bookkeeping(rel)) return;
   std::ofstream out(dir_ / kOutputJournalName, std::ios::app);
   out << rel.generic_string() << '\n';
+  written_.push_back(file);
+}
+
+std::size_t OutputFolder::written_count() const {
+  Journals& j = journals();
+  std::lock_guard guard(j.mutex);
+  return written_.size();
+}
+
+void OutputFolder::remove_written_since(std::size_t count) noexcept {
+  Journals& j = journals();
+  std::lock_guard guard(j.mutex);
+  std::error_code ec;
+  for (std::size_t i = count; i < written_.size(); ++i) std::filesystem::remove(written_[i], ec);
+  if (count < written_.size()) written_.resize(count);
 }
 
 void OutputFolder::remove_previous_outputs() {

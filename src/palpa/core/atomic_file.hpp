@@ -120,6 +120,13 @@ class OutputFolder {
   // Adds `file` (absolute, normalized) to the journal if it lies in this folder.
   void note_written(const std::filesystem::path& file) noexcept;
 
+  // How many files this run has written into the folder so far (a locked
+  // folder only), and removing those written since such a count: a stage of
+  // outputs that only count together and failed part way (a full disk) takes
+  // back what it wrote.
+  std::size_t written_count() const;
+  void remove_written_since(std::size_t count) noexcept;
+
  private:
   void remove_created() noexcept;
   void unlock() noexcept;
@@ -128,6 +135,7 @@ class OutputFolder {
   std::vector<std::filesystem::path> created_;  // deepest first
   std::filesystem::path lock_path_;
   std::filesystem::path dir_;  // absolute, normalized; empty: no journal
+  std::vector<std::filesystem::path> written_;  // by this process, in order
   int lock_fd_ = -1;
   OnFailure policy_;
   std::atomic<bool> keep_ = false;  // read by the interrupt watchdog's thread too
