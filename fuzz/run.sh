@@ -10,10 +10,11 @@
 # runs only those.
 #
 # The fuzzers start from the seeds and from the corpus that earlier campaigns
-# grew (fuzz/campaign/<target>, kept in the repository). FUZZ_MERGE=1 merges
-# what this run found into that folder, minimized (libFuzzer's -merge=1: only
-# inputs that add coverage), for the next campaign and for the unit test that
-# replays it; record the run in fuzz/CAMPAIGNS.md.
+# grew (fuzz/campaign/<target>, kept in the repository). FUZZ_MERGE=1 adds to
+# that folder the inputs of this run that add coverage to it (libFuzzer's
+# -merge=1; nothing is removed, so the repository only gains files);
+# FUZZ_MERGE=minimize rebuilds it as the smallest set that keeps all the
+# coverage. Record the run in fuzz/CAMPAIGNS.md.
 set -u
 build=${1:?usage: fuzz/run.sh BUILD_DIR [SECONDS]}
 seconds=${2:-60}
@@ -34,11 +35,14 @@ for prog in "$build"/fuzz/palpa_fuzz_*; do
     -max_len=1048576 -print_final_stats=1 -artifact_prefix="$art/" "${inputs[@]}" >"$log" 2>&1
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
   ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*' || echo 0)
+  merge_flags=(-merge=1 -timeout=1 -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=1048576 -artifact_prefix="$art/")
   if [ "${FUZZ_MERGE:-0}" = 1 ]; then
+    mkdir -p "$grown"
+    "$prog" "${merge_flags[@]}" "$grown" "$work" "$src/corpus/$t" >"$build/fuzz/$t.merge.log" 2>&1
+  elif [ "${FUZZ_MERGE:-0}" = minimize ]; then
     merged="$build/fuzz/merged/$t"
     rm -rf "$merged" && mkdir -p "$merged"
-    "$prog" -merge=1 -timeout=1 -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=1048576 \
-      -artifact_prefix="$art/" "$merged" "${inputs[@]}" >"$build/fuzz/$t.merge.log" 2>&1
+    "$prog" "${merge_flags[@]}" "$merged" "${inputs[@]}" >"$build/fuzz/$t.merge.log" 2>&1
     rm -rf "$grown" && mkdir -p "$grown" && cp "$merged"/* "$grown"/ 2>/dev/null
   fi
   found=$(find "$art" -type f | wc -l)
