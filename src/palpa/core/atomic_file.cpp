@@ -117,12 +117,16 @@ Journals& journals() {
 }
 
 void note_written(const std::filesystem::path& file) noexcept {
-  std::error_code ec;
-  const std::filesystem::path abs = std::filesystem::absolute(file, ec).lexically_normal();
-  if (ec) return;
-  Journals& j = journals();
-  std::lock_guard lock(j.mutex);
-  for (OutputFolder* f : j.folders) f->note_written(abs);
+  try {
+    std::error_code ec;
+    const std::filesystem::path abs = std::filesystem::absolute(file, ec).lexically_normal();
+    if (ec) return;
+    Journals& j = journals();
+    std::lock_guard lock(j.mutex);
+    for (OutputFolder* f : j.folders) f->note_written(abs);
+  } catch (...) {
+    // See OutputFolder::note_written.
+  }
 }
 
 // The lines of a journal, in order, without repeats.
@@ -340,11 +344,16 @@ void OutputFolder::keep() noexcept {
 
 void OutputFolder::note_written(const std::filesystem::path& file) noexcept {
   if (dir_.empty()) return;
-  const std::filesystem::path rel = file.lexically_relative(dir_);
-  if (rel.empty() || *rel.begin() == ".." || is_output_bookkeeping(rel)) return;
-  std::ofstream out(dir_ / kOutputJournalName, std::ios::app);
-  out << rel.generic_string() << '\n';
-  written_.push_back(file);
+  try {
+    const std::filesystem::path rel = file.lexically_relative(dir_);
+    if (rel.empty() || *rel.begin() == ".." || is_output_bookkeeping(rel)) return;
+    std::ofstream out(dir_ / kOutputJournalName, std::ios::app);
+    out << rel.generic_string() << '\n';
+    written_.push_back(file);
+  } catch (...) {
+    // Bookkeeping only: a file missing from the journal is at worst not
+    // cleared by a later --overwrite.
+  }
 }
 
 std::size_t OutputFolder::written_count() const {
