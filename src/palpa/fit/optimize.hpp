@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "palpa/fit/coordinates.hpp"
 #include "palpa/fit/dataset.hpp"
 #include "palpa/fit/simulate.hpp"
 #include "palpa/material/material.hpp"
@@ -25,8 +26,8 @@ struct Evaluation {
   std::string reason;          // why the point was rejected (invalid material, failed simulation)
 };
 
-// ε over the training curves of one layer depth, in scaled free parameters x
-// (θ_free = scale ⊙ x; fixed parameters stay at the start material's values).
+// ε over the training curves of one layer depth, in the coordinates x of
+// coordinates.hpp (fixed parameters stay at the start material's values).
 class TrainingProblem {
  public:
   // mu0: the shear modulus that scales moduli (see fit.hpp).
@@ -36,12 +37,13 @@ class TrainingProblem {
   TrainingProblem(const TrainingProblem&) = delete;
   TrainingProblem& operator=(const TrainingProblem&) = delete;
 
-  Eigen::Index num_free() const noexcept { return static_cast<Eigen::Index>(free_.size()); }
+  Eigen::Index num_free() const noexcept { return coords_.size(); }
   Eigen::Index num_residuals() const noexcept { return residuals_ + (curvature_weight_ > 0.0 ? curvature_.rows() : 0); }
-  Eigen::VectorXd start() const;
-  const std::vector<double>& lower() const noexcept { return lower_; }
-  const std::vector<double>& upper() const noexcept { return upper_; }
-  Eigen::VectorXd theta(const Eigen::VectorXd& x) const;
+  const Coordinates& coordinates() const noexcept { return coords_; }
+  Eigen::VectorXd start() const { return coords_.start(); }
+  const std::vector<double>& lower() const noexcept { return coords_.lower(); }
+  const std::vector<double>& upper() const noexcept { return coords_.upper(); }
+  Eigen::VectorXd theta(const Eigen::VectorXd& x) const { return coords_.theta(x); }
   std::unique_ptr<material::Material> material_at(const Eigen::VectorXd& x) const;
 
   // False (with out.reason) for a parameter out of range, a material that
@@ -72,12 +74,11 @@ class TrainingProblem {
  private:
   std::unique_ptr<material::Material> material_;
   Eigen::VectorXd theta0_;
+  Coordinates coords_;
   std::vector<const MeasuredCurve*> curves_;
   std::vector<std::unique_ptr<CurveSimulator>> sims_;
   std::vector<Eigen::Index> offsets_;
   Eigen::Index residuals_ = 0;
-  std::vector<Eigen::Index> free_;
-  std::vector<double> scale_, lower_, upper_;
   int evaluations_ = 0;
   Eigen::MatrixXd curvature_;  // rows: S″ at interior knots, over all θ
   double curvature_weight_ = 0.0;

@@ -20,7 +20,7 @@ using material::Material;
 
 TrainingProblem::TrainingProblem(const Dataset& d, double layer_depth, const SimulationOptions& so,
                                  const Material& start, const std::vector<std::string>& fixed, double mu0)
-    : material_(start.clone()), theta0_(start.params()) {
+    : material_(start.clone()), theta0_(start.params()), coords_(start, fixed, mu0) {
   for (const auto& c : d.curves) {
     if (c.role != CurveRole::Train) continue;
     curves_.push_back(&c);
@@ -28,62 +28,9 @@ TrainingProblem::TrainingProblem(const Dataset& d, double layer_depth, const Sim
     offsets_.push_back(residuals_);
     residuals_ += static_cast<Eigen::Index>(c.y.size());
   }
-  for (const auto& name : fixed) {
-    bool found = false;
-    for (Eigen::Index k = 0; k < start.num_params(); ++k) found |= start.param_info(k).name == name;
-    if (!found) {
-      std::string names;
-      for (Eigen::Index k = 0; k < start.num_params(); ++k) names += (k ? ", " : "") + start.param_info(k).name;
-      throw_input_error(fmt::format("model {} has no parameter '{}'", start.model(), name),
-                        ErrorContext{"", 0, 0, "fix"}, fmt::format("one of {}", names));
-    }
-  }
-  for (Eigen::Index k = 0; k < start.num_params(); ++k) {
-    const material::ParamInfo info = start.param_info(k);
-    if (std::find(fixed.begin(), fixed.end(), info.name) != fixed.end()) continue;
-    free_.push_back(k);
-    const double v = std::abs(theta0_[k]);
-    double s = 1.0;
-    switch (info.dimension) {
-      case Dimension::Pressure: s = std::max(v, mu0); break;
-      case Dimension::Compliance: s = v > 0.0 ? v : 1.0 / mu0; break;
-      default: s = std::max(v, 0.1); break;
-    }
-    scale_.push_back(s);
-    // Bounds of the ratios that have a closed range.
-    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
-    if (info.name == "nu") {
-      lo = -0.9;
-      hi = 0.4999;
-    } else if (info.name == "volume_share") {
-      lo = 0.0;
-      hi = 1.0;
-    } else if (info.dimension == Dimension::Compliance || info.name == "E" || info.name == "C10") {
-      lo = 1e-6 * v;
-    }
-    lower_.push_back(lo / s);
-    upper_.push_back(hi / s);
-  }
-  if (free_.empty()) {
-    throw_input_error("every parameter is fixed", ErrorContext{"", 0, 0, "fix"}, "at least one free parameter");
-  }
 }
 
 TrainingProblem::~TrainingProblem() = default;
-
-Eigen::VectorXd TrainingProblem::start() const {
-  Eigen::VectorXd x(num_free());
-  for (Eigen::Index i = 0; i < num_free(); ++i) x[i] = theta0_[free_[static_cast<std::size_t>(i)]] / scale_[static_cast<std::size_t>(i)];
-  return x;
-}
-
-Eigen::VectorXd TrainingProblem::theta(const Eigen::VectorXd& x) const {
-  Eigen::VectorXd t = theta0_;
-  for (Eigen::Index i = 0; i < num_free(); ++i) {
-    t[free_[static_cast<std::size_t>(i)]] = x[i] * scale_[static_cast<std::size_t>(i)];
-  }
-  return t;
-}
 
 std::unique_ptr<Material> TrainingProblem::material_at(const Eigen::VectorXd& x) const {
   auto m = material_->clone();
@@ -95,8 +42,8 @@ bool TrainingProblem::evaluate(const Eigen::VectorXd& x, Evaluation& out) {
   out = Evaluation{};
   ++evaluations_;
   for (Eigen::Index i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i]) || x[i] < lower_[static_cast<std::size_t>(i)] ||
-        x[i] > upper_[static_cast<std::size_t>(i)]) {
+    if (!std::isfinite(x[i]) || x[i] < lower()[static_cast<std::size_t>(i)] ||
+        x[i] > upper()[static_cast<std::size_t>(i)]) {
       out.reason = "a parameter left its range";
       return false;
     }
@@ -130,18 +77,16 @@ bool TrainingProblem::evaluate(const Eigen::VectorXd& x, Evaluation& out) {
       return false;
     }
   }
+  const Eigen::MatrixXd dtheta = coords_.dtheta_dx(x);
   out.residuals.resize(residuals_);
   out.jacobian.resize(residuals_, num_free());
   for (std::size_t i = 0; i < curves_.size(); ++i) {
     const MeasuredCurve& c = *curves_[i];
-    for (std::size_t j = 0; j < c.y.size(); ++j) {
-      const Eigen::Index row = offsets_[i] + static_cast<Eigen::Index>(j);
-      out.residuals[row] = preds[i].y[j] - c.y[j];
-      for (Eigen::Index q = 0; q < num_free(); ++q) {
-        out.jacobian(row, q) = preds[i].dy_dparams(static_cast<Eigen::Index>(j), free_[static_cast<std::size_t>(q)]) *
-                               scale_[static_cast<std::size_t>(q)];
-      }
+    const auto n = static_cast<Eigen::Index>(c.y.size());
+    for (Eigen::Index j = 0; j < n; ++j) {
+      out.residuals[offsets_[i] + j] = preds[i].y[static_cast<std::size_t>(j)] - c.y[static_cast<std::size_t>(j)];
     }
+    out.jacobian.middleRows(offsets_[i], n) = preds[i].dy_dparams.topRows(n) * dtheta;
     out.newton_iterations += preds[i].newton_iterations;
   }
   if (curvature_weight_ > 0.0 && curvature_.rows() > 0) {
@@ -149,10 +94,7 @@ bool TrainingProblem::evaluate(const Eigen::VectorXd& x, Evaluation& out) {
     out.residuals.conservativeResize(residuals_ + n);
     out.jacobian.conservativeResize(residuals_ + n, num_free());
     out.residuals.tail(n) = curvature_weight_ * (curvature_ * (theta(x) - theta0_));
-    for (Eigen::Index q = 0; q < num_free(); ++q) {
-      out.jacobian.col(q).tail(n) = curvature_weight_ * scale_[static_cast<std::size_t>(q)] *
-                                    curvature_.col(free_[static_cast<std::size_t>(q)]);
-    }
+    out.jacobian.bottomRows(n) = curvature_weight_ * (curvature_ * dtheta);
   }
   out.objective = out.residuals.squaredNorm();
   return true;
