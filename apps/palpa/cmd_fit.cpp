@@ -9,6 +9,8 @@
 #include <chrono>
 #include <filesystem>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -32,6 +34,7 @@ struct FitArgs {
   std::string element = "fbar";
   std::string initial;
   std::vector<std::string> fix;
+  std::string nu_range;
   int max_iterations = 50;
   double tolerance = 1e-5;
   double smoothing = 0.1;
@@ -115,6 +118,27 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
 
 namespace {
 
+// "LO:HI", -1 < LO < HI < 0.5.
+fit::PoissonRange parse_nu_range(const std::string& text) {
+  const ErrorContext where{"", 0, 0, "option --nu-range"};
+  const char* expected = "LO:HI with -1 < LO < HI < 0.5, such as 0.45:0.4999";
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) throw_input_error(fmt::format("'{}' has no ':'", text), where, expected);
+  fit::PoissonRange r;
+  try {
+    std::size_t used_lo = 0, used_hi = 0;
+    r.lo = std::stod(text.substr(0, colon), &used_lo);
+    r.hi = std::stod(text.substr(colon + 1), &used_hi);
+    if (used_lo != colon || used_hi != text.size() - colon - 1) throw std::invalid_argument("trailing characters");
+  } catch (const std::exception&) {
+    throw_input_error(fmt::format("'{}' is not two numbers", text), where, expected);
+  }
+  if (!(r.lo > -1.0 && r.lo < r.hi && r.hi < 0.5)) {
+    throw_input_error(fmt::format("'{}' is not an increasing range of Poisson's ratios", text), where, expected);
+  }
+  return r;
+}
+
 void run_fit_command(const FitArgs& a) {
   fit::FitOptions o = fit_options_from(a.model, a.optimizer, a.element);
   o.max_iterations = a.max_iterations;
@@ -125,6 +149,7 @@ void run_fit_command(const FitArgs& a) {
   o.simulation.steps = a.steps;
   o.simulation.fillet_radius = a.fillet;
   o.fixed = a.fix;
+  if (!a.nu_range.empty()) o.nu_range = parse_nu_range(a.nu_range);
   o.ogden_terms = a.ogden_terms;
   o.modulus_only = a.modulus_only;
   if (!a.initial.empty()) o.initial = material::read_material_file(a.initial).material;
@@ -184,6 +209,9 @@ void add_fit_command(CLI::App& app) {
                   "knot costs this many stage-1 RMS errors (default 0.1; 0 = none)")
       ->check(CLI::Range(0.0, 1e6));
   cmd->add_option("--fix", a->fix, "Parameters held at their start values, e.g. --fix nu")->delimiter(',');
+  cmd->add_option("--nu-range", a->nu_range,
+                  "Range LO:HI of the small-strain Poisson's ratio the fit may reach, open at both ends "
+                  "(default 0.45:0.4999 when the dataset's poisson is above 0.45, else -0.9:0.4999)");
   cmd->add_option("--ogden-terms", a->ogden_terms, "Terms of the ogden model (default 2)")->check(CLI::Range(1, 6));
   cmd->add_option("--initial", a->initial,
                   "Material file to start from (its modulus is fitted first); default neo-Hookean "
@@ -207,6 +235,7 @@ void add_fit_command(CLI::App& app) {
                                   a->dataset, a->model, a->optimizer, a->level, a->steps, a->element);
     if (a->no_extrapolation) a->command_line += " --no-extrapolation";
     if (!a->fix.empty()) a->command_line += " --fix " + fmt::format("{}", fmt::join(a->fix, ","));
+    if (!a->nu_range.empty()) a->command_line += " --nu-range " + a->nu_range;
     if (!a->initial.empty()) a->command_line += " --initial " + a->initial;
     run_fit_command(*a);
   });

@@ -3,6 +3,8 @@
 // matches central differences, and the start lies inside the bounds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -68,6 +70,69 @@ TEST(FitCoordinates, TheStartIsTheMaterialAndTheJacobianMatchesDifferences) {
       }
     }
   }
+}
+
+// ν of the material at x.
+double poisson_at(const Material& m, const Coordinates& c, const Eigen::VectorXd& x) {
+  auto probe = m.clone();
+  probe->set_params(c.theta(x));
+  return material::small_strain_constants(*probe).poisson();
+}
+
+TEST(FitCoordinates, PoissonsRatioStaysInsideItsRangeInEveryModel) {
+  // Far out in the logistic coordinate ν approaches the ends without reaching
+  // them; in the models with D1 the same coordinate sets D1 so that the
+  // material's small-strain ν is the coordinate's. Tolerance 1e-9 on ν: ν is
+  // recovered from the rest Hessian of a material with K/μ up to 5000.
+  const PoissonRange range{0.45, 0.4999};
+  for (const auto& m : materials()) {
+    if (m->model() == "spline" || m->model() == "neo-hookean-volume") continue;
+    const Coordinates c(*m, {}, material::small_strain_constants(*m).mu, range);
+    Eigen::Index nu = -1;
+    for (Eigen::Index i = 0; i < c.size(); ++i) nu = c.is_poisson(i) ? i : nu;
+    ASSERT_GE(nu, 0) << m->model();
+    const Eigen::VectorXd x0 = c.start();
+    // (a start on or beyond an end is moved inside by 1e-4 of the range)
+    const double inside = 1e-4 * (range.hi - range.lo);
+    EXPECT_NEAR(poisson_at(*m, c, x0),
+                std::clamp(material::small_strain_constants(*m).poisson(), range.lo + inside, range.hi - inside), 1e-9)
+        << m->model();
+    for (const double xn : {-40.0, -3.0, 0.0, 3.0, 40.0}) {
+      Eigen::VectorXd x = x0;
+      x[nu] = xn;
+      const double v = poisson_at(*m, c, x);
+      EXPECT_GE(v, range.lo - 1e-9) << m->model() << " x " << xn;
+      EXPECT_LE(v, range.hi + 1e-9) << m->model() << " x " << xn;
+      EXPECT_NEAR(v, range.lo + (range.hi - range.lo) / (1.0 + std::exp(-xn)), 1e-9) << m->model() << " x " << xn;
+    }
+  }
+  // A start outside the range is moved inside it.
+  const material::NeoHookean loose(10e3, 0.3);
+  const Coordinates c(loose, {}, 4e3, range);
+  EXPECT_NEAR(c.theta(c.start())[1], 0.45, 1e-4 * 0.05 + 1e-12);
+  EXPECT_THROW(Coordinates(loose, {}, 4e3, PoissonRange{0.3, 0.5}), Error);
+  EXPECT_THROW(Coordinates(loose, {}, 4e3, PoissonRange{0.4, 0.3}), Error);
+}
+
+TEST(FitCoordinates, FixingNuInAModelWithD1HoldsNuAndD1FollowsTheModuli) {
+  const auto yeoh = material::IsochoricInvariant::yeoh(6e3, 0.5e3, 0.1e3, 2e-6);
+  const double nu0 = material::small_strain_constants(yeoh).poisson();
+  const Coordinates held(yeoh, {"nu"}, 12e3);
+  ASSERT_EQ(held.size(), 3);  // C10, C20, C30
+  Eigen::VectorXd x = held.start();
+  x[0] *= 1.7;
+  EXPECT_NEAR(poisson_at(yeoh, held, x), nu0, 1e-9);
+  EXPECT_NEAR(held.theta(x)[3], 2e-6 / 1.7, 1e-9 * 2e-6);
+  // --fix D1 holds D1 itself: ν then changes with the moduli.
+  const Coordinates d1(yeoh, {"D1"}, 12e3);
+  ASSERT_EQ(d1.size(), 3);
+  x = d1.start();
+  x[0] *= 1.7;
+  EXPECT_EQ(d1.theta(x)[3], 2e-6);
+  EXPECT_LT(poisson_at(yeoh, d1, x), nu0 - 1e-4);
+  // Models without D1 or ν have no "nu" to fix.
+  const auto spline = material::SplineMaterial::from_model(material::NeoHookean(10e3, 0.45));
+  EXPECT_THROW(Coordinates(spline, {"nu"}, 3e3), Error);
 }
 
 TEST(FitCoordinates, FixedParametersAreHeldAndUnknownNamesRefused) {

@@ -105,6 +105,8 @@ Checkpoint::Checkpoint(std::filesystem::path path, const Dataset& d, const FitOp
             {"element", static_cast<int>(o.simulation.element)},
             {"fillet", o.simulation.fillet_radius},
             {"fixed", o.fixed},
+            {"nu_range", {poisson_range(d, o).lo, poisson_range(d, o).hi}},
+            {"coordinates", 2},
             {"ogden_terms", o.ogden_terms},
             {"spline", {o.spline_layout.f.lo, o.spline_layout.f.hi, o.spline_layout.f.knots, o.spline_layout.g.lo,
                         o.spline_layout.g.hi, o.spline_layout.g.knots, o.spline_layout.h.lo, o.spline_layout.h.hi,

@@ -245,6 +245,11 @@ std::unique_ptr<Material> default_initial(const Dataset& d) {
 
 }  // namespace
 
+PoissonRange poisson_range(const Dataset& d, const FitOptions& o) {
+  if (o.nu_range) return *o.nu_range;
+  return d.poisson > 0.45 ? PoissonRange{0.45, PoissonRange{}.hi} : PoissonRange{};
+}
+
 bool fit_finished(const Dataset& d, const FitOptions& o, const std::filesystem::path& checkpoint) {
   const std::shared_ptr<const Material> initial =
       o.initial ? o.initial : std::shared_ptr<const Material>(default_initial(d));
@@ -333,7 +338,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     const double mu0 = material::small_strain_constants(*r.stage1_material).mu;
     if (!r.stage2_start) r.stage2_start = std::shared_ptr<Material>(stage2_start(*r.stage1_material, o));
     const Material& start = *r.stage2_start;
-    TrainingProblem problem(d, r.layer_depth, o.simulation, start, o.fixed, mu0);
+    TrainingProblem problem(d, r.layer_depth, o.simulation, start, o.fixed, mu0, poisson_range(d, o));
     // Curvature regularization: a change of a spline's curvature by μ0 at one
     // knot costs as much as `smoothing` × the stage-1 RMS error at one point.
     const double rms1 = std::sqrt(r.objective_stage1 / std::max<Eigen::Index>(1, problem.num_data_residuals()));

@@ -47,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "palpa/fit/coordinates.hpp"
 #include "palpa/fit/dataset.hpp"
 #include "palpa/fit/simulate.hpp"
 #include "palpa/material/material.hpp"
@@ -66,7 +67,10 @@ struct FitOptions {
   // Stop when an iteration lowers ε by less than this fraction of ε.
   double function_tolerance = 1e-5;
   SimulationOptions simulation;
-  std::vector<std::string> fixed;  // parameter names held at their start values
+  std::vector<std::string> fixed;  // parameter names held at their start values ("nu" in every model but spline)
+  // The range of the small-strain Poisson's ratio stage 2 may reach (open at
+  // both ends; coordinates.hpp); unset: poisson_range(dataset).
+  std::optional<PoissonRange> nu_range;
   // Spline knots: the counts, and the ranges unless adapt_spline_ranges (then
   // layout_covering() of the stretches the stage-1 simulations reached).
   material::SplineLayout spline_layout;
@@ -119,6 +123,13 @@ struct FitControl {
   // Called (serialized) after each iteration of a guess; for progress output.
   std::function<void(std::size_t guess, const GuessResult&)> on_iteration;
 };
+
+// The default range of ν for a dataset: (0.45, 0.4999) when its "poisson" is
+// above 0.45 (rubber-like or tissue data, declared nearly incompressible: a
+// fit that trades compressibility for a lower error there is not what the
+// user measured), else (−0.9, 0.4999) (0.45 is also the value of a dataset
+// that does not say).
+PoissonRange poisson_range(const Dataset& d, const FitOptions& o);
 
 // Runs the fit. Throws palpa::Error: (Input) bad options or a checkpoint of
 // another fit, (Solver) when the initial material cannot be simulated,

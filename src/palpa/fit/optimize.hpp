@@ -30,9 +30,11 @@ struct Evaluation {
 // coordinates.hpp (fixed parameters stay at the start material's values).
 class TrainingProblem {
  public:
-  // mu0: the shear modulus that scales moduli (see fit.hpp).
+  // mu0: the shear modulus that scales moduli (see fit.hpp); nu: the range of
+  // Poisson's ratio (coordinates.hpp).
   TrainingProblem(const Dataset& d, double layer_depth, const SimulationOptions& so,
-                  const material::Material& start, const std::vector<std::string>& fixed, double mu0);
+                  const material::Material& start, const std::vector<std::string>& fixed, double mu0,
+                  PoissonRange nu = {});
   ~TrainingProblem();
   TrainingProblem(const TrainingProblem&) = delete;
   TrainingProblem& operator=(const TrainingProblem&) = delete;

@@ -19,8 +19,9 @@ using material::Material;
 // θ_free = scale ⊙ x, the other parameters held (optimize.hpp).
 
 TrainingProblem::TrainingProblem(const Dataset& d, double layer_depth, const SimulationOptions& so,
-                                 const Material& start, const std::vector<std::string>& fixed, double mu0)
-    : material_(start.clone()), theta0_(start.params()), coords_(start, fixed, mu0) {
+                                 const Material& start, const std::vector<std::string>& fixed, double mu0,
+                                 PoissonRange nu)
+    : material_(start.clone()), theta0_(start.params()), coords_(start, fixed, mu0, nu) {
   for (const auto& c : d.curves) {
     if (c.role != CurveRole::Train) continue;
     curves_.push_back(&c);
