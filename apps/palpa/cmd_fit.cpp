@@ -42,6 +42,7 @@ struct FitArgs {
   bool no_extrapolation = false;
   int steps = 20;
   int ogden_terms = 2;
+  int starts = 0;
   double fillet = 0.0;
   bool modulus_only = false;
   bool resume = false;
@@ -151,6 +152,7 @@ void run_fit_command(const FitArgs& a) {
   o.fixed = a.fix;
   if (!a.nu_range.empty()) o.nu_range = parse_nu_range(a.nu_range);
   o.ogden_terms = a.ogden_terms;
+  o.starts = a.starts;
   o.modulus_only = a.modulus_only;
   if (!a.initial.empty()) o.initial = material::read_material_file(a.initial).material;
   const std::filesystem::path out = a.output;
@@ -213,6 +215,11 @@ void add_fit_command(CLI::App& app) {
                   "Range LO:HI of the small-strain Poisson's ratio the fit may reach, open at both ends "
                   "(default 0.45:0.4999 when the dataset's poisson is above 0.45, else -0.9:0.4999)");
   cmd->add_option("--ogden-terms", a->ogden_terms, "Terms of the ogden model (default 2)")->check(CLI::Range(1, 6));
+  cmd->add_option("--starts", a->starts,
+                  "Shape-stage starts tried for 5 iterations each before the best goes on: ogden has 3 or 4, "
+                  "mooney-rivlin 3, neo-hookean-volume 2, the other models 1 (default 0: all of the model's; "
+                  "1: stage 1's material alone)")
+      ->check(CLI::Range(0, 10));
   cmd->add_option("--initial", a->initial,
                   "Material file to start from (its modulus is fitted first); default neo-Hookean "
                   "E = 10 kPa with the dataset's nu");
@@ -236,6 +243,7 @@ void add_fit_command(CLI::App& app) {
     if (a->no_extrapolation) a->command_line += " --no-extrapolation";
     if (!a->fix.empty()) a->command_line += " --fix " + fmt::format("{}", fmt::join(a->fix, ","));
     if (!a->nu_range.empty()) a->command_line += " --nu-range " + a->nu_range;
+    if (a->starts != 0) a->command_line += fmt::format(" --starts {}", a->starts);
     if (!a->initial.empty()) a->command_line += " --initial " + a->initial;
     run_fit_command(*a);
   });

@@ -168,6 +168,16 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
   s.rms_validate = err.n_validate ? std::sqrt(err.sq_validate / static_cast<double>(err.n_validate)) : 0.0;
   s.seconds = seconds;
 
+  const auto starts_json = [](const std::vector<fit::StartTrial>& starts) {
+    Json a = Json::array();
+    for (const auto& t : starts) {
+      a.push_back({{"label", t.label},
+                   {"objective_start", number_or_null(t.objective_start)},
+                   {"objective_end", number_or_null(t.objective_end)},
+                   {"evaluations", t.evaluations}});
+    }
+    return a;
+  };
   Json guesses = Json::array();
   for (const auto& g : r.guesses) {
     Json hist = Json::array();
@@ -185,6 +195,7 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
                        {"evaluations", g.evaluations},
                        {"seconds", g.seconds},
                        {"stop_reason", g.stop_reason},
+                       {"starts", starts_json(g.starts)},
                        {"history", hist}});
   }
   const material::ElasticConstants ec = material::small_strain_constants(*best.material);

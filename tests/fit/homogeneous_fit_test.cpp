@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "common/test_support.hpp"
 #include "fit/fit_fixtures.hpp"
@@ -139,6 +142,103 @@ TEST(HomogeneousFit, ModulusOnlyIsTheLeastSquaresScale) {
   EXPECT_NEAR(g.modulus_scale, 2.3, 0.01 * 2.3);
   EXPECT_LT(relative(material::small_strain_constants(*g.material).young(), 23e3), 0.01);
   EXPECT_LT(g.objective_stage1, 0.01 * g.objective_initial);
+}
+
+// RMS error [Pa] of `m` over the curves of one role.
+double rms_of_role(const Dataset& d, const material::Material& m, CurveRole role) {
+  const auto pred = predict_curves(d, 0.0, m, SimulationOptions{});
+  double sq = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < d.curves.size(); ++i) {
+    if (d.curves[i].role != role) continue;
+    sq += sum_of_squares(d.curves[i], pred[i]);
+    n += compared_points(d.curves[i], pred[i]);
+  }
+  return std::sqrt(sq / static_cast<double>(n));
+}
+
+// D1 of a Yeoh or Mooney–Rivlin material with shear modulus mu and ν.
+double compliance(double mu, double nu) { return 3.0 * (1.0 - 2.0 * nu) / (mu * (1.0 + nu)); }
+
+TEST(HomogeneousFit, EcoflexWithDefaultsMatchesThePublishedFits) {
+  // The bundled Ecoflex 00-30 data (measured; trains on tests A1 and A2,
+  // validates on B1) against the fits its source publishes for the same
+  // material (incompressible; evaluated here with ν = 0.4999, which changes
+  // their RMS errors by under 1%). The source fitted all ten of its tests,
+  // B1 among them; palpa's fits see A1 and A2 only.
+  //
+  // Measured with the defaults (ν kept in 0.45–0.4999, the Ogden starts): RMS
+  // error train / validate [kPa], palpa against the published parameters:
+  //   yeoh     1.39 / 1.90   against 2.41 / 1.33
+  //   ogden 1  3.29 / 3.24   against 3.70 / 2.92
+  //   ogden 2  0.63 / 1.59   against 2.61 / 1.55
+  // Training: at or below the published fit's RMS. Validation: within 10% for
+  // Ogden-2; Yeoh and Ogden-1 fitted to A alone predict B1 worse than fits
+  // that saw B1 (bounds 1.5× and 1.15× of the published, measured 1.43× and
+  // 1.11×). ν at or above 0.45 in every fit.
+  const Dataset d = read_dataset(palpa::test::source_path("examples/fit/ecoflex30/dataset-homogeneous.json"));
+  struct Case {
+    const char* model;
+    int terms;
+    std::shared_ptr<material::Material> published;
+    double validate_factor;
+  };
+  const double nu = 0.4999;
+  const std::vector<Case> cases{
+      {"yeoh", 0,
+       std::make_shared<material::IsochoricInvariant>(material::IsochoricInvariant::yeoh(
+           14.6899960308889e3, -0.1943757158057544e3, 0.3107486648843412e3, compliance(2 * 14.6899960308889e3, nu))),
+       1.5},
+      {"ogden", 1, std::make_shared<material::Ogden>(std::vector{14.202303878777826e3}, std::vector{3.9700359985056353}, nu),
+       1.15},
+      {"ogden", 2,
+       std::make_shared<material::Ogden>(std::vector{0.11597852052455487e3, 21.929799010391598e3},
+                                         std::vector{10.61399087811772, 2.6050267697526204}, nu),
+       1.10}};
+  for (const Case& c : cases) {
+    FitOptions o;
+    o.model = c.model;
+    if (c.terms > 0) o.ogden_terms = c.terms;
+    const GuessResult g = fit_dataset(d, o).guesses.at(0);
+    const std::string name = std::string(c.model) + (c.terms ? std::to_string(c.terms) : "");
+    const double train = rms_of_role(d, *g.material, CurveRole::Train);
+    const double validate = rms_of_role(d, *g.material, CurveRole::Validate);
+    const double train_published = rms_of_role(d, *c.published, CurveRole::Train);
+    const double validate_published = rms_of_role(d, *c.published, CurveRole::Validate);
+    RecordProperty(name + "_rms_train_Pa", std::to_string(train));
+    RecordProperty(name + "_rms_validate_Pa", std::to_string(validate));
+    RecordProperty(name + "_published_rms_train_Pa", std::to_string(train_published));
+    RecordProperty(name + "_published_rms_validate_Pa", std::to_string(validate_published));
+    EXPECT_LE(train, train_published) << name;
+    EXPECT_LE(validate, c.validate_factor * validate_published) << name;
+    EXPECT_GE(material::small_strain_constants(*g.material).poisson(), 0.45) << name;
+  }
+}
+
+TEST(HomogeneousFit, StageTwoNeverStartsWorseThanStageOne) {
+  // Stage 2 starts at stage 1's material projected into the model (the same
+  // material where the model contains the neo-Hookean); where a model has
+  // several starts, the one it goes on from is the best after a few
+  // iterations. Either way its first ε is at most stage 1's (up to the
+  // rounding of the projection, 1e-9).
+  const Dataset d = read_dataset(palpa::test::source_path("examples/fit/ecoflex30/dataset-homogeneous.json"));
+  for (const char* model :
+       {"neo-hookean", "neo-hookean-volume", "neo-hookean-isochoric", "mooney-rivlin", "yeoh", "ogden", "spline"}) {
+    for (const int terms : {1, 2, 3}) {
+      if (terms > 1 && std::string(model) != "ogden") continue;
+      FitOptions o;
+      o.model = model;
+      o.ogden_terms = terms;
+      o.max_iterations = 3;
+      for (const int starts : {1, 0}) {
+        o.starts = starts;
+        const GuessResult g = fit_dataset(d, o).guesses.at(0);
+        ASSERT_FALSE(g.history.empty()) << model;
+        EXPECT_LE(g.history.front().objective, g.objective_stage1 * (1.0 + 1e-9))
+            << model << " terms " << terms << " starts " << starts;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "palpa/core/atomic_file.hpp"
@@ -108,6 +109,8 @@ Checkpoint::Checkpoint(std::filesystem::path path, const Dataset& d, const FitOp
             {"nu_range", {poisson_range(d, o).lo, poisson_range(d, o).hi}},
             {"coordinates", 2},
             {"ogden_terms", o.ogden_terms},
+            {"starts", o.starts},
+            {"start_iterations", o.start_iterations},
             {"spline", {o.spline_layout.f.lo, o.spline_layout.f.hi, o.spline_layout.f.knots, o.spline_layout.g.lo,
                         o.spline_layout.g.hi, o.spline_layout.g.knots, o.spline_layout.h.lo, o.spline_layout.h.hi,
                         o.spline_layout.h.knots}},
@@ -182,6 +185,16 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,
       {"stop_reason", r.stop_reason},
       {"done", r.done},
       {"state", st}};
+  if (!r.starts.empty()) {
+    Json starts = Json::array();
+    for (const auto& t : r.starts) {
+      starts.push_back({{"label", t.label},
+                        {"objective_start", number_or_null(t.objective_start)},
+                        {"objective_end", number_or_null(t.objective_end)},
+                        {"evaluations", t.evaluations}});
+    }
+    doc_["guesses"][key]["starts"] = starts;
+  }
   if (!warm_json.is_null()) doc_["guesses"][key]["warm_start"] = warm_json;
   write_json_file(path_, doc_);
   // Only now is the previous warm-start file no longer named.
@@ -217,6 +230,18 @@ bool Checkpoint::restore(std::size_t g, GuessResult& r, GuessState& s, std::vect
     const std::vector<double> a = h.at(i).as_number_array();
     if (a.size() != 4) h.at(i).fail("not [iteration, objective, evaluations, seconds]");
     r.history.push_back(IterationRecord{static_cast<int>(a[0]), a[1], static_cast<int>(a[2]), a[3]});
+  }
+  r.starts.clear();
+  if (v.has("starts")) {
+    const JsonView t = v.at("starts");
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const JsonView e = t.at(i);
+      const auto number = [&](const char* name) {
+        return e.at(name).json().is_null() ? std::numeric_limits<double>::infinity() : e.at(name).as_number();
+      };
+      r.starts.push_back(StartTrial{e.at("label").as_string(), number("objective_start"), number("objective_end"),
+                                    static_cast<int>(e.at("evaluations").as_integer())});
+    }
   }
   r.iterations = static_cast<int>(v.at("iterations").as_integer());
   r.evaluations = static_cast<int>(v.at("evaluations").as_integer());

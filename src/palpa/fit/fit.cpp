@@ -107,49 +107,78 @@ material::SplineLayout layout_covering(const std::vector<CurvePrediction::Stretc
   return out;
 }
 
-std::unique_ptr<Material> stage2_start(const Material& stage1, const FitOptions& o,
+std::vector<Stage2Start> stage2_starts(const Material& stage1, const FitOptions& o,
                                        const material::SplineLayout& layout) {
   const material::ElasticConstants c = material::small_strain_constants(stage1);
   const double mu = c.mu;
   const double nu = std::clamp(c.poisson(), -0.9, 0.499);
   const double bulk = c.bulk();
   const std::string& m = o.model;
-  if (m == stage1.model()) return stage1.clone();
-  if (m == "spline") return std::make_unique<material::SplineMaterial>(
-      material::SplineMaterial::fit_stresses(stage1, layout));
-  if (m == "neo-hookean") return std::make_unique<material::NeoHookean>(c.young(), nu);
-  if (m == "neo-hookean-volume") {
-    return std::make_unique<material::NeoHookean>(material::NeoHookean::with_volume_term(c.young(), nu, 0.5));
-  }
-  if (m == "neo-hookean-isochoric") {
-    return std::make_unique<material::IsochoricInvariant>(material::IsochoricInvariant::neo_hookean(0.5 * mu, 2.0 / bulk));
-  }
-  if (m == "mooney-rivlin") {
-    return std::make_unique<material::IsochoricInvariant>(
-        material::IsochoricInvariant::mooney_rivlin(0.45 * mu, 0.05 * mu, 2.0 / bulk));
-  }
-  if (m == "yeoh") {
-    return std::make_unique<material::IsochoricInvariant>(
-        material::IsochoricInvariant::yeoh(0.5 * mu, 0.0, 0.0, 2.0 / bulk));
-  }
-  if (m == "ogden") {
-    if (o.ogden_terms < 1 || o.ogden_terms > 6) {
-      throw_input_error(fmt::format("{} Ogden terms", o.ogden_terms), ErrorContext{"", 0, 0, "ogden-terms"},
-                        "1 to 6 terms");
+  std::vector<Stage2Start> out;
+  const auto add = [&](std::string label, std::unique_ptr<Material> material) {
+    out.push_back(Stage2Start{std::move(label), std::move(material)});
+  };
+  if (m == stage1.model()) {
+    add("stage 1", stage1.clone());
+  } else if (m == "spline") {
+    add("stage 1 sampled", std::make_unique<material::SplineMaterial>(material::SplineMaterial::fit_stresses(stage1, layout)));
+  } else if (m == "neo-hookean") {
+    add("stage 1 constants", std::make_unique<material::NeoHookean>(c.young(), nu));
+  } else if (m == "neo-hookean-volume") {
+    for (const double share : {0.0, 0.5}) {
+      add(fmt::format("volume_share {:g}", share),
+          std::make_unique<material::NeoHookean>(material::NeoHookean::with_volume_term(c.young(), nu, share)));
     }
-    // Exponents 2, 5, −2, 8, −4, 10; shares of μ0 = ½ Σ μp αp equal.
-    static constexpr double kAlpha[] = {2.0, 5.0, -2.0, 8.0, -4.0, 10.0};
-    std::vector<double> mus, alphas;
-    for (int p = 0; p < o.ogden_terms; ++p) {
-      const double a = kAlpha[p];
-      alphas.push_back(a);
-      mus.push_back(2.0 * mu / o.ogden_terms / a);
+  } else if (m == "neo-hookean-isochoric") {
+    add("stage 1 constants",
+        std::make_unique<material::IsochoricInvariant>(material::IsochoricInvariant::neo_hookean(0.5 * mu, 2.0 / bulk)));
+  } else if (m == "mooney-rivlin") {
+    for (const double share : {0.0, 0.1, 0.5}) {
+      add(fmt::format("C01 {:g} of mu0/2", share),
+          std::make_unique<material::IsochoricInvariant>(
+              material::IsochoricInvariant::mooney_rivlin((1.0 - share) * 0.5 * mu, share * 0.5 * mu, 2.0 / bulk)));
     }
-    return std::make_unique<material::Ogden>(mus, alphas, nu);
+  } else if (m == "yeoh") {
+    add("C20 = C30 = 0", std::make_unique<material::IsochoricInvariant>(
+                             material::IsochoricInvariant::yeoh(0.5 * mu, 0.0, 0.0, 2.0 / bulk)));
+  } else if (m == "ogden") {
+    const int n = o.ogden_terms;
+    if (n < 1 || n > 6) {
+      throw_input_error(fmt::format("{} Ogden terms", n), ErrorContext{"", 0, 0, "ogden-terms"}, "1 to 6 terms");
+    }
+    static constexpr double kSets[3][6] = {
+        {2.0, 5.0, -2.0, 8.0, -4.0, 10.0}, {4.0, -2.0, 8.0, 2.0, -4.0, 12.0}, {-2.0, 3.0, 10.0, -4.0, 6.0, 2.0}};
+    // μ0 = ½ Σ μp αp: term p carries share[p] of it.
+    const auto ogden = [&](const double* alpha, const std::vector<double>& share) {
+      std::vector<double> mus, alphas;
+      for (int p = 0; p < n; ++p) {
+        alphas.push_back(alpha[p]);
+        mus.push_back(2.0 * mu * share[static_cast<std::size_t>(p)] / alpha[p]);
+      }
+      std::string label = "alpha";
+      for (int p = 0; p < n; ++p) label += fmt::format("{}{:g}", p ? ", " : " ", alpha[p]);
+      return std::pair{label, std::make_unique<material::Ogden>(mus, alphas, nu)};
+    };
+    std::vector<double> first(static_cast<std::size_t>(n), 0.0);
+    first[0] = 1.0;
+    auto [label0, projection] = ogden(kSets[0], first);
+    add(label0 + (n > 1 ? " (stage 1: the first term only)" : " (stage 1)"), std::move(projection));
+    const std::vector<double> equal(static_cast<std::size_t>(n), 1.0 / n);
+    for (int set = n > 1 ? 0 : 1; set < 3; ++set) {
+      auto [label, material] = ogden(kSets[set], equal);
+      add(label, std::move(material));
+    }
+  } else {
+    throw_input_error(fmt::format("unknown or unfittable model '{}'", m), ErrorContext{"", 0, 0, "model"},
+                      "spline, neo-hookean, neo-hookean-volume, neo-hookean-isochoric, mooney-rivlin, yeoh "
+                      "or ogden");
   }
-  throw_input_error(fmt::format("unknown or unfittable model '{}'", m), ErrorContext{"", 0, 0, "model"},
-                    "spline, neo-hookean, neo-hookean-volume, neo-hookean-isochoric, mooney-rivlin, yeoh "
-                    "or ogden");
+  return out;
+}
+
+std::unique_ptr<Material> stage2_start(const Material& stage1, const FitOptions& o,
+                                       const material::SplineLayout& layout) {
+  return std::move(stage2_starts(stage1, o, layout).front().material);
 }
 
 double sum_of_squares(const MeasuredCurve& c, const CurvePrediction& p) {
@@ -293,6 +322,74 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
   // (fit_modulus, TrainingProblem::evaluate), which then return with
   // simulations that never ran. After a failure the other guesses stop at
   // their next iteration (after an interrupt, at their next check).
+  // Stage 2's problem from `start` at guess r's depth: μ0 and the curvature
+  // regularization (a change of a spline's curvature by μ0 at one knot costs
+  // as much as `smoothing` × the stage-1 RMS error at one point) from stage 1.
+  auto make_problem = [&](const GuessResult& r, const Material& start) {
+    const double mu0 = material::small_strain_constants(*r.stage1_material).mu;
+    auto p = std::make_unique<TrainingProblem>(d, r.layer_depth, o.simulation, start, o.fixed, mu0,
+                                               poisson_range(d, o));
+    const double rms1 = std::sqrt(r.objective_stage1 / std::max<Eigen::Index>(1, p->num_data_residuals()));
+    p->set_curvature_regularization(o.smoothing * rms1 / mu0);
+    return p;
+  };
+  auto optimize = [&](TrainingProblem& p, const GuessState& state, const OptimizeOptions& oo,
+                      const OptimizerCallbacks& cb) {
+    return o.optimizer == Optimizer::LevenbergMarquardt ? levenberg_marquardt(p, state, oo, cb)
+                                                        : nonlinear_cg(p, state, oo, cb);
+  };
+  // Several starts: each runs start_iterations (in parallel); stage 2 goes on
+  // from where the best one ended.
+  auto try_starts = [&](std::vector<Stage2Start>& starts, GuessResult& r) {
+    std::vector<StartTrial> trials(starts.size());
+    std::vector<std::shared_ptr<Material>> ends(starts.size());
+    std::vector<std::exception_ptr> trial_errors(starts.size());
+    tbb::parallel_for(std::size_t{0}, starts.size(), [&](std::size_t k) {
+      StartTrial& t = trials[k];
+      t.label = starts[k].label;
+      t.objective_start = t.objective_end = std::numeric_limits<double>::infinity();
+      try {
+        auto p = make_problem(r, *starts[k].material);
+        GuessState st;
+        st.x = p->start();
+        OptimizeOptions oo;
+        oo.max_iterations = std::min(o.start_iterations, o.max_iterations);
+        oo.function_tolerance = o.function_tolerance;
+        OptimizerCallbacks cb;
+        cb.on_iteration = [&](const Eigen::VectorXd& x, double eps, const GuessState&) {
+          if (!std::isfinite(t.objective_start)) t.objective_start = eps - p->regularization(x);
+        };
+        const OptimizeOutcome out = optimize(*p, st, oo, cb);
+        t.objective_end = out.objective - p->regularization(out.x);
+        ends[k] = std::shared_ptr<Material>(p->material_at(out.x));
+        t.evaluations = p->evaluations();
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Solver) trial_errors[k] = std::current_exception();
+        // (a start the simulations reject is skipped)
+      } catch (...) {
+        trial_errors[k] = std::current_exception();
+      }
+    });
+    for (const auto& e : trial_errors) {
+      if (e) std::rethrow_exception(e);
+    }
+    std::size_t best = 0;
+    for (std::size_t k = 0; k < trials.size(); ++k) {
+      r.evaluations += trials[k].evaluations;
+      if (trials[k].objective_end < trials[best].objective_end) best = k;
+    }
+    if (!ends[best]) {
+      throw_solver_error(fmt::format("stage 2 cannot start at layer depth {:.4g} mm: every start is rejected",
+                                     r.layer_depth * 1e3));
+    }
+    r.stage2_start = ends[best];
+    r.starts = trials;
+    std::string line;
+    for (const auto& t : trials) line += fmt::format("; {}: eps {:.4g} -> {:.4g}", t.label, t.objective_start, t.objective_end);
+    spdlog::info("layer depth {:.4g} mm: stage 2 tried {} starts for {} iterations each{}; going on from {}",
+                 r.layer_depth * 1e3, trials.size(), std::min(o.start_iterations, o.max_iterations), line,
+                 trials[best].label);
+  };
   struct Stopped {};  // a guess stopped because another one failed
   std::vector<std::exception_ptr> errors(d.layer_depths.size());
   std::atomic<bool> failed{false};
@@ -320,7 +417,9 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
           o.adapt_spline_ranges
               ? layout_covering(s1.stretches, o.spline_layout, d.test == TestKind::Homogeneous ? 0.0 : 0.01)
               : o.spline_layout;
-      r.stage2_start = std::shared_ptr<Material>(stage2_start(*r.stage1_material, o, layout));
+      std::vector<Stage2Start> starts = stage2_starts(*r.stage1_material, o, layout);
+      if (o.starts > 0 && starts.size() > static_cast<std::size_t>(o.starts)) starts.resize(static_cast<std::size_t>(o.starts));
+      r.stage2_start = std::shared_ptr<Material>(std::move(starts.front().material));
       r.objective_final = r.objective_stage1;
       r.evaluations = 1;
       r.seconds = seconds();
@@ -332,17 +431,16 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
         publish(g, r, state);
         return;
       }
+      if (starts.size() > 1) {
+        starts.front().material = r.stage2_start->clone();
+        try_starts(starts, r);
+      }
     }
     if (failed) throw Stopped{};
     const int evaluations0 = r.evaluations;
-    const double mu0 = material::small_strain_constants(*r.stage1_material).mu;
     if (!r.stage2_start) r.stage2_start = std::shared_ptr<Material>(stage2_start(*r.stage1_material, o));
-    const Material& start = *r.stage2_start;
-    TrainingProblem problem(d, r.layer_depth, o.simulation, start, o.fixed, mu0, poisson_range(d, o));
-    // Curvature regularization: a change of a spline's curvature by μ0 at one
-    // knot costs as much as `smoothing` × the stage-1 RMS error at one point.
-    const double rms1 = std::sqrt(r.objective_stage1 / std::max<Eigen::Index>(1, problem.num_data_residuals()));
-    problem.set_curvature_regularization(o.smoothing * rms1 / mu0);
+    auto made = make_problem(r, *r.stage2_start);
+    TrainingProblem& problem = *made;
     if (!resumed || state.x.size() != problem.num_free()) {
       state = GuessState{};
       state.x = problem.start();
@@ -369,9 +467,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     oo.function_tolerance = o.function_tolerance;
     oo.done_iterations = std::max(0, static_cast<int>(r.history.size()) - 1);
     oo.start_recorded = !r.history.empty();
-    const OptimizeOutcome out = o.optimizer == Optimizer::LevenbergMarquardt
-                                    ? levenberg_marquardt(problem, state, oo, cb)
-                                    : nonlinear_cg(problem, state, oo, cb);
+    const OptimizeOutcome out = optimize(problem, state, oo, cb);
     r.material = std::shared_ptr<Material>(problem.material_at(out.x));
     r.objective_final = out.objective - problem.regularization(out.x);
     r.stop_reason = out.reason;

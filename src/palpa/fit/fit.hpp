@@ -81,6 +81,10 @@ struct FitOptions {
   // point. 0 = none.
   double smoothing = 0.1;
   int ogden_terms = 2;
+  // Stage-2 starts tried (stage2_starts), each for start_iterations, the
+  // best continued; 0: every start of the model; 1: the projection alone.
+  int starts = 0;
+  int start_iterations = 5;
   // Stage-1 starting material (its model is kept for stage 1 only); null: the
   // neo-Hookean E = 10 kPa with the dataset's ν.
   std::shared_ptr<const material::Material> initial;
@@ -94,6 +98,14 @@ struct IterationRecord {
   double seconds = 0.0;    // since the guess started
 };
 
+// One stage-2 start tried for FitOptions::start_iterations.
+struct StartTrial {
+  std::string label;        // "alpha 2, 5 (shares 1, 0)"
+  double objective_start = 0.0;  // ε at the start (inf: rejected)
+  double objective_end = 0.0;    // ε after the trial iterations
+  int evaluations = 0;
+};
+
 struct GuessResult {
   double layer_depth = 0.0;            // [m]
   double modulus_scale = 1.0;          // stage-1 s
@@ -101,7 +113,8 @@ struct GuessResult {
   double objective_stage1 = 0.0;       // ε after stage 1 (start of stage 2)
   double objective_final = 0.0;        // ε of `material`
   std::shared_ptr<material::Material> stage1_material;
-  std::shared_ptr<material::Material> stage2_start;  // where stage 2 started
+  std::shared_ptr<material::Material> stage2_start;  // where stage 2 started (the best trial's end)
+  std::vector<StartTrial> starts;                    // the starts tried (empty: one start)
   std::shared_ptr<material::Material> material;      // the fitted material
   std::vector<IterationRecord> history;
   int iterations = 0;
@@ -141,10 +154,26 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
 // Throws palpa::Error (Input) if it is malformed or belongs to another fit.
 bool fit_finished(const Dataset& d, const FitOptions& o, const std::filesystem::path& checkpoint);
 
-// The material that starts stage 2 for `model`, matching `stage1` at small
-// strain (spline: SplineMaterial::from_model with `layout`; ogden: N terms with
-// exponents 2, 5, −2, ...; mooney-rivlin: 90/10 split of C10/C01; yeoh:
-// C20 = C30 = 0).
+// Materials that start stage 2 for `model`, all matching `stage1` at small
+// strain. The first is stage 1 projected into the model: the same material
+// where the model contains it (ogden with α1 = 2 and the other terms' μ zero,
+// neo-hookean-volume with volume_share 0: stage 1's neo-Hookean), its
+// isochoric form with the same bulk modulus otherwise (mooney-rivlin with
+// C01 = 0, yeoh with C20 = C30 = 0; different only in the volumetric term,
+// which matters little at the ν of rubber and tissue), the spline whose
+// stresses match it best (SplineMaterial::fit_stresses with `layout`). So
+// stage 2 does not start worse than stage 1. More starts, for the models
+// whose minima depend on where they start: ogden with exponent sets (2, 5,
+// −2, 8, −4, 10), (4, −2, 8, 2, −4, 12) and (−2, 3, 10, −4, 6, 2), equal
+// shares of μ0; mooney-rivlin with C01 = 10% and 50% of μ0/2;
+// neo-hookean-volume with volume_share 0.5.
+struct Stage2Start {
+  std::string label;
+  std::unique_ptr<material::Material> material;
+};
+std::vector<Stage2Start> stage2_starts(const material::Material& stage1, const FitOptions& o,
+                                       const material::SplineLayout& layout);
+// The first of them.
 std::unique_ptr<material::Material> stage2_start(const material::Material& stage1, const FitOptions& o,
                                                  const material::SplineLayout& layout);
 inline std::unique_ptr<material::Material> stage2_start(const material::Material& stage1, const FitOptions& o) {
