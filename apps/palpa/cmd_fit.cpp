@@ -6,7 +6,9 @@
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
@@ -67,6 +69,61 @@ fit::FitOptions fit_options_from(const std::string& model, const std::string& op
   return o;
 }
 
+namespace {
+
+// "0.067 N (48 of 52 points: r1.03mm to 3.61 of 4.05 mm)", or "n/a (no
+// validation curve)".
+std::string validation_text(const FitSummary& s, const char* unit) {
+  if (s.validate_points_total == 0) return "n/a (no validation curve)";
+  if (s.validate_points == 0) return "n/a (no validation point could be simulated)";
+  std::string text = fmt::format("{:.3g} {}", s.rms_validate, unit);
+  if (s.validate_points < s.validate_points_total) {
+    text += fmt::format(" (over {} of {} points: simulated {})", s.validate_points, s.validate_points_total,
+                        fmt::join(s.validate_short, ", "));
+  }
+  return text;
+}
+
+// "E (small strain) = 88.06 kPa, 95% 87.61 to 88.5 kPa; nu = 0.4999, 95% ...".
+std::string estimates_text(const fit::Uncertainty& u, const material::Material& m, double layer_depth) {
+  const material::ElasticConstants c = material::small_strain_constants(m);
+  const auto pressure = [](double v) { return fmt::format("{:.4g} kPa", v * 1e-3); };
+  if (!u.defined) {
+    return fmt::format("E (small strain) = {}, nu = {:.4g} (no intervals: {})", pressure(c.young()), c.poisson(),
+                       u.why_not);
+  }
+  const bool nu_held = std::find(u.held.begin(), u.held.end(), "nu") != u.held.end();
+  std::string text;
+  if (const fit::Estimate* e = u.find("E")) {
+    text += std::isfinite(e->standard_error)
+                ? fmt::format("E (small strain) = {}, 95% {:.4g} to {}", pressure(e->value), e->lo * 1e-3,
+                              pressure(e->hi))
+                : fmt::format("E (small strain) = {} (not determined by the curves)", pressure(e->value));
+    if (nu_held) text += " given nu";
+  }
+  if (const fit::Estimate* nu = u.find("nu")) {
+    if (nu_held) {
+      text += fmt::format("; nu = {:.5g} (at an end of its range)", nu->value);
+    } else if (!std::isfinite(nu->standard_error)) {
+      text += fmt::format("; nu = {:.5g} (not determined by the curves)", nu->value);
+    } else if (nu->standard_error > 0.0) {
+      text += fmt::format("; nu = {:.5g}, 95% {:.5g} to {:.5g}", nu->value, nu->lo, nu->hi);
+    } else {
+      text += fmt::format("; nu = {:.5g} (held)", nu->value);
+    }
+  }
+  if (const fit::Estimate* dd = u.find("layer_depth")) {
+    text += fmt::format("; layer depth {:.3g} mm", layer_depth * 1e3);
+    if (std::isfinite(dd->standard_error)) {
+      text += fmt::format(" (the objective's minimum {:.3g} mm, 95% {:.3g} to {:.3g} mm)", dd->value * 1e3,
+                          dd->lo * 1e3, dd->hi * 1e3);
+    }
+  }
+  return text;
+}
+
+}  // namespace
+
 FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
                    const fit::FitOptions& o, bool resume, const std::string& command) {
   const fit::Dataset d = fit::read_dataset(dataset_file);
@@ -108,11 +165,11 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
   }
   const char* unit = d.test == fit::TestKind::Homogeneous ? "Pa" : "N";
   spdlog::info("fit: sqrt(eps) {:.4g} -> {:.4g} {} ({} iterations, {} evaluations, {:.1f} s of fitting); RMS error train "
-               "{:.3g} {}, validate {:.3g} {}; E (small strain) = {}; wrote {}",
+               "{:.3g} {}, validate {}; wrote {}",
                s.sqrt_objective_stage1, s.sqrt_objective_final, unit, best.iterations, best.evaluations, best.seconds,
-               s.rms_train, unit, s.rms_validate, unit,
-               format_quantity(material::small_strain_constants(*best.material).young(), Dimension::Pressure),
-               out.string());
+               s.rms_train, unit, validation_text(s, unit), out.string());
+  spdlog::info("fit: {}", estimates_text(result.uncertainty, *best.material, d.depth_search() ? best.layer_depth : 0.0));
+  for (const auto& w : result.warnings) spdlog::warn("fit: {}", w);
   folder.keep();
   return s;
 }

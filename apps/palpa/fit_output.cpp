@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/core/progress.hpp"
 #include "palpa/core/version.hpp"
 #include "palpa/fit/simulate.hpp"
 #include "palpa/io/csv.hpp"
@@ -69,8 +71,44 @@ report::Plot curves_plot(const fit::Dataset& d, const std::vector<fit::CurvePred
 
 struct Errors {
   double sq_train = 0.0, sq_validate = 0.0;
-  std::size_t n_train = 0, n_validate = 0;
+  std::size_t n_train = 0, n_validate = 0, n_validate_total = 0;
+  std::vector<std::string> short_curves;  // validation curves simulated part way
 };
+
+Json estimate_json(const fit::Estimate& e) {
+  return Json{{"name", e.name},
+              {"value", number_or_null(e.value)},
+              {"standard_error", number_or_null(e.standard_error)},
+              {"lo95", number_or_null(e.lo)},
+              {"hi95", number_or_null(e.hi)}};
+}
+
+Json uncertainty_json(const fit::Uncertainty& u) {
+  Json estimates = Json::array(), names = Json::array(), matrix = Json::array();
+  for (const auto& e : u.estimates) {
+    estimates.push_back(estimate_json(e));
+    names.push_back(e.name);
+  }
+  for (Eigen::Index i = 0; i < u.correlation.rows(); ++i) {
+    Json row = Json::array();
+    for (Eigen::Index j = 0; j < u.correlation.cols(); ++j) row.push_back(number_or_null(u.correlation(i, j)));
+    matrix.push_back(row);
+  }
+  return Json{{"defined", u.defined},
+              {"why_not", u.why_not.empty() ? Json(nullptr) : Json(u.why_not)},
+              {"points", u.points},
+              {"free_parameters", u.free_parameters},
+              {"effective_parameters", u.effective_parameters},
+              {"residual_sd", number_or_null(u.sigma)},
+              {"t95", number_or_null(u.t95)},
+              {"estimates", estimates},
+              {"correlation", {{"names", names}, {"matrix", matrix}}},
+              {"held_at_bound", u.held},
+              {"undetermined", u.undetermined},
+              {"method", "Gauss-Newton covariance s^2 (J^T J)^-1 at the minimum, s^2 = eps/(m - n); delta method "
+                         "for E and nu; layer depth from a parabola through eps at the best depth and its "
+                         "neighbours"}};
+}
 
 }  // namespace
 
@@ -87,9 +125,16 @@ std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path&
 FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Dataset& d, const fit::FitOptions& o,
                              const fit::FitResult& r, double seconds, const std::string& command) {
   const fit::GuessResult& best = r.guesses[r.best];
+  // Every curve, train and validate, with the stage-1 and fitted materials: a
+  // line per curve as it finishes (the deep ones take minutes).
+  Progress progress("fit curves (stage 1 and fitted, every curve)", 2 * d.curves.size());
   const auto curves_of = fit::predict_curves(
       d, best.layer_depth, std::vector<const material::Material*>{best.stage1_material.get(), best.material.get()},
-      o.simulation);
+      o.simulation, [&](std::size_t m, std::size_t i) {
+        progress.set_note(fmt::format("{} ({}) done", d.curves[i].name, m == 0 ? "stage 1" : "fitted"));
+        progress.advance();
+      });
+  progress.finish();
   const std::vector<fit::CurvePrediction>& before = curves_of[0];
   const std::vector<fit::CurvePrediction>& after = curves_of[1];
 
@@ -138,6 +183,12 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
     } else {
       err.sq_validate += ss;
       err.n_validate += compared;
+      err.n_validate_total += c.y.size();
+      if (compared < c.y.size()) {
+        const double f = d.test == TestKind::Homogeneous ? 1.0 : 1e3;
+        err.short_curves.push_back(fmt::format("{} to {:.3g} of {:.3g}{}", c.name, after[i].reached * f,
+                                               c.x.back() * f, d.test == TestKind::Homogeneous ? "" : " mm"));
+      }
     }
     for (const auto* p : {&before[i], &after[i]}) {
       if (!p->failure.empty()) {
@@ -165,7 +216,11 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
   s.sqrt_objective_stage1 = std::sqrt(best.objective_stage1);
   s.sqrt_objective_final = std::sqrt(best.objective_final);
   s.rms_train = err.n_train ? std::sqrt(err.sq_train / static_cast<double>(err.n_train)) : 0.0;
-  s.rms_validate = err.n_validate ? std::sqrt(err.sq_validate / static_cast<double>(err.n_validate)) : 0.0;
+  s.rms_validate = err.n_validate ? std::sqrt(err.sq_validate / static_cast<double>(err.n_validate))
+                                  : std::numeric_limits<double>::quiet_NaN();
+  s.validate_points = err.n_validate;
+  s.validate_points_total = err.n_validate_total;
+  s.validate_short = err.short_curves;
   s.seconds = seconds;
 
   const auto starts_json = [](const std::vector<fit::StartTrial>& starts) {
@@ -222,7 +277,13 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
                      {"final", best.objective_final},
                      {"sqrt_stage1", s.sqrt_objective_stage1},
                      {"sqrt_final", s.sqrt_objective_final}}},
-      {"rms_error", {{"train", s.rms_train}, {"validate", s.rms_validate}}},
+      {"rms_error", {{"train", s.rms_train},
+                     {"validate", number_or_null(s.rms_validate)},
+                     {"validate_points", s.validate_points},
+                     {"validate_points_measured", s.validate_points_total},
+                     {"validate_curves_short", s.validate_short}}},
+      {"uncertainty", uncertainty_json(r.uncertainty)},
+      {"warnings", r.warnings},
       {"small_strain", {{"young_Pa", ec.young()}, {"poisson", ec.poisson()}, {"shear_Pa", ec.mu}}},
       {"iterations", best.iterations},
       {"evaluations", best.evaluations},
@@ -240,7 +301,7 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
                       {"layer_depth_m", best.layer_depth},
                       {"objective_unit", fmt::format("{}^2", unit)},
                       {"rms_error_train", s.rms_train},
-                      {"rms_error_validate", s.rms_validate}};
+                      {"rms_error_validate", number_or_null(s.rms_validate)}};
   // (written through the material module so the format stays in one place)
   const std::filesystem::path material_path = out / "material.json";
 

@@ -77,6 +77,24 @@ TEST(FitCli, SurvivesSigkillAtFiveMomentsAndResumesToTheSameResultNlcg) { expect
 
 TEST(FitCli, SurvivesSigkillAtFiveMomentsAndResumesToTheSameResultLm) { expect_sigkill_safe("lm"); }
 
+TEST(FitCli, WithoutAValidationCurveTheValidationErrorIsNotApplicable) {
+  ScratchDir dir;
+  std::string csv = "stretch,stress_kPa\n";
+  for (int k = 0; k <= 10; ++k) {
+    const double l = 0.7 + 0.06 * k;
+    csv += fmt::format("{},{}\n", l, 10.0 * (l - 1.0 / (l * l)));  // incompressible neo-Hookean, mu = 10 kPa
+  }
+  dir.write("uni.csv", csv);
+  dir.write("dataset.json", R"({"palpa_dataset": 1, "test": "homogeneous", "poisson": 0.49,
+    "curves": [{"file": "uni.csv", "load_case": "uniaxial", "role": "train"}]})");
+  const auto r = run_palpa("fit dataset.json -o out --model neo-hookean", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("validate n/a (no validation curve)"), std::string::npos) << r.err;
+  const Json report = Json::parse(test::read_text(dir / "out" / "report.json"));
+  EXPECT_TRUE(report["rms_error"]["validate"].is_null()) << report["rms_error"];
+  EXPECT_EQ(report["rms_error"]["validate_points_measured"], 0);
+}
+
 TEST(FitCli, WritesTheMaterialReportCurvesAndPlots) {
   ScratchDir dir;
   dir.write("truth.json", kTruth);
@@ -120,6 +138,19 @@ TEST(FitCli, WritesTheMaterialReportCurvesAndPlots) {
     EXPECT_NE(test::read_text(out / svg).find("<svg"), std::string::npos) << svg;
   }
   EXPECT_NE(r.err.find("fit: layer depth 10 mm"), std::string::npos) << r.err;
+  // How sure: E's 95% interval around E, in the report and the summary; the
+  // best depth is the deeper end of the two searched, and a warning says so.
+  const Json& u = report["uncertainty"];
+  ASSERT_TRUE(u["defined"].get<bool>()) << u.dump();
+  const Json& e = u["estimates"][0];
+  EXPECT_EQ(e["name"], "E");
+  EXPECT_LT(e["lo95"].get<double>(), e["value"].get<double>());
+  EXPECT_GT(e["hi95"].get<double>(), e["value"].get<double>());
+  EXPECT_NE(r.err.find("E (small strain) = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(", 95% "), std::string::npos) << r.err;
+  ASSERT_FALSE(report["warnings"].empty());
+  EXPECT_NE(report["warnings"].dump().find("end of the searched depths"), std::string::npos) << report["warnings"];
+  EXPECT_NE(r.err.find("warning: fit: the lowest objective is at an end"), std::string::npos) << r.err;
 
   // The folder is now not empty: refused without --resume or --overwrite, and untouched.
   const auto before = std::filesystem::last_write_time(out / "report.json");

@@ -172,6 +172,7 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,
   doc_["guesses"][key] = Json{
       {"layer_depth_m", r.layer_depth},
       {"modulus_scale", r.modulus_scale},
+      {"sum_sim_squared", r.sum_sim_squared},
       {"objective_initial", r.objective_initial},
       {"objective_stage1", r.objective_stage1},
       {"objective_final", r.objective_final},
@@ -218,6 +219,7 @@ bool Checkpoint::restore(std::size_t g, GuessResult& r, GuessState& s, std::vect
   const JsonView v(doc_["guesses"][key], path_.string(), "guesses." + key);
   r.layer_depth = v.at("layer_depth_m").as_number();
   r.modulus_scale = v.at("modulus_scale").as_number();
+  r.sum_sim_squared = v.has("sum_sim_squared") ? v.at("sum_sim_squared").as_number() : 0.0;
   r.objective_initial = v.at("objective_initial").as_number();
   r.objective_stage1 = v.at("objective_stage1").as_number();
   r.objective_final = v.at("objective_final").as_number();

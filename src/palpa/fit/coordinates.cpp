@@ -119,6 +119,17 @@ double Coordinates::dnu_dx(double x) const noexcept {
   return (nu_.hi - nu_.lo) * s * (1.0 - s);
 }
 
+int Coordinates::at_bound(const Eigen::VectorXd& x, Eigen::Index i) const {
+  if (i == nu_coordinate_) {
+    const double share = (nu_of(x[i]) - nu_.lo) / (nu_.hi - nu_.lo);
+    return share < 1e-3 ? -1 : (share > 1.0 - 1e-3 ? 1 : 0);
+  }
+  const auto k = static_cast<std::size_t>(i);
+  if (std::isfinite(lower_[k]) && x[i] <= lower_[k] + 1e-9 * std::max(1.0, std::abs(lower_[k]))) return -1;
+  if (std::isfinite(upper_[k]) && x[i] >= upper_[k] - 1e-9 * std::max(1.0, std::abs(upper_[k]))) return 1;
+  return 0;
+}
+
 Eigen::VectorXd Coordinates::start() const {
   Eigen::VectorXd x(size());
   for (std::size_t i = 0; i < param_.size(); ++i) {

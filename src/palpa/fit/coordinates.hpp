@@ -61,6 +61,11 @@ class Coordinates {
   const std::vector<double>& upper() const noexcept { return upper_; }
   // The material parameter of coordinate i (for D1's ν coordinate: D1).
   Eigen::Index param(Eigen::Index i) const { return param_[static_cast<std::size_t>(i)]; }
+  // Whether coordinate i sits at an end of its range at x: a box bound
+  // (within 1e-9 of its size), or for ν within 0.1% of the range's width of an
+  // end (where its logistic coordinate has all but stopped moving ν). -1: the
+  // lower end, +1: the upper end, 0: inside.
+  int at_bound(const Eigen::VectorXd& x, Eigen::Index i) const;
   // Whether coordinate i is the logistic ν coordinate, and the range.
   bool is_poisson(Eigen::Index i) const { return i == nu_coordinate_; }
   PoissonRange poisson_range() const noexcept { return nu_; }

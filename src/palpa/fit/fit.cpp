@@ -205,9 +205,9 @@ std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth
   return std::move(predict_curves(d, layer_depth, std::vector<const Material*>{&m}, o).front());
 }
 
-std::vector<std::vector<CurvePrediction>> predict_curves(const Dataset& d, double layer_depth,
-                                                         const std::vector<const Material*>& materials,
-                                                         const SimulationOptions& o) {
+std::vector<std::vector<CurvePrediction>> predict_curves(
+    const Dataset& d, double layer_depth, const std::vector<const Material*>& materials, const SimulationOptions& o,
+    const std::function<void(std::size_t material, std::size_t curve)>& on_curve) {
   const std::size_t n = d.curves.size();
   std::vector<std::vector<CurvePrediction>> out(materials.size(), std::vector<CurvePrediction>(n));
   tbb::parallel_for(std::size_t{0}, materials.size() * n, [&](std::size_t k) {
@@ -215,6 +215,7 @@ std::vector<std::vector<CurvePrediction>> predict_curves(const Dataset& d, doubl
     auto sim = make_curve_simulator(d, d.curves[i], layer_depth, o);
     sim->allow_partial(true);
     out[m][i] = sim->predict(*materials[m], false);
+    if (on_curve) on_curve(m, i);
   });
   return out;
 }
@@ -228,6 +229,7 @@ namespace {
 struct Stage1 {
   std::vector<CurvePrediction::StretchSample> stretches;  // of the deepest states
   double scale = 1.0;
+  double sum_sim_squared = 0.0;  // Σ y_sim² (the scale's curvature)
   double objective_initial = 0.0;
   double objective_scaled = 0.0;
 };
@@ -258,6 +260,7 @@ Stage1 fit_modulus(const Dataset& d, double layer_depth, const Material& initial
                                    layer_depth * 1e3, sy));
   }
   s.scale = sy / yy;
+  s.sum_sim_squared = yy;
   for (std::size_t i = 0; i < train.size(); ++i) {
     for (std::size_t j = 0; j < train[i]->y.size(); ++j) {
       const double r = s.scale * preds[i].y[j] - train[i]->y[j];
@@ -270,6 +273,33 @@ Stage1 fit_modulus(const Dataset& d, double layer_depth, const Material& initial
 
 std::unique_ptr<Material> default_initial(const Dataset& d) {
   return std::make_unique<material::NeoHookean>(10e3, d.poisson);
+}
+
+// Parameters at an end of their range at x (Coordinates::at_bound).
+std::vector<std::string> bound_warnings(const TrainingProblem& p, const Eigen::VectorXd& x) {
+  std::vector<std::string> out;
+  const Coordinates& c = p.coordinates();
+  const auto m = p.material_at(x);
+  const Eigen::VectorXd theta = p.theta(x);
+  for (Eigen::Index i = 0; i < c.size(); ++i) {
+    const int end = c.at_bound(x, i);
+    if (end == 0) continue;
+    if (c.is_poisson(i)) {
+      const PoissonRange r = c.poisson_range();
+      const double nu = material::small_strain_constants(*m).poisson();
+      out.push_back(end > 0 ? fmt::format("nu = {:.5g} is at the top of its range ({:g}:{:g}): the data ask for a "
+                                          "material at least this incompressible",
+                                          nu, r.lo, r.hi)
+                            : fmt::format("nu = {:.4g} is at the bottom of its range ({:g}:{:g}): the data ask for "
+                                          "a more compressible material than the range allows (--nu-range to "
+                                          "widen it, if the sample can be)",
+                                          nu, r.lo, r.hi));
+      continue;
+    }
+    out.push_back(fmt::format("{} = {:.4g} is at the {} end of its range", m->param_info(c.param(i)).name,
+                              theta[c.param(i)], end < 0 ? "lower" : "upper"));
+  }
+  return out;
 }
 
 }  // namespace
@@ -405,10 +435,14 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
       return elapsed0 + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     };
     r.layer_depth = d.layer_depths[g];
-    if (resumed && r.done) return;
+    if (resumed && r.done) {
+      r.x_final = state.x;
+      return;
+    }
     if (!resumed) {
       const Stage1 s1 = fit_modulus(d, r.layer_depth, *initial, o.simulation);
       r.modulus_scale = s1.scale;
+      r.sum_sim_squared = s1.sum_sim_squared;
       r.objective_initial = s1.objective_initial;
       r.objective_stage1 = s1.objective_scaled;
       r.stage1_material = std::shared_ptr<Material>(scaled_material(*initial, s1.scale));
@@ -471,6 +505,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     r.material = std::shared_ptr<Material>(problem.material_at(out.x));
     r.objective_final = out.objective - problem.regularization(out.x);
     r.stop_reason = out.reason;
+    r.x_final = out.x;
     r.evaluations = evaluations0 + problem.evaluations();
     r.seconds = seconds();
     r.done = true;
@@ -508,6 +543,40 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
   for (std::size_t g = 1; g < result.guesses.size(); ++g) {
     if (result.guesses[g].objective_final < result.guesses[result.best].objective_final) result.best = g;
   }
+  // How sure: from the Jacobian at the best guess's minimum (one more
+  // evaluation there), and the depth from ε over the guesses.
+  const GuessResult& best = result.guesses[result.best];
+  if (o.modulus_only || best.x_final.size() == 0) {
+    const material::ElasticConstants c = material::small_strain_constants(*initial);
+    result.uncertainty = modulus_uncertainty(best.objective_stage1, result.training_points, best.modulus_scale,
+                                             best.sum_sim_squared, c.young(), c.poisson());
+  } else {
+    auto problem = make_problem(best, *best.stage2_start);
+    Evaluation e;
+    if (problem->evaluate(best.x_final, e)) {
+      result.uncertainty = fit_uncertainty(*problem, best.x_final, e, o.model != "spline");
+    } else {
+      result.uncertainty.why_not = "the fitted material cannot be simulated again: " + e.reason;
+    }
+    result.warnings = bound_warnings(*problem, best.x_final);
+  }
+  const double nu = material::small_strain_constants(*best.material).poisson();
+  if (nu < 0.0) {
+    result.warnings.push_back(fmt::format("the fitted nu = {:.3g} is negative (the sample would get thinner "
+                                          "under compression): not tissue or rubber; --fix nu, or --nu-range 0:0.4999",
+                                          nu));
+  }
+  if (d.depth_search()) {
+    std::vector<double> depths, objectives, young;
+    for (const auto& g : result.guesses) {
+      depths.push_back(g.layer_depth);
+      objectives.push_back(g.objective_final);
+      young.push_back(material::small_strain_constants(*g.material).young());
+    }
+    add_depth_uncertainty(result.uncertainty, depths, objectives, young, result.best);
+  }
+  result.warnings.insert(result.warnings.end(), result.uncertainty.warnings.begin(),
+                         result.uncertainty.warnings.end());
   return result;
 }
 

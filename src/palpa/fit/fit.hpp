@@ -50,6 +50,7 @@
 #include "palpa/fit/coordinates.hpp"
 #include "palpa/fit/dataset.hpp"
 #include "palpa/fit/simulate.hpp"
+#include "palpa/fit/uncertainty.hpp"
 #include "palpa/material/material.hpp"
 #include "palpa/material/spline_material.hpp"
 
@@ -115,6 +116,8 @@ struct GuessResult {
   std::shared_ptr<material::Material> stage1_material;
   std::shared_ptr<material::Material> stage2_start;  // where stage 2 started (the best trial's end)
   std::vector<StartTrial> starts;                    // the starts tried (empty: one start)
+  Eigen::VectorXd x_final;             // stage 2's coordinates at `material` (coordinates.hpp)
+  double sum_sim_squared = 0.0;        // Σ y_sim² of the initial material (stage 1's curvature)
   std::shared_ptr<material::Material> material;      // the fitted material
   std::vector<IterationRecord> history;
   int iterations = 0;
@@ -128,6 +131,12 @@ struct FitResult {
   std::vector<GuessResult> guesses;  // in the dataset's order of layer depths
   std::size_t best = 0;              // index of the lowest final ε
   int training_points = 0;
+  // Of the best guess's material (uncertainty.hpp), with the layer depth in a
+  // depth search.
+  Uncertainty uncertainty;
+  // What a user should look at: a negative ν, a parameter at an end of its
+  // range, and the uncertainty's trade-offs.
+  std::vector<std::string> warnings;
 };
 
 struct FitControl {
@@ -202,10 +211,11 @@ std::vector<CurvePrediction> predict_curves(const Dataset& d, double layer_depth
                                             const SimulationOptions& o);
 // The same for several materials in one parallel pass over every (material,
 // curve) pair, so that the slowest curves of each run side by side: out[k]
-// holds the curves of materials[k].
-std::vector<std::vector<CurvePrediction>> predict_curves(const Dataset& d, double layer_depth,
-                                                         const std::vector<const material::Material*>& materials,
-                                                         const SimulationOptions& o);
+// holds the curves of materials[k]. on_curve (if set; called from the worker
+// threads) is told each (material, curve) pair as it finishes.
+std::vector<std::vector<CurvePrediction>> predict_curves(
+    const Dataset& d, double layer_depth, const std::vector<const material::Material*>& materials,
+    const SimulationOptions& o, const std::function<void(std::size_t material, std::size_t curve)>& on_curve = {});
 
 // ε contribution and root-mean-square error of one curve, over the points the
 // prediction reached (a partial prediction is NaN beyond; see compared_points).
