@@ -37,6 +37,7 @@ struct FitArgs {
   std::string initial;
   std::vector<std::string> fix;
   std::string nu_range;
+  std::string depth_from = "small";
   int max_iterations = 50;
   double tolerance = 1e-5;
   double smoothing = 0.1;
@@ -158,9 +159,19 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
   const FitSummary s = write_fit_outputs(out, d, o, result, seconds, command);
   const auto& best = result.guesses[result.best];
   if (d.depth_search()) {
-    for (const auto& g : result.guesses) {
-      spdlog::info("fit: layer depth {:.4g} mm: eps {:.4g} after {} iterations{}", g.layer_depth * 1e3,
-                   g.objective_final, g.iterations, &g == &best ? "  <- best" : "");
+    for (std::size_t k = 0; k < result.guesses.size(); ++k) {
+      const auto& g = result.guesses[k];
+      const std::string whole = std::isfinite(g.objective_final)
+                                    ? fmt::format("eps {:.4g} after {} iterations", g.objective_final, g.iterations)
+                                    : std::string("not fitted further");
+      if (result.small_profile) {
+        spdlog::info("fit: layer depth {:.4g} mm: small indentations eps {:.4g} (E {:.4g} kPa); {}{}",
+                     g.layer_depth * 1e3, result.small_profile->objective[k], result.small_profile->young[k] * 1e-3,
+                     whole, k == result.best ? "  <- chosen" : "");
+      } else {
+        spdlog::info("fit: layer depth {:.4g} mm: {}{}", g.layer_depth * 1e3, whole,
+                     k == result.best ? "  <- best" : "");
+      }
     }
   }
   const char* unit = d.test == fit::TestKind::Homogeneous ? "Pa" : "N";
@@ -210,6 +221,7 @@ void run_fit_command(const FitArgs& a) {
   if (!a.nu_range.empty()) o.nu_range = parse_nu_range(a.nu_range);
   o.ogden_terms = a.ogden_terms;
   o.starts = a.starts;
+  o.depth_from = fit::parse_depth_from(a.depth_from);
   o.modulus_only = a.modulus_only;
   if (!a.initial.empty()) o.initial = material::read_material_file(a.initial).material;
   const std::filesystem::path out = a.output;
@@ -271,6 +283,10 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--nu-range", a->nu_range,
                   "Range LO:HI of the small-strain Poisson's ratio the fit may reach, open at both ends "
                   "(default 0.45:0.4999 when the dataset's poisson is above 0.45, else -0.9:0.4999)");
+  cmd->add_option("--depth-from", a->depth_from,
+                  "How a depth search picks the layer depth: small (default: the modulus at every guess on the "
+                  "indentations up to 0.1 min(punch radius, shallowest guess), then the whole fit at the best) "
+                  "or whole (every guess fitted on every point, the lowest objective wins)");
   cmd->add_option("--ogden-terms", a->ogden_terms, "Terms of the ogden model (default 2)")->check(CLI::Range(1, 6));
   cmd->add_option("--starts", a->starts,
                   "Shape-stage starts tried for 5 iterations each before the best goes on: ogden has 3 or 4, "
@@ -301,6 +317,7 @@ void add_fit_command(CLI::App& app) {
     if (!a->fix.empty()) a->command_line += " --fix " + fmt::format("{}", fmt::join(a->fix, ","));
     if (!a->nu_range.empty()) a->command_line += " --nu-range " + a->nu_range;
     if (a->starts != 0) a->command_line += fmt::format(" --starts {}", a->starts);
+    if (a->depth_from != "small") a->command_line += " --depth-from " + a->depth_from;
     if (!a->initial.empty()) a->command_line += " --initial " + a->initial;
     run_fit_command(*a);
   });

@@ -243,9 +243,9 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
     guesses.push_back({{"layer_depth_m", g.layer_depth},
                        {"modulus_scale", g.modulus_scale},
                        {"young_stage1_Pa", material::small_strain_constants(*g.stage1_material).young()},
-                       {"objective_initial", g.objective_initial},
-                       {"objective_stage1", g.objective_stage1},
-                       {"objective_final", g.objective_final},
+                       {"objective_initial", number_or_null(g.objective_initial)},
+                       {"objective_stage1", number_or_null(g.objective_stage1)},
+                       {"objective_final", number_or_null(g.objective_final)},
                        {"iterations", g.iterations},
                        {"evaluations", g.evaluations},
                        {"seconds", g.seconds},
@@ -282,6 +282,15 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
                      {"validate_points", s.validate_points},
                      {"validate_points_measured", s.validate_points_total},
                      {"validate_curves_short", s.validate_short}}},
+      {"depth_from", d.depth_search() ? Json(std::string(fit::to_string(o.depth_from))) : Json(nullptr)},
+      {"small_indentation_profile",
+       r.small_profile ? Json{{"objective", r.small_profile->objective},
+                              {"young_Pa", r.small_profile->young},
+                              {"training_points", r.small_profile->points},
+                              {"deepest_indentation_m", r.small_profile->cut},
+                              {"rule", fmt::format("indentations up to {:g} min(punch radius, shallowest guess)",
+                                                   fit::kSmallIndentation)}}
+                       : Json(nullptr)},
       {"uncertainty", uncertainty_json(r.uncertainty)},
       {"warnings", r.warnings},
       {"small_strain", {{"young_Pa", ec.young()}, {"poisson", ec.poisson()}, {"shear_Pa", ec.mu}}},
@@ -353,8 +362,17 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
       e1.push_back(g.objective_stage1);
       ef.push_back(g.objective_final);
     }
-    pd.series.push_back(report::Series{"after stage 1 (modulus)", dd, e1, report::Mark::LineDots, 1, true});
-    pd.series.push_back(report::Series{fmt::format("fitted {}", o.model), dd, ef, report::Mark::LineDots, 0, false});
+    if (r.small_profile) {
+      pd.title = fmt::format("layer depth {:.3g} mm, chosen on the small indentations", best.layer_depth * 1e3);
+      pd.series.push_back(report::Series{"small indentations, stage 1 (modulus)", dd, r.small_profile->objective,
+                                         report::Mark::LineDots, 2, false});
+      pd.series.push_back(report::Series{fmt::format("fitted {} (all points)", o.model), {best.layer_depth * 1e3},
+                                         {best.objective_final}, report::Mark::Dots, 0, false});
+    } else {
+      pd.series.push_back(report::Series{"after stage 1 (modulus)", dd, e1, report::Mark::LineDots, 1, true});
+      pd.series.push_back(
+          report::Series{fmt::format("fitted {}", o.model), dd, ef, report::Mark::LineDots, 0, false});
+    }
     fd.plots.push_back(pd);
     batch.add(out / "depth.svg") << report::render_svg(fd);
   }

@@ -5,6 +5,8 @@
 // neighbours'.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "common/test_support.hpp"
 #include "fit/fit_fixtures.hpp"
 #include "palpa/fit/fit.hpp"
@@ -34,6 +36,7 @@ TEST(DepthSearch, FindsTheLayerDepth) {
   FitOptions o;
   o.model = "neo-hookean";
   o.modulus_only = true;
+  o.depth_from = DepthFrom::WholeCurves;  // every guess fitted: the profile over all of them
   o.simulation.mesh_level = spec.mesh_level;
   o.simulation.steps = 10;
   const FitResult r = fit_dataset(d, o);
@@ -53,6 +56,59 @@ TEST(DepthSearch, FindsTheLayerDepth) {
   for (std::size_t g = 3; g + 1 < 7; ++g) EXPECT_LT(r.guesses[g].objective_final, r.guesses[g + 1].objective_final);
   // At the true depth the modulus comes back (E = 20 kPa within 2%).
   EXPECT_NEAR(material::small_strain_constants(*r.guesses[2].material).young(), 20e3, 0.02 * 20e3);
+}
+
+TEST(DepthSearch, TheSmallIndentationsChooseTheDepthWhereTheLawCannotFollowTheDeepPart) {
+  // Curves of a strongly stiffening Yeoh layer 5 mm deep, fitted with a
+  // neo-Hookean (ν held at the truth's): a law that cannot follow the deep
+  // part. On the small indentations (d ≤ 0.1 min(a, 3 mm): the linear
+  // response, where the law matters least) the depth comes out right; fitted
+  // on every point the neo-Hookean makes up for the missing stiffening with a
+  // different layer. Measured: small indentations choose 5 mm (E 59.2 kPa
+  // against the truth's 58.8), the whole curves 7 mm.
+  ScratchDir dir;
+  test::IndentationSpec spec;
+  spec.true_depth = 5e-3;
+  spec.layer_depth = Json{{"from", "3 mm"}, {"to", "7 mm"}, {"count", 5}};
+  spec.train_radii = {2e-3, 3e-3, 4e-3};
+  spec.max_depth = 1.5e-3;
+  spec.points = 40;
+  spec.mesh_level = 1;
+  spec.contact = axisym::PunchContact::Frictionless;
+  spec.noise_rel = 0.002;  // a gauge good to 0.2% of its largest force (and 0.2 mN)
+  spec.noise_abs = 2e-4;
+  spec.salt = 5;
+  const auto truth = material::IsochoricInvariant::yeoh(10e3, 8e3, 4e3, 3.0 * (1.0 - 2.0 * 0.47) / (20e3 * 1.47));
+  spec.poisson = material::small_strain_constants(truth).poisson();
+  const test::Synthetic data = test::write_indentation_dataset(dir.path(), truth, spec);
+  const Dataset d = read_dataset(data.dataset);
+  FitOptions o;
+  o.model = "neo-hookean";
+  o.fixed = {"nu"};
+  o.simulation.mesh_level = spec.mesh_level;
+  o.simulation.steps = 15;
+  const FitResult small = fit_dataset(d, o);
+  ASSERT_TRUE(small.small_profile.has_value());
+  // (E of the small indentations' modulus: the neo-Hookean fitted on every
+  // point at that depth is stiffer, buying the deep stiffening)
+  const double young = small.small_profile->young[small.best];
+  RecordProperty("small_depth_mm", std::to_string(small.guesses[small.best].layer_depth * 1e3));
+  RecordProperty("small_young_Pa", std::to_string(young));
+  EXPECT_NEAR(small.guesses[small.best].layer_depth, 5e-3, 1e-12);
+  EXPECT_NEAR(young, 58.8e3, 0.03 * 58.8e3);  // E = 2μ(1 + ν), μ = 2 C10 = 20 kPa, ν = 0.47
+  // Only the chosen depth is fitted on every point.
+  for (std::size_t g = 0; g < small.guesses.size(); ++g) {
+    EXPECT_EQ(std::isfinite(small.guesses[g].objective_final), g == small.best) << g;
+  }
+  const Estimate* depth = small.uncertainty.find("layer_depth");
+  ASSERT_NE(depth, nullptr);
+  EXPECT_LT(depth->lo, 5e-3);
+  EXPECT_GT(depth->hi, 5e-3);
+  o.depth_from = DepthFrom::WholeCurves;
+  const FitResult whole = fit_dataset(d, o);
+  RecordProperty("whole_depth_mm", std::to_string(whole.guesses[whole.best].layer_depth * 1e3));
+  EXPECT_FALSE(whole.small_profile.has_value());
+  EXPECT_GT(whole.guesses[whole.best].layer_depth, 5.5e-3);  // why the small indentations choose
 }
 
 }  // namespace

@@ -122,13 +122,13 @@ TEST(FitUncertainty, TheLayerDepthComesFromTheProfile) {
     eps.push_back(2.0 + 50.0 * (dmm - 5.3) * (dmm - 5.3));
     young.push_back(20e3 + 4e3 * (dmm - 5.3));
   }
-  add_depth_uncertainty(u, depths, eps, young, 2);
+  add_depth_uncertainty(u, depths, eps, young, 2, 0.1, 1e9);
   const Estimate* d = u.find("layer_depth");
   ASSERT_NE(d, nullptr);
   // ε is a parabola in D [mm]; in metres ε″ = 2·50e6, Var = s²/50e6 m².
   EXPECT_NEAR(d->value, 5.3e-3, 1e-12);
   EXPECT_NEAR(d->standard_error, std::sqrt(0.01 / 50e6), 1e-12);
-  EXPECT_NEAR(d->lo, 5.3e-3 - 2.0 * d->standard_error, 1e-15);
+  EXPECT_NEAR(d->lo, 5.3e-3 - 1.959964 * d->standard_error, 1e-6 * d->standard_error);  // t(0.975, ∞) to 7 digits
   // E along the profile: se² = 100² + (4e6 Pa/m)² Var(D); correlation with D
   // = dE/dD sd(D)/sd(E).
   const Estimate* e = u.find("E");
@@ -145,14 +145,14 @@ TEST(FitUncertainty, TheLayerDepthComesFromTheProfile) {
   std::vector<double> shallow = eps;
   for (double& x : shallow) x = 2.0 + 0.05 * (x - 2.0);
   for (double& x : young) x *= 10.0;
-  add_depth_uncertainty(flat, depths, shallow, young, 2);
+  add_depth_uncertainty(flat, depths, shallow, young, 2, 0.1, 1e9);
   ASSERT_FALSE(flat.warnings.empty());
   EXPECT_NE(flat.warnings.back().find("trade off"), std::string::npos) << flat.warnings.back();
   // The best at an end of the range: no interval, a warning.
   Uncertainty end;
   end.defined = true;
   end.sigma = 0.1;
-  add_depth_uncertainty(end, depths, eps, young, 6);
+  add_depth_uncertainty(end, depths, eps, young, 6, 0.1, 1e9);
   ASSERT_EQ(end.warnings.size(), 1u);
   EXPECT_NE(end.warnings[0].find("deeper"), std::string::npos) << end.warnings[0];
   EXPECT_TRUE(std::isnan(end.find("layer_depth")->standard_error));

@@ -117,6 +117,7 @@ Checkpoint::Checkpoint(std::filesystem::path path, const Dataset& d, const FitOp
             {"modulus_only", o.modulus_only},
             {"adapt_spline_ranges", o.adapt_spline_ranges},
             {"smoothing", o.smoothing},
+            {"depth_from", std::string(to_string(o.depth_from))},
             {"initial", material::material_to_json(initial)}};
   text += "\n--\n" + opts.dump();
   fingerprint_ = palpa::fingerprint(text);

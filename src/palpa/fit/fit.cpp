@@ -2,6 +2,7 @@
 #include "palpa/fit/fit.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
@@ -23,6 +24,15 @@ using material::Material;
 
 std::string_view to_string(Optimizer o) noexcept {
   return o == Optimizer::LevenbergMarquardt ? "lm" : "nlcg";
+}
+
+std::string_view to_string(DepthFrom f) noexcept { return f == DepthFrom::SmallIndentation ? "small" : "whole"; }
+
+DepthFrom parse_depth_from(std::string_view name) {
+  if (name == "small") return DepthFrom::SmallIndentation;
+  if (name == "whole") return DepthFrom::WholeCurves;
+  throw_input_error(fmt::format("unknown depth choice '{}'", name), ErrorContext{"", 0, 0, "depth-from"},
+                    "\"small\" (the small-indentation part of the curves) or \"whole\" (every point)");
 }
 
 Optimizer parse_optimizer(std::string_view name) {
@@ -275,6 +285,38 @@ std::unique_ptr<Material> default_initial(const Dataset& d) {
   return std::make_unique<material::NeoHookean>(10e3, d.poisson);
 }
 
+// The training curves cut to d ≤ kSmallIndentation·min(a, D_min), each kept
+// if it has two points beyond zero there; cut[i]: the deepest point kept per
+// training curve (0 if left out). Nothing when fewer than kMinSmallPoints
+// points beyond zero are left: too few to choose a depth on.
+constexpr int kMinSmallPoints = 6;
+std::optional<Dataset> small_indentation_part(const Dataset& d, std::vector<double>& cut) {
+  Dataset s = d;
+  s.curves.clear();
+  const double d_min = *std::min_element(d.layer_depths.begin(), d.layer_depths.end());
+  int points = 0;
+  for (const auto& c : d.curves) {
+    if (c.role != CurveRole::Train) continue;
+    const double limit = kSmallIndentation * std::min(c.radius, d_min) * (1.0 + 1e-9);
+    MeasuredCurve k = c;
+    k.x.clear();
+    k.y.clear();
+    for (std::size_t j = 0; j < c.x.size(); ++j) {
+      if (c.x[j] > limit) break;
+      k.x.push_back(c.x[j]);
+      k.y.push_back(c.y[j]);
+    }
+    int nonzero = 0;
+    for (double x : k.x) nonzero += x > 0.0 ? 1 : 0;
+    cut.push_back(nonzero >= 2 ? k.x.back() : 0.0);
+    if (nonzero < 2) continue;
+    points += nonzero;
+    s.curves.push_back(std::move(k));
+  }
+  if (points < kMinSmallPoints) return std::nullopt;
+  return s;
+}
+
 // Parameters at an end of their range at x (Coordinates::at_bound).
 std::vector<std::string> bound_warnings(const TrainingProblem& p, const Eigen::VectorXd& x) {
   std::vector<std::string> out;
@@ -314,10 +356,11 @@ bool fit_finished(const Dataset& d, const FitOptions& o, const std::filesystem::
       o.initial ? o.initial : std::shared_ptr<const Material>(default_initial(d));
   Checkpoint c(checkpoint, d, o, *initial);
   c.load();
-  for (std::size_t g = 0; g < d.layer_depths.size(); ++g) {
-    if (!c.done(g)) return false;
-  }
-  return true;
+  // Choosing the depth from the small indentations fits one guess only.
+  const bool one = d.depth_search() && o.depth_from == DepthFrom::SmallIndentation;
+  std::size_t done = 0;
+  for (std::size_t g = 0; g < d.layer_depths.size(); ++g) done += c.done(g) ? 1 : 0;
+  return one ? done >= 1 : done == d.layer_depths.size();
 }
 
 FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& control) {
@@ -516,7 +559,51 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     final_state.x = out.x;
     publish(g, r, final_state);
   };
+  // The depth from the small indentations: stage 1 at every guess there
+  // (cheap: short curves), then only the lowest goes through the whole fit.
+  std::optional<std::size_t> chosen;
+  std::vector<std::string> depth_notes;
+  SmallIndentationProfile profile;
+  const std::optional<Dataset> small = d.depth_search() && o.depth_from == DepthFrom::SmallIndentation
+                                           ? small_indentation_part(d, profile.cut)
+                                           : std::nullopt;
+  if (d.depth_search() && o.depth_from == DepthFrom::SmallIndentation && !small) {
+    depth_notes.push_back(fmt::format("fewer than {} training points at small indentation (up to {:g} min(punch "
+                                      "radius, shallowest guess)): the depth is chosen on the whole curves",
+                                      kMinSmallPoints, kSmallIndentation));
+    spdlog::warn("fit: {}", depth_notes.back());
+  }
+  if (small) {
+    for (const auto& c : small->curves) profile.points += static_cast<int>(c.y.size());
+    std::vector<Stage1> s1(d.layer_depths.size());
+    tbb::parallel_for(std::size_t{0}, d.layer_depths.size(),
+                      [&](std::size_t g) { s1[g] = fit_modulus(*small, d.layer_depths[g], *initial, o.simulation); });
+    const double young1 = material::small_strain_constants(*initial).young();
+    for (std::size_t g = 0; g < s1.size(); ++g) {
+      profile.objective.push_back(s1[g].objective_scaled);
+      profile.young.push_back(s1[g].scale * young1);
+      if (!chosen || s1[g].objective_scaled < s1[*chosen].objective_scaled) chosen = g;
+    }
+    spdlog::info("layer depth from the small indentations (d <= {:g} min(a, {:.3g} mm), {} points): eps {:.4g} -> "
+                 "{:.4g} mm",
+                 kSmallIndentation, d.layer_depths.front() * 1e3, profile.points, fmt::join(profile.objective, ", "),
+                 d.layer_depths[*chosen] * 1e3);
+    for (std::size_t g = 0; g < s1.size(); ++g) {
+      if (g == *chosen) continue;
+      GuessResult& r = result.guesses[g];
+      r.layer_depth = d.layer_depths[g];
+      r.modulus_scale = s1[g].scale;
+      r.sum_sim_squared = s1[g].sum_sim_squared;
+      r.stage1_material = std::shared_ptr<Material>(scaled_material(*initial, s1[g].scale));
+      r.material = std::shared_ptr<Material>(r.stage1_material->clone());
+      r.objective_initial = r.objective_stage1 = r.objective_final = std::numeric_limits<double>::quiet_NaN();
+      r.stop_reason = "not fitted: the small indentations chose another depth";
+      r.done = true;
+    }
+    result.small_profile = std::move(profile);
+  }
   tbb::parallel_for(std::size_t{0}, d.layer_depths.size(), [&](std::size_t g) {
+    if (chosen && g != *chosen) return;
     try {
       fit_guess(g);
     } catch (const Stopped&) {
@@ -540,8 +627,12 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
   }
   if (first) std::rethrow_exception(first);
 
-  for (std::size_t g = 1; g < result.guesses.size(); ++g) {
-    if (result.guesses[g].objective_final < result.guesses[result.best].objective_final) result.best = g;
+  if (chosen) {
+    result.best = *chosen;
+  } else {
+    for (std::size_t g = 1; g < result.guesses.size(); ++g) {
+      if (result.guesses[g].objective_final < result.guesses[result.best].objective_final) result.best = g;
+    }
   }
   // How sure: from the Jacobian at the best guess's minimum (one more
   // evaluation there), and the depth from ε over the guesses.
@@ -566,15 +657,22 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
                                           "under compression): not tissue or rubber; --fix nu, or --nu-range 0:0.4999",
                                           nu));
   }
-  if (d.depth_search()) {
-    std::vector<double> depths, objectives, young;
+  if (result.small_profile) {
+    // The profile's own residual scale: stage 1 on the small indentations.
+    const SmallIndentationProfile& sp = *result.small_profile;
+    const double sigma = std::sqrt(sp.objective[result.best] / std::max(1, sp.points - 1));
+    add_depth_uncertainty(result.uncertainty, d.layer_depths, sp.objective, sp.young, result.best, sigma,
+                          sp.points - 1);
+  } else if (d.depth_search()) {
+    std::vector<double> objectives, young;
     for (const auto& g : result.guesses) {
-      depths.push_back(g.layer_depth);
       objectives.push_back(g.objective_final);
       young.push_back(material::small_strain_constants(*g.material).young());
     }
-    add_depth_uncertainty(result.uncertainty, depths, objectives, young, result.best);
+    add_depth_uncertainty(result.uncertainty, d.layer_depths, objectives, young, result.best,
+                          result.uncertainty.sigma, result.uncertainty.points - result.uncertainty.effective_parameters);
   }
+  result.warnings.insert(result.warnings.end(), depth_notes.begin(), depth_notes.end());
   result.warnings.insert(result.warnings.end(), result.uncertainty.warnings.begin(),
                          result.uncertainty.warnings.end());
   return result;

@@ -61,6 +61,25 @@ std::string_view to_string(Optimizer o) noexcept;
 // "lm" | "nlcg"; throws palpa::Error (Input) otherwise.
 Optimizer parse_optimizer(std::string_view name);
 
+// How a depth search picks the layer depth.
+enum class DepthFrom {
+  // Stage 1 (the modulus) at every guess on the small-indentation part of the
+  // training curves, d ≤ kSmallIndentation·min(a, D_min), where the response is
+  // close to linear and the depth shows through geometry (Hayes) rather than
+  // through the material law; the lowest ε there picks the depth, and the
+  // whole fit (both stages, all points) runs at that depth alone. A material
+  // law that does not follow the deep part of the curves (or data that are
+  // off there) cannot pull the depth.
+  SmallIndentation,
+  // Every guess fitted fully on all points; the lowest final ε wins (the
+  // thesis's §6.3.4).
+  WholeCurves,
+};
+std::string_view to_string(DepthFrom f) noexcept;
+// "small" | "whole"; throws palpa::Error (Input) otherwise.
+DepthFrom parse_depth_from(std::string_view name);
+inline constexpr double kSmallIndentation = 0.1;
+
 struct FitOptions {
   std::string model = "spline";   // stage-2 model (see above)
   Optimizer optimizer = Optimizer::LevenbergMarquardt;
@@ -90,6 +109,7 @@ struct FitOptions {
   // neo-Hookean E = 10 kPa with the dataset's ν.
   std::shared_ptr<const material::Material> initial;
   bool modulus_only = false;       // stop after stage 1
+  DepthFrom depth_from = DepthFrom::SmallIndentation;
 };
 
 struct IterationRecord {
@@ -127,9 +147,21 @@ struct GuessResult {
   bool done = false;
 };
 
+// The depth profile on the small-indentation part (DepthFrom::SmallIndentation).
+struct SmallIndentationProfile {
+  std::vector<double> objective;  // ε of the stage-1 material at each guess [N²]
+  std::vector<double> young;      // its E at each guess [Pa]
+  std::vector<double> cut;        // per training curve: the deepest indentation used [m]
+  int points = 0;                 // training points used
+};
+
 struct FitResult {
-  std::vector<GuessResult> guesses;  // in the dataset's order of layer depths
-  std::size_t best = 0;              // index of the lowest final ε
+  // In the dataset's order of layer depths. With DepthFrom::SmallIndentation
+  // only the chosen guess is fitted; the others hold their stage-1 material
+  // on the small-indentation part, NaN objectives and no history.
+  std::vector<GuessResult> guesses;
+  std::size_t best = 0;              // index of the chosen (lowest final ε) guess
+  std::optional<SmallIndentationProfile> small_profile;
   int training_points = 0;
   // Of the best guess's material (uncertainty.hpp), with the layer depth in a
   // depth search.

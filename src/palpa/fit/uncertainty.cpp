@@ -284,7 +284,7 @@ Uncertainty modulus_uncertainty(double objective, int points, double scale, doub
 }
 
 void add_depth_uncertainty(Uncertainty& u, const std::vector<double>& depths, const std::vector<double>& objectives,
-                           const std::vector<double>& young, std::size_t best) {
+                           const std::vector<double>& young, std::size_t best, double sigma, double dof) {
   const std::size_t count = depths.size();
   if (count < 2 || best >= count) return;
   std::vector<std::size_t> order(count);
@@ -315,7 +315,7 @@ void add_depth_uncertainty(Uncertainty& u, const std::vector<double>& depths, co
   const double d0 = x0 - x1, d2 = x2 - x1;
   const double alpha = ((y2 - y1) / d2 - (y0 - y1) / d0) / (d2 - d0);
   const double beta = (y2 - y1) / d2 - alpha * d2;
-  if (!(alpha > 0.0) || !u.defined) {
+  if (!(alpha > 0.0) || !(sigma > 0.0)) {
     u.warnings.push_back(fmt::format("the objective is not curved around the best depth ({:.3g} mm): the curves "
                                      "do not tell the depths apart",
                                      depths[best] * 1e3));
@@ -323,11 +323,12 @@ void add_depth_uncertainty(Uncertainty& u, const std::vector<double>& depths, co
     return;
   }
   const double vertex = std::clamp(x1 - beta / (2.0 * alpha), x0, x2);
-  const double var_d = u.sigma * u.sigma / alpha;  // 2 s²/ε″, ε″ = 2α
+  const double var_d = sigma * sigma / alpha;  // 2 s²/ε″, ε″ = 2α
   depth.value = vertex;
   depth.standard_error = std::sqrt(var_d);
-  depth.lo = vertex - u.t95 * depth.standard_error;
-  depth.hi = vertex + u.t95 * depth.standard_error;
+  const double t = student_t_quantile(0.975, std::max(dof, 1.0));
+  depth.lo = vertex - t * depth.standard_error;
+  depth.hi = vertex + t * depth.standard_error;
   // E along the profile.
   const double de_dd = (young[b] - young[a]) / (x2 - x0);
   Estimate* e = nullptr;

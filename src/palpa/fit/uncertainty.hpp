@@ -76,11 +76,12 @@ Uncertainty fit_uncertainty(const TrainingProblem& p, const Eigen::VectorXd& x, 
 Uncertainty modulus_uncertainty(double objective, int points, double scale, double sum_sim_squared,
                                 double young_at_scale_one, double poisson);
 
-// Adds the layer depth from ε and E at the searched depths (sorted by depth;
-// index `best` the lowest ε): its estimate, E's variance along the profile and
-// their correlation; a warning when the best depth is an end of the range or
-// ε is not curved there.
+// Adds the layer depth from ε and E at the searched depths (index `best` the
+// lowest ε; sigma: the residual standard deviation of that profile, dof its
+// degrees of freedom): its
+// estimate, E's variance along the profile and their correlation; a warning
+// when the best depth is an end of the range or ε is not curved there.
 void add_depth_uncertainty(Uncertainty& u, const std::vector<double>& depths, const std::vector<double>& objectives,
-                           const std::vector<double>& young, std::size_t best);
+                           const std::vector<double>& young, std::size_t best, double sigma, double dof);
 
 }  // namespace palpa::fit
