@@ -160,7 +160,10 @@ PokeResult process_poke(const std::filesystem::path& force_file, const std::file
   // during the rests would otherwise pull the correlation.
   const Alignment al = align_by_rank(above_rest(r.force_filtered, fw), above_rest(activity, lw), a0, a1, dt,
                                      r.coarse_shift, std::max(o.search * duration, 3.0 * dt));
-  r.clock_shift = al.shift;
+  // Then to a fraction of a millisecond by how well the pairs over the poke
+  // lie on one curve (a millisecond of the ramp is a few µm of indentation).
+  r.clock_shift = refine_shift_by_fit(above_rest(r.force_filtered, fw), above_rest(activity, lw), fw.start, fw.end,
+                                      kAlignStep, al.shift, 3.0 * dt, 0.1 * kAlignStep);
   r.correlation = al.correlation;
   r.rest_distance = -lw.before.level;
 

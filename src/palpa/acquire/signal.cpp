@@ -285,6 +285,62 @@ Alignment align_by_rank(const Signal& a, const Signal& b, double t0, double t1, 
   return out;
 }
 
+namespace {
+
+// Σ of squared residuals of straight lines fitted to consecutive runs of the
+// pairs (x, y) sorted by x.
+double local_line_residual(std::vector<std::pair<double, double>>& pairs, std::size_t run) {
+  std::sort(pairs.begin(), pairs.end());
+  double total = 0.0;
+  for (std::size_t first = 0; first < pairs.size(); first += run) {
+    const std::size_t last = std::min(pairs.size(), first + run);
+    const double n = static_cast<double>(last - first);
+    if (n < 3) break;
+    double mx = 0.0, my = 0.0;
+    for (std::size_t i = first; i < last; ++i) {
+      mx += pairs[i].first;
+      my += pairs[i].second;
+    }
+    mx /= n;
+    my /= n;
+    double sxx = 0.0, sxy = 0.0, syy = 0.0;
+    for (std::size_t i = first; i < last; ++i) {
+      const double dx = pairs[i].first - mx, dy = pairs[i].second - my;
+      sxx += dx * dx;
+      sxy += dx * dy;
+      syy += dy * dy;
+    }
+    total += sxx > 0.0 ? syy - sxy * sxy / sxx : syy;
+  }
+  return total;
+}
+
+}  // namespace
+
+double refine_shift_by_fit(const Signal& a, const Signal& b, double t0, double t1, double dt, double shift,
+                           double search, double step, std::size_t run) {
+  assert(dt > 0.0 && t1 > t0 && step > 0.0 && run >= 3);
+  const std::size_t n = static_cast<std::size_t>(std::floor((t1 - t0) / dt)) + 1;
+  const Signal ga = resample(a, t0, dt, n);
+  const long steps = static_cast<long>(std::ceil(search / step));
+  std::vector<double> rss(static_cast<std::size_t>(2 * steps + 1));
+  std::vector<std::pair<double, double>> pairs(n);
+  for (long k = -steps; k <= steps; ++k) {
+    const double tau = shift + static_cast<double>(k) * step;
+    const Signal gb = resample(b, t0 - tau, dt, n);
+    for (std::size_t i = 0; i < n; ++i) pairs[i] = {gb.v[i], ga.v[i]};
+    rss[static_cast<std::size_t>(k + steps)] = local_line_residual(pairs, run);
+  }
+  const std::size_t best = static_cast<std::size_t>(std::min_element(rss.begin(), rss.end()) - rss.begin());
+  double out = shift + static_cast<double>(static_cast<long>(best) - steps) * step;
+  if (best > 0 && best + 1 < rss.size()) {
+    const double c0 = rss[best - 1], c1 = rss[best], c2 = rss[best + 1];
+    const double denom = c0 - 2.0 * c1 + c2;
+    if (denom > 0.0) out += 0.5 * (c0 - c2) / denom * step;
+  }
+  return out;
+}
+
 std::string format_seconds(double t) { return fmt::format("{:.4g} s", t); }
 
 }  // namespace palpa::acquire
