@@ -110,6 +110,9 @@ TEST(FitCoordinates, PoissonsRatioStaysInsideItsRangeInEveryModel) {
   const material::NeoHookean loose(10e3, 0.3);
   const Coordinates c(loose, {}, 4e3, range);
   EXPECT_NEAR(c.theta(c.start())[1], 0.45, 1e-4 * 0.05 + 1e-12);
+  // A held ν is what the start has, whatever the range.
+  const Coordinates held(loose, {"nu"}, 4e3, range);
+  EXPECT_EQ(held.theta(held.start())[1], 0.3);
   EXPECT_THROW(Coordinates(loose, {}, 4e3, PoissonRange{0.3, 0.5}), Error);
   EXPECT_THROW(Coordinates(loose, {}, 4e3, PoissonRange{0.4, 0.3}), Error);
 }

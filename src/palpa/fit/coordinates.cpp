@@ -63,12 +63,13 @@ Coordinates::Coordinates(const material::Material& start, const std::vector<std:
                         ErrorContext{"", 0, 0, "fix"}, fmt::format("one of {}", names));
     }
   }
-  // ν at the start, moved inside the range.
+  // ν at the start, moved inside the range (a held ν stays what it is).
   nu_param_ = k_nu >= 0 ? k_nu : (d1_follows_ ? k_d1 : -1);
   if (nu_param_ >= 0) {
     const double width = nu.hi - nu.lo;
     const double nu_start = k_nu >= 0 ? theta0_[k_nu] : material::small_strain_constants(start).poisson();
-    nu0_ = std::clamp(nu_start, nu.lo + 1e-4 * width, nu.hi - 1e-4 * width);
+    const bool held = is_fixed("nu") || (k_nu < 0 && is_fixed("D1"));
+    nu0_ = held ? nu_start : std::clamp(nu_start, nu.lo + 1e-4 * width, nu.hi - 1e-4 * width);
     if (k_nu >= 0) {
       theta0_[k_nu] = nu0_;
     } else {

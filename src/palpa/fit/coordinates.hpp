@@ -44,7 +44,7 @@ struct PoissonRange {
 class Coordinates {
  public:
   // start: the material whose parameters x = start() stands for (its ν moved
-  // inside `nu` if it lies outside); fixed: parameter names held at the
+  // inside `nu` if it lies outside, unless ν is held); fixed: parameter names held at the
   // start's values (throws palpa::Error (Input) for a name the model does not
   // have, or when every parameter is fixed); mu0: the shear modulus that
   // scales moduli.
