@@ -140,10 +140,9 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
                dataset_file.string(), fit::to_string(d.test), d.curves.size(), d.count(fit::CurveRole::Train),
                d.count(fit::CurveRole::Validate), d.layer_depths.size(), d.depth_search() ? " guesses" : "",
                o.model, fit::to_string(o.optimizer));
-  // One unit per recorded iteration (the start of stage 2 included) and guess;
-  // a guess that converges early leaves its remaining units to finish().
-  Progress progress("fit iterations",
-                    static_cast<std::size_t>(o.max_iterations + 1) * d.layer_depths.size());
+  // One unit per recorded iteration (the start of stage 2 included) and guess
+  // fitted; a guess that converges early leaves its remaining units to finish().
+  Progress progress("fit iterations", static_cast<std::size_t>(o.max_iterations + 1) * fit::guesses_fitted(d, o));
   std::vector<std::size_t> seen(d.layer_depths.size(), 0);
   control.on_iteration = [&](std::size_t g, const fit::GuessResult& r) {
     const std::size_t n = r.history.size();

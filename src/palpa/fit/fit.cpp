@@ -351,6 +351,13 @@ PoissonRange poisson_range(const Dataset& d, const FitOptions& o) {
   return d.poisson > 0.45 ? PoissonRange{0.45, PoissonRange{}.hi} : PoissonRange{};
 }
 
+std::size_t guesses_fitted(const Dataset& d, const FitOptions& o) {
+  std::vector<double> cut;
+  const bool one = d.depth_search() && o.depth_from == DepthFrom::SmallIndentation &&
+                   small_indentation_part(d, cut).has_value();
+  return one ? 1 : d.layer_depths.size();
+}
+
 bool fit_finished(const Dataset& d, const FitOptions& o, const std::filesystem::path& checkpoint) {
   const std::shared_ptr<const Material> initial =
       o.initial ? o.initial : std::shared_ptr<const Material>(default_initial(d));

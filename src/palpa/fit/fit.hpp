@@ -185,6 +185,11 @@ struct FitControl {
 // that does not say).
 PoissonRange poisson_range(const Dataset& d, const FitOptions& o);
 
+// How many layer-depth guesses go through stage 2: one when a depth search
+// chooses on the small indentations (and the curves have the points for it),
+// else every guess.
+std::size_t guesses_fitted(const Dataset& d, const FitOptions& o);
+
 // Runs the fit. Throws palpa::Error: (Input) bad options or a checkpoint of
 // another fit, (Solver) when the initial material cannot be simulated,
 // (Interrupted) on Ctrl-C (the checkpoint then holds the last iteration).
