@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -70,6 +72,44 @@ std::optional<double> local_line(std::span<const double> x, std::span<const doub
   }
   if (!(sxx > 0.0)) return std::nullopt;
   return my - sxy / sxx * mx;
+}
+
+// filt(x²) − (filt x)² of a signal (its variance under the filter's window),
+// x taken about its mean (no cancellation).
+Signal filtered_variance(const Signal& x, int order, double cutoff) {
+  double mean = 0.0;
+  for (double v : x.v) mean += v;
+  mean /= static_cast<double>(x.size());
+  Signal centred = x, squared = x;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    centred.v[i] = x.v[i] - mean;
+    squared.v[i] = centred.v[i] * centred.v[i];
+  }
+  const Signal a = lowpass(centred, order, cutoff);
+  Signal b = lowpass(squared, order, cutoff);
+  for (std::size_t i = 0; i < b.size(); ++i) b.v[i] = std::max(0.0, b.v[i] - a.v[i] * a.v[i]);
+  return b;
+}
+
+// F″ along a curve on a uniform grid: the second coefficient of a quadratic
+// fitted over a window of a fifth of the curve (at least 7 points) at each grid
+// point; smooth enough to multiply a small variance with.
+std::vector<double> smoothed_curvature(const Curve& c) {
+  const std::size_t n = c.indentation.size();
+  const std::size_t half = std::max<std::size_t>(3, n / 10);
+  std::vector<double> out(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t a = j > half ? j - half : 0, b = std::min(n, j + half + 1);
+    Eigen::MatrixXd m(static_cast<Eigen::Index>(b - a), 3);
+    Eigen::VectorXd y(static_cast<Eigen::Index>(b - a));
+    for (std::size_t i = a; i < b; ++i) {
+      const double x = c.indentation[i] - c.indentation[j];
+      m.row(static_cast<Eigen::Index>(i - a)) << 1.0, x, x * x;
+      y[static_cast<Eigen::Index>(i - a)] = c.force[i];
+    }
+    out[j] = 2.0 * m.colPivHouseholderQr().solve(y)[2];
+  }
+  return out;
 }
 
 }  // namespace
@@ -205,6 +245,19 @@ PokeResult process_poke(const std::filesystem::path& force_file, const std::file
                       "a laser distance that shrinks while the force rises (check the calibration's direction)");
   }
   const auto first = std::span(r.indentation).first(r.peak + 1);
+  r.loading = uniform_curve(first, std::span(r.force).first(r.peak + 1), d_peak, o.points);
+  // The filter mixes pairs from nearby indentations: for a force F(d),
+  // filt(F(d)) = F(filt d) + ½ F″·(filt(d²) − (filt d)²) to second order
+  // (exactly for a parabola). The variance of the indentation under the
+  // filter's window comes from the laser; F″ from the loading curve. Taking it
+  // off removes the bias where the ramp bends and where tremor near the cutoff
+  // passes part-way into both signals.
+  const Signal spread = filtered_variance(r.laser_distance_raw, o.order, o.cutoff);
+  const std::vector<double> curvature = smoothed_curvature(r.loading);
+  for (std::size_t i = 0; i < r.force.size(); ++i) {
+    const double f2 = interpolate(r.loading.indentation, curvature, std::clamp(r.indentation[i], 0.0, d_peak));
+    r.force[i] -= 0.5 * f2 * interpolate(spread.t, spread.v, r.time[i] - r.clock_shift);
+  }
   r.loading = uniform_curve(first, std::span(r.force).first(r.peak + 1), d_peak, o.points);
   const auto rest_i = std::span(r.indentation).subspan(r.peak);
   const auto rest_f = std::span(r.force).subspan(r.peak);

@@ -11,11 +11,14 @@
 // monotone calibration table; resample each log uniformly and low-pass it
 // zero-phase; find the poke between the two rest plateaus in each (or take the
 // windows given by hand); align the clocks (coarse: the poke starts; fine: the
-// shift maximizing the rank correlation of force and minus distance); resample
+// shift maximizing the rank correlation of force and minus distance, refined
+// by laying the poke's pairs on one curve); resample
 // both on one common clock; subtract the rest levels (linear between the
-// plateaus, which removes a slow drift and the gauge's offset); cut the loading
-// part (start -> maximum force) and optionally the unloading part (maximum
-// force -> end); put each on a uniform indentation grid by local linear fits.
+// plateaus, which removes a slow drift and the gauge's offset); take off the
+// filter's second-order mixing of nearby indentations (½ F″ times the
+// indentation's variance under the filter window); cut the loading part
+// (start -> maximum force) and optionally the unloading part (maximum force ->
+// end); put each on a uniform indentation grid by local linear fits.
 
 #include <filesystem>
 #include <optional>
