@@ -174,11 +174,12 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
     }
   }
   const char* unit = d.test == fit::TestKind::Homogeneous ? "Pa" : "N";
-  spdlog::info("fit: sqrt(eps) {:.4g} -> {:.4g} {} ({} iterations, {} evaluations, {:.1f} s of fitting); RMS error train "
-               "{:.3g} {}, validate {}; wrote {}",
+  spdlog::info("fit: sqrt(eps) {:.4g} -> {:.4g} {} ({} iterations, {} evaluations, {:.1f} s of fitting); "
+               "RMS error train {:.3g} {}, validate {}; wrote {}",
                s.sqrt_objective_stage1, s.sqrt_objective_final, unit, best.iterations, best.evaluations, best.seconds,
                s.rms_train, unit, validation_text(s, unit), out.string());
-  spdlog::info("fit: {}", estimates_text(result.uncertainty, *best.material, d.depth_search() ? best.layer_depth : 0.0));
+  spdlog::info("fit: {}",
+               estimates_text(result.uncertainty, *best.material, d.depth_search() ? best.layer_depth : 0.0));
   for (const auto& w : result.warnings) spdlog::warn("fit: {}", w);
   folder.keep();
   return s;

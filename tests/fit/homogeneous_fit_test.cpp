@@ -190,7 +190,8 @@ TEST(HomogeneousFit, EcoflexWithDefaultsMatchesThePublishedFits) {
        std::make_shared<material::IsochoricInvariant>(material::IsochoricInvariant::yeoh(
            14.6899960308889e3, -0.1943757158057544e3, 0.3107486648843412e3, compliance(2 * 14.6899960308889e3, nu))),
        1.5},
-      {"ogden", 1, std::make_shared<material::Ogden>(std::vector{14.202303878777826e3}, std::vector{3.9700359985056353}, nu),
+      {"ogden", 1,
+       std::make_shared<material::Ogden>(std::vector{14.202303878777826e3}, std::vector{3.9700359985056353}, nu),
        1.15},
       {"ogden", 2,
        std::make_shared<material::Ogden>(std::vector{0.11597852052455487e3, 21.929799010391598e3},

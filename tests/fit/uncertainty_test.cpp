@@ -38,7 +38,8 @@ Dataset noisy_dataset(const ScratchDir& dir, const material::Material& truth, do
     return c;
   };
   test::write_stress_csv(dir / "uni.csv", LoadCase::Uniaxial, curve(LoadCase::Uniaxial, 0.7, 1.6, 15, 2 * salt));
-  test::write_stress_csv(dir / "bi.csv", LoadCase::Equibiaxial, curve(LoadCase::Equibiaxial, 1.05, 1.3, 10, 2 * salt + 1));
+  test::write_stress_csv(dir / "bi.csv", LoadCase::Equibiaxial,
+                         curve(LoadCase::Equibiaxial, 1.05, 1.3, 10, 2 * salt + 1));
   const Json d{{"palpa_dataset", 1},
                {"test", "homogeneous"},
                {"poisson", 0.3},

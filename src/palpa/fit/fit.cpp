@@ -131,7 +131,8 @@ std::vector<Stage2Start> stage2_starts(const Material& stage1, const FitOptions&
   if (m == stage1.model()) {
     add("stage 1", stage1.clone());
   } else if (m == "spline") {
-    add("stage 1 sampled", std::make_unique<material::SplineMaterial>(material::SplineMaterial::fit_stresses(stage1, layout)));
+    add("stage 1 sampled",
+        std::make_unique<material::SplineMaterial>(material::SplineMaterial::fit_stresses(stage1, layout)));
   } else if (m == "neo-hookean") {
     add("stage 1 constants", std::make_unique<material::NeoHookean>(c.young(), nu));
   } else if (m == "neo-hookean-volume") {
@@ -140,8 +141,8 @@ std::vector<Stage2Start> stage2_starts(const Material& stage1, const FitOptions&
           std::make_unique<material::NeoHookean>(material::NeoHookean::with_volume_term(c.young(), nu, share)));
     }
   } else if (m == "neo-hookean-isochoric") {
-    add("stage 1 constants",
-        std::make_unique<material::IsochoricInvariant>(material::IsochoricInvariant::neo_hookean(0.5 * mu, 2.0 / bulk)));
+    add("stage 1 constants", std::make_unique<material::IsochoricInvariant>(
+                                 material::IsochoricInvariant::neo_hookean(0.5 * mu, 2.0 / bulk)));
   } else if (m == "mooney-rivlin") {
     for (const double share : {0.0, 0.1, 0.5}) {
       add(fmt::format("C01 {:g} of mu0/2", share),
@@ -364,10 +365,9 @@ bool fit_finished(const Dataset& d, const FitOptions& o, const std::filesystem::
   Checkpoint c(checkpoint, d, o, *initial);
   c.load();
   // Choosing the depth from the small indentations fits one guess only.
-  const bool one = d.depth_search() && o.depth_from == DepthFrom::SmallIndentation;
   std::size_t done = 0;
   for (std::size_t g = 0; g < d.layer_depths.size(); ++g) done += c.done(g) ? 1 : 0;
-  return one ? done >= 1 : done == d.layer_depths.size();
+  return done >= guesses_fitted(d, o);
 }
 
 FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& control) {
@@ -465,7 +465,9 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     r.stage2_start = ends[best];
     r.starts = trials;
     std::string line;
-    for (const auto& t : trials) line += fmt::format("; {}: eps {:.4g} -> {:.4g}", t.label, t.objective_start, t.objective_end);
+    for (const auto& t : trials) {
+      line += fmt::format("; {}: eps {:.4g} -> {:.4g}", t.label, t.objective_start, t.objective_end);
+    }
     spdlog::info("layer depth {:.4g} mm: stage 2 tried {} starts for {} iterations each{}; going on from {}",
                  r.layer_depth * 1e3, trials.size(), std::min(o.start_iterations, o.max_iterations), line,
                  trials[best].label);
@@ -502,7 +504,8 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
               ? layout_covering(s1.stretches, o.spline_layout, d.test == TestKind::Homogeneous ? 0.0 : 0.01)
               : o.spline_layout;
       std::vector<Stage2Start> starts = stage2_starts(*r.stage1_material, o, layout);
-      if (o.starts > 0 && starts.size() > static_cast<std::size_t>(o.starts)) starts.resize(static_cast<std::size_t>(o.starts));
+      const auto keep = static_cast<std::size_t>(o.starts);
+      if (keep > 0 && starts.size() > keep) starts.resize(keep);
       r.stage2_start = std::shared_ptr<Material>(std::move(starts.front().material));
       r.objective_final = r.objective_stage1;
       r.evaluations = 1;
@@ -677,7 +680,8 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
       young.push_back(material::small_strain_constants(*g.material).young());
     }
     add_depth_uncertainty(result.uncertainty, d.layer_depths, objectives, young, result.best,
-                          result.uncertainty.sigma, result.uncertainty.points - result.uncertainty.effective_parameters);
+                          result.uncertainty.sigma,
+                          result.uncertainty.points - result.uncertainty.effective_parameters);
   }
   result.warnings.insert(result.warnings.end(), depth_notes.begin(), depth_notes.end());
   result.warnings.insert(result.warnings.end(), result.uncertainty.warnings.begin(),

@@ -272,7 +272,8 @@ class FrictionlessCompressionSimulator final : public CurveSimulator {
     const double deepest = *std::max_element(c_->x.begin(), c_->x.end());
     std::vector<double> loads;
     for (int k = 0; k <= 40; ++k) loads.push_back(1.0 - deepest * k / 40.0 / height_);
-    const material::CurveSensitivity g = material::homogeneous_curve_sensitivity(m, material::LoadCase::Uniaxial, loads);
+    const material::CurveSensitivity g =
+        material::homogeneous_curve_sensitivity(m, material::LoadCase::Uniaxial, loads);
     for (int k = 0; k <= 40; ++k) {
       p.grid_x.push_back(deepest * k / 40.0);
       p.grid_y.push_back(-area_ * g.points[static_cast<std::size_t>(k)].nominal);

@@ -205,7 +205,8 @@ Uncertainty fit_uncertainty(const TrainingProblem& p, const Eigen::VectorXd& x, 
   const auto q = static_cast<Eigen::Index>(rows.size());
   Eigen::MatrixXd g(q, nk);
   for (Eigen::Index i = 0; i < q; ++i) {
-    for (Eigen::Index k = 0; k < nk; ++k) g(i, k) = rows[static_cast<std::size_t>(i)][keep[static_cast<std::size_t>(k)]];
+    const Eigen::RowVectorXd& row = rows[static_cast<std::size_t>(i)];
+    for (Eigen::Index k = 0; k < nk; ++k) g(i, k) = row[keep[static_cast<std::size_t>(k)]];
   }
   const Eigen::MatrixXd cov = g * cov_k * g.transpose();
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
