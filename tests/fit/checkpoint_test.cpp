@@ -195,6 +195,52 @@ TEST(Checkpoint, AnInterruptDuringADepthSearchThrowsInterrupted) {
   }
 }
 
+// A depth search that chooses on the small indentations fits one guess: an
+// interrupt inside it resumes there (the profile is recomputed, the same
+// guess chosen) and ends bit for bit where an uninterrupted search ends; the
+// finished search counts as finished with that one guess done.
+TEST(Checkpoint, ASmallIndentationDepthSearchResumesItsChosenGuess) {
+  ScratchDir dir;
+  test::IndentationSpec spec;
+  spec.true_depth = 6e-3;
+  spec.layer_depth = Json{{"from", "4 mm"}, {"to", "8 mm"}, {"count", 3}};
+  spec.train_radii = {2e-3, 3e-3, 4e-3};
+  spec.max_depth = 1.2e-3;
+  spec.points = 30;
+  spec.mesh_level = 0;
+  spec.poisson = 0.3;  // the profile holds ν at the dataset's (0.45 here would choose 8 mm)
+  spec.salt = 19;
+  const Dataset d =
+      read_dataset(test::write_indentation_dataset(dir.path(), material::NeoHookean(20e3, 0.36), spec).dataset);
+  FitOptions o = options(Optimizer::LevenbergMarquardt);
+  o.max_iterations = 40;
+  o.function_tolerance = 1e-9;
+  const FitResult whole = fit_dataset(d, o);
+  ASSERT_TRUE(whole.small_profile.has_value());
+  EXPECT_EQ(whole.best, 1u);  // 6 mm
+  const GuessResult& w = whole.guesses[whole.best];
+  constexpr int kStopAfter = 1;  // (it converges in 3)
+  ASSERT_GT(w.iterations, kStopAfter + 1) << w.stop_reason;
+
+  FitControl c;
+  c.checkpoint = dir / "checkpoint.json";
+  c.on_iteration = [&](std::size_t, const GuessResult& r) {
+    if (r.iterations == kStopAfter) request_interrupt();
+  };
+  EXPECT_TRUE(palpa::test::throws_error([&] { fit_dataset(d, o, c); }, ErrorKind::Interrupted, {}));
+  clear_interrupt();
+  EXPECT_FALSE(fit_finished(d, o, c.checkpoint));
+  c.resume = true;
+  c.on_iteration = nullptr;
+  const FitResult resumed = fit_dataset(d, o, c);
+  ASSERT_EQ(resumed.best, whole.best);
+  const GuessResult& r = resumed.guesses[resumed.best];
+  EXPECT_EQ(r.iterations, w.iterations);
+  EXPECT_EQ(r.material->params(), w.material->params());
+  EXPECT_EQ(r.objective_final, w.objective_final);
+  EXPECT_TRUE(fit_finished(d, o, c.checkpoint));
+}
+
 TEST(Checkpoint, ACheckpointOfAnotherFitIsRefused) {
   ScratchDir dir;
   const Dataset d = small_dataset(dir);
