@@ -26,6 +26,34 @@ Signal protocol(double rate, double t0, double height, double noise, std::uint64
   return s;
 }
 
+TEST(Signal, CubicInterpolationIsExactOnCubicsAndFollowsATremorALineCutsShort) {
+  const Signal s{{0.0, 0.1, 0.35, 0.4, 0.7, 1.0}, {}};
+  auto cubic = [](double t) { return 1.0 - t + 2.0 * t * t - 3.0 * t * t * t; };
+  std::vector<double> v;
+  for (double t : s.t) v.push_back(cubic(t));
+  for (double t = 0.0; t <= 1.0; t += 0.01) EXPECT_NEAR(interpolate_cubic(s.t, v, t), cubic(t), 1e-12) << t;
+  EXPECT_DOUBLE_EQ(interpolate_cubic(s.t, v, -1.0), v.front());
+  EXPECT_DOUBLE_EQ(interpolate_cubic(s.t, v, 2.0), v.back());
+  const std::vector<double> t3{0.0, 1.0, 3.0}, v3{0.0, 2.0, 3.0};
+  EXPECT_DOUBLE_EQ(interpolate_cubic(t3, v3, 2.0), 2.5);  // linear with three samples
+  // ±150 µm at 10 Hz sampled at 50 Hz, anywhere between samples and any phase.
+  double worst_cubic = 0.0, worst_line = 0.0;
+  for (double phase = 0.0; phase < 6.3; phase += 0.1) {
+    std::vector<double> t, x;
+    for (int i = 0; i < 50; ++i) {
+      t.push_back(i / 50.0);
+      x.push_back(150e-6 * std::sin(2.0 * std::numbers::pi * 10.0 * t.back() + phase));
+    }
+    for (double u = 0.1; u < 0.9; u += 0.001) {
+      const double truth = 150e-6 * std::sin(2.0 * std::numbers::pi * 10.0 * u + phase);
+      worst_cubic = std::max(worst_cubic, std::abs(interpolate_cubic(t, x, u) - truth));
+      worst_line = std::max(worst_line, std::abs(interpolate(t, x, u) - truth));
+    }
+  }
+  EXPECT_NEAR(worst_line, 29e-6, 1e-6);
+  EXPECT_LT(worst_cubic, 8e-6);
+}
+
 TEST(Signal, InterpolatesAndResamplesLinearDataExactly) {
   const Signal s{{0.0, 0.1, 0.35, 0.4, 1.0}, {1.0, 1.2, 1.7, 1.8, 3.0}};  // v = 1 + 2t
   const Signal r = resample(s, -0.1, 0.05, 25);

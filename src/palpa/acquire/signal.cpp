@@ -76,6 +76,24 @@ double interpolate(std::span<const double> t, std::span<const double> v, double 
   return (1.0 - w) * v[i - 1] + w * v[i];
 }
 
+double interpolate_cubic(std::span<const double> t, std::span<const double> v, double x) {
+  assert(!t.empty() && t.size() == v.size());
+  if (t.size() < 4) return interpolate(t, v, x);
+  if (x <= t.front()) return v.front();
+  if (x >= t.back()) return v.back();
+  const auto i = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), x) - t.begin());
+  const std::size_t first = std::min(i < 2 ? 0 : i - 2, t.size() - 4);
+  double y = 0.0;
+  for (std::size_t a = first; a < first + 4; ++a) {
+    double w = 1.0;
+    for (std::size_t b = first; b < first + 4; ++b) {
+      if (b != a) w *= (x - t[b]) / (t[a] - t[b]);
+    }
+    y += w * v[a];
+  }
+  return y;
+}
+
 double median_step(std::span<const double> t) {
   assert(t.size() >= 2);
   std::vector<double> d(t.size() - 1);
