@@ -67,6 +67,13 @@ Json window_json(const acquire::PokeWindow& w) {
               {"rest_after_s", {w.after.t0, w.after.t1}}};
 }
 
+// How smooth a curve came out and what it left: the residual RMS is the
+// noise of the force gauge as the pairs see it.
+Json spline_json(const acquire::PenalizedSpline& s) {
+  if (s.pairs == 0) return Json{{"smoothed", false}};  // too few pairs: straight lines between them
+  return Json{{"smoothed", true}, {"pairs", s.pairs}, {"effective_dof", s.effective_dof}, {"residual_rms_N", s.rms}};
+}
+
 // The options of every command that reads time-stamped logs: the low-pass
 // filter, the rest plateaus and the log checks.
 void add_log_options(CLI::App& cmd, int& order, double& cutoff, acquire::PlateauOptions& plateau,
@@ -143,7 +150,10 @@ void run_acquire_poke(AcquirePokeArgs& a) {
            {"rest_distance_m", r.rest_distance},
            {"max_force_N", peak_force},
            {"max_indentation_m", depth},
-           {"points", o.points}};
+           {"points", o.points},
+           {"curves", {{"method", "P-spline through the raw (indentation, force) pairs"},
+                       {"loading", spline_json(r.loading_spline)},
+                       {"unloading", spline_json(r.unloading_spline)}}}};
     batch.add(a.summary) << format_json(s, a.summary);
   }
   batch.commit();

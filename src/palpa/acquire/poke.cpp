@@ -3,7 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include <numeric>
 
 #include "palpa/acquire/filter.hpp"
+#include "palpa/acquire/penalized_spline.hpp"
 #include "palpa/core/error.hpp"
 
 namespace palpa::acquire {
@@ -54,88 +54,31 @@ Signal negated(Signal s) {
   return s;
 }
 
-// Value of the straight line fitted to (x, y) at x0, or nullopt if the points
-// do not determine one.
-std::optional<double> local_line(std::span<const double> x, std::span<const double> y, double x0) {
-  const double n = static_cast<double>(x.size());
-  double sx = 0.0, sy = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sx += x[i] - x0;
-    sy += y[i];
-  }
-  const double mx = sx / n, my = sy / n;
-  double sxx = 0.0, sxy = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double dx = x[i] - x0 - mx;
-    sxx += dx * dx;
-    sxy += dx * (y[i] - my);
-  }
-  if (!(sxx > 0.0)) return std::nullopt;
-  return my - sxy / sxx * mx;
-}
-
-// filt(x²) − (filt x)² of a signal (its variance under the filter's window),
-// x taken about its mean (no cancellation).
-Signal filtered_variance(const Signal& x, int order, double cutoff) {
-  double mean = 0.0;
-  for (double v : x.v) mean += v;
-  mean /= static_cast<double>(x.size());
-  Signal centred = x, squared = x;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    centred.v[i] = x.v[i] - mean;
-    squared.v[i] = centred.v[i] * centred.v[i];
-  }
-  const Signal a = lowpass(centred, order, cutoff);
-  Signal b = lowpass(squared, order, cutoff);
-  for (std::size_t i = 0; i < b.size(); ++i) b.v[i] = std::max(0.0, b.v[i] - a.v[i] * a.v[i]);
-  return b;
-}
-
-// F″ along a curve on a uniform grid: the second coefficient of a quadratic
-// fitted over a window of a fifth of the curve (at least 7 points) at each grid
-// point; smooth enough to multiply a small variance with.
-std::vector<double> smoothed_curvature(const Curve& c) {
-  const std::size_t n = c.indentation.size();
-  const std::size_t half = std::max<std::size_t>(3, n / 10);
-  std::vector<double> out(n, 0.0);
-  for (std::size_t j = 0; j < n; ++j) {
-    const std::size_t a = j > half ? j - half : 0, b = std::min(n, j + half + 1);
-    Eigen::MatrixXd m(static_cast<Eigen::Index>(b - a), 3);
-    Eigen::VectorXd y(static_cast<Eigen::Index>(b - a));
-    for (std::size_t i = a; i < b; ++i) {
-      const double x = c.indentation[i] - c.indentation[j];
-      m.row(static_cast<Eigen::Index>(i - a)) << 1.0, x, x * x;
-      y[static_cast<Eigen::Index>(i - a)] = c.force[i];
-    }
-    out[j] = 2.0 * m.colPivHouseholderQr().solve(y)[2];
-  }
-  return out;
-}
-
 }  // namespace
 
 Curve uniform_curve(std::span<const double> indentation, std::span<const double> force, double x_max,
-                    std::size_t points) {
+                    std::size_t points, PenalizedSpline* spline) {
+  Curve c;
+  const double h = x_max / static_cast<double>(points - 1);
+  for (std::size_t j = 0; j < points; ++j) c.indentation.push_back(static_cast<double>(j) * h);
+  const PenalizedSplineOptions o;
+  if (indentation.size() > static_cast<std::size_t>(o.penalty_order) + 1) {
+    const PenalizedSpline s = fit_penalized_spline(indentation, force, 0.0, x_max, o);
+    for (double x : c.indentation) c.force.push_back(s(x));
+    if (spline) *spline = s;
+    return c;
+  }
+  // Too few pairs for a smooth curve: straight lines between them.
   std::vector<std::size_t> order(indentation.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return indentation[a] < indentation[b]; });
-  std::vector<double> xs(order.size()), ys(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    xs[i] = indentation[order[i]];
-    ys[i] = force[order[i]];
+  std::vector<double> xs, ys;
+  for (std::size_t i : order) {
+    if (!xs.empty() && !(indentation[i] > xs.back())) continue;
+    xs.push_back(indentation[i]);
+    ys.push_back(force[i]);
   }
-  Curve c;
-  const double h = x_max / static_cast<double>(points - 1);
-  for (std::size_t j = 0; j < points; ++j) {
-    const double x0 = static_cast<double>(j) * h;
-    const auto lo = std::lower_bound(xs.begin(), xs.end(), x0 - h);
-    const auto hi = std::upper_bound(xs.begin(), xs.end(), x0 + h);
-    const std::size_t a = static_cast<std::size_t>(lo - xs.begin()), b = static_cast<std::size_t>(hi - xs.begin());
-    std::optional<double> f;
-    if (b >= a + 3) f = local_line(std::span(xs).subspan(a, b - a), std::span(ys).subspan(a, b - a), x0);
-    c.indentation.push_back(x0);
-    c.force.push_back(f ? *f : interpolate(xs, ys, x0));
-  }
+  for (double x : c.indentation) c.force.push_back(interpolate(xs, ys, x));
   return c;
 }
 
@@ -244,24 +187,32 @@ PokeResult process_poke(const std::filesystem::path& force_file, const std::file
                       ErrorContext{ll.file, 0, 0, "column '" + ll.value.name + "'"},
                       "a laser distance that shrinks while the force rises (check the calibration's direction)");
   }
-  const auto first = std::span(r.indentation).first(r.peak + 1);
-  r.loading = uniform_curve(first, std::span(r.force).first(r.peak + 1), d_peak, o.points);
-  // The filter mixes pairs from nearby indentations: for a force F(d),
-  // filt(F(d)) = F(filt d) + ½ F″·(filt(d²) − (filt d)²) to second order
-  // (exactly for a parabola). The variance of the indentation under the
-  // filter's window comes from the laser; F″ from the loading curve. Taking it
-  // off removes the bias where the ramp bends and where tremor near the cutoff
-  // passes part-way into both signals.
-  const Signal spread = filtered_variance(r.laser_distance_raw, o.order, o.cutoff);
-  const std::vector<double> curvature = smoothed_curvature(r.loading);
-  for (std::size_t i = 0; i < r.force.size(); ++i) {
-    const double f2 = interpolate(r.loading.indentation, curvature, std::clamp(r.indentation[i], 0.0, d_peak));
-    r.force[i] -= 0.5 * f2 * interpolate(spread.t, spread.v, r.time[i] - r.clock_shift);
+  // The curves come from the raw samples, not the filtered signals: each force
+  // sample with the laser's distance at its time. A filter in time mixes
+  // force and indentation from neighbouring instants, which a tremor near the
+  // cut-off or a bend of the ramp turns into a bias of several percent at small
+  // indentation; the pairs lie on the curve whatever the motion, and a smooth
+  // curve along the indentation (a P-spline, its smoothness chosen by
+  // cross-validation) averages the gauge's noise instead.
+  const double t_peak = r.time[r.peak];
+  for (std::size_t i = 0; i < fl.signal.size(); ++i) {
+    const double t = fl.signal.t[i];
+    if (t < t_begin || t > t_end) continue;
+    const double tl = t - r.clock_shift;
+    double f = fl.signal.v[i];
+    if (o.tare) f -= fw.rest_level(t);
+    const double d = -interpolate_cubic(r.laser_distance_raw.t, r.laser_distance_raw.v, tl) - lw.rest_level(tl);
+    if (t <= t_peak) r.pairs_peak = r.pair_time.size() + 1;
+    r.pair_time.push_back(t);
+    r.pair_indentation.push_back(d);
+    r.pair_force.push_back(f);
   }
-  r.loading = uniform_curve(first, std::span(r.force).first(r.peak + 1), d_peak, o.points);
-  const auto rest_i = std::span(r.indentation).subspan(r.peak);
-  const auto rest_f = std::span(r.force).subspan(r.peak);
-  r.unloading = uniform_curve(rest_i, rest_f, d_peak, o.points);
+  const auto first_i = std::span(r.pair_indentation).first(r.pairs_peak);
+  const auto first_f = std::span(r.pair_force).first(r.pairs_peak);
+  r.loading = uniform_curve(first_i, first_f, d_peak, o.points, &r.loading_spline);
+  const auto rest_i = std::span(r.pair_indentation).subspan(r.pairs_peak > 0 ? r.pairs_peak - 1 : 0);
+  const auto rest_f = std::span(r.pair_force).subspan(r.pairs_peak > 0 ? r.pairs_peak - 1 : 0);
+  r.unloading = uniform_curve(rest_i, rest_f, d_peak, o.points, &r.unloading_spline);
   return r;
 }
 
@@ -334,7 +285,7 @@ report::Figure poke_curve_figure(const PokeResult& r) {
     for (double& x : out) x *= 1e3;
     return out;
   };
-  p.series.push_back({"filtered samples", mm(r.indentation), r.force, report::Mark::Dots, 5});
+  p.series.push_back({"samples", mm(r.pair_indentation), r.pair_force, report::Mark::Dots, 5});
   p.series.push_back({"loading", mm(r.loading.indentation), r.loading.force, report::Mark::Line, 1});
   p.series.push_back({"unloading", mm(r.unloading.indentation), r.unloading.force, report::Mark::Line, 2, true});
   return fig;

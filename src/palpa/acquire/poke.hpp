@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "palpa/acquire/log.hpp"
+#include "palpa/acquire/penalized_spline.hpp"
 #include "palpa/acquire/signal.hpp"
 #include "palpa/report/plot.hpp"
 
@@ -79,7 +80,13 @@ struct PokeResult {
   // rest levels removed.
   std::vector<double> time, indentation, force;
   std::size_t peak = 0;         // index of the maximum force in `time`
+  // The raw pairs the curves come from, over the same span: each force sample
+  // (force clock) with the laser's distance at its time, rest levels removed.
+  // The first `pairs_peak` are the loading's; the unloading's start at the last of them.
+  std::vector<double> pair_time, pair_indentation, pair_force;
+  std::size_t pairs_peak = 0;
   Curve loading, unloading;
+  PenalizedSpline loading_spline, unloading_spline;  // the smooth curves through the pairs
   double rest_distance = 0.0;   // laser distance at rest before the poke [m]
 };
 
@@ -91,11 +98,11 @@ PokeResult process_poke(const std::filesystem::path& force_log, const std::files
                         const std::optional<std::filesystem::path>& calibration, const PokeOptions& options);
 
 // `pairs` (indentation [m], force [N], any order) on the uniform grid 0..x_max
-// with `points` points: at each grid point the value of a straight line fitted
-// to the pairs within one grid step (linear interpolation of the sorted pairs
-// where fewer than 3 pairs are that close). Linear data is reproduced exactly.
+// with `points` points: a P-spline through the pairs (penalized_spline.hpp;
+// quadratic data is reproduced exactly), or straight lines between them when
+// there are too few for one. The spline, if any, is stored in `spline`.
 Curve uniform_curve(std::span<const double> indentation, std::span<const double> force, double x_max,
-                    std::size_t points);
+                    std::size_t points, PenalizedSpline* spline = nullptr);
 
 // Raw against filtered force and laser distance on the force clock (the laser
 // shifted), with the poke windows; and the final curve(s) over the samples.
