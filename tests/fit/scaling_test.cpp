@@ -54,7 +54,10 @@ TEST(Stage2Start, MatchesTheStage1MaterialAtSmallStrain) {
   // midway between two f knots), so its curvature at rest carries the
   // interpolation error of the natural cubic splines there: measured 0.69% on
   // μ and 2.7% on Lamé's λ (ν = 0.45) with the default layout; bounds 1% and 3%.
-  // Every start of a model, not only the first.
+  // Every start of a model, not only the first; the spline sampled from an
+  // Ogden shape (α = 5) matches less closely, as its f bends more between
+  // knots: measured 5.3% on μ and 0.93% on λ, bound 6% (a start needs only
+  // to be near stage 1).
   const material::NeoHookean stage1(17e3, 0.45);
   const material::ElasticConstants c1 = material::small_strain_constants(stage1);
   for (const char* model : {"neo-hookean", "neo-hookean-volume", "neo-hookean-isochoric", "mooney-rivlin", "yeoh",
@@ -65,7 +68,8 @@ TEST(Stage2Start, MatchesTheStage1MaterialAtSmallStrain) {
     for (const Stage2Start& start : stage2_starts(stage1, o, o.spline_layout)) {
       EXPECT_EQ(start.material->model(), model);
       const material::ElasticConstants c2 = material::small_strain_constants(*start.material);
-      EXPECT_NEAR(c2.mu, c1.mu, (spline ? 1e-2 : 1e-6) * c1.mu) << model << ", " << start.label;
+      const bool shape = spline && start.label != "stage 1 sampled";
+      EXPECT_NEAR(c2.mu, c1.mu, (shape ? 6e-2 : spline ? 1e-2 : 1e-6) * c1.mu) << model << ", " << start.label;
       EXPECT_NEAR(c2.lambda, c1.lambda, (spline ? 3e-2 : 1e-6) * c1.lambda) << model << ", " << start.label;
       const std::string key = std::string(model) + " " + start.label;
       RecordProperty("mu_rel_error " + key, std::to_string(std::abs(c2.mu / c1.mu - 1.0)));

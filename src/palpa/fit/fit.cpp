@@ -133,6 +133,10 @@ std::vector<Stage2Start> stage2_starts(const Material& stage1, const FitOptions&
   } else if (m == "spline") {
     add("stage 1 sampled",
         std::make_unique<material::SplineMaterial>(material::SplineMaterial::fit_stresses(stage1, layout)));
+    // A shape that stiffens in tension, with stage 1's constants.
+    const material::Ogden stiffening({2.0 * mu / 5.0}, {5.0}, nu);
+    add("Ogden alpha 5 sampled",
+        std::make_unique<material::SplineMaterial>(material::SplineMaterial::fit_stresses(stiffening, layout)));
   } else if (m == "neo-hookean") {
     add("stage 1 constants", std::make_unique<material::NeoHookean>(c.young(), nu));
   } else if (m == "neo-hookean-volume") {

@@ -212,7 +212,8 @@ bool fit_finished(const Dataset& d, const FitOptions& o, const std::filesystem::
 // whose minima depend on where they start: ogden with exponent sets (2, 5,
 // −2, 8, −4, 10), (4, −2, 8, 2, −4, 12) and (−2, 3, 10, −4, 6, 2), equal
 // shares of μ0; mooney-rivlin with C01 = 10% and 50% of μ0/2;
-// neo-hookean-volume with volume_share 0.5.
+// neo-hookean-volume with volume_share 0.5; spline sampled from a one-term
+// Ogden material with α = 5 (the stage-1 spline can stall where it starts).
 struct Stage2Start {
   std::string label;
   std::unique_ptr<material::Material> material;
