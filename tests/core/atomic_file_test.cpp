@@ -79,6 +79,47 @@ TEST(OutputBatch, AllOrNothing) {
   EXPECT_EQ(dir.entry_count(), 2u);
 }
 
+// A writer that makes its own files writes at the staged names, siblings
+// derived from them included; they appear with the batch or not at all, and a
+// killed run's staged files are recognized as stale temporaries.
+TEST(OutputBatch, StagedFilesAppearWithTheBatchOrNotAtAll) {
+  test::ScratchDir dir;
+  auto write_trio = [](const std::filesystem::path& node) {  // as a TetGen writer does
+    for (const char* ext : {".node", ".ele", ".face"}) {
+      std::ofstream(std::filesystem::path(node).replace_extension(ext)) << ext;
+    }
+  };
+  try {
+    OutputBatch batch;
+    batch.add(dir / "summary.json") << "{}";
+    write_trio(batch.stage(dir / "layer.node"));
+    batch.stage(dir / "layer.ele");
+    batch.stage(dir / "layer.face");
+    EXPECT_EQ(dir.entry_count(), 4u);  // three staged files and the summary's temporary
+    throw std::runtime_error("failure before commit");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(dir.entry_count(), 0u);
+
+  OutputBatch batch;
+  batch.add(dir / "summary.json") << "{}";
+  const auto staged = batch.stage(dir / "layer.node");
+  EXPECT_EQ(staged.filename().string().rfind(fmt::format(".tmp-{}-", ::getpid()), 0), 0u);
+  write_trio(staged);
+  batch.stage(dir / "layer.ele");
+  batch.stage(dir / "layer.face");
+  batch.commit();
+  EXPECT_EQ(read_all(dir / "layer.node"), ".node");
+  EXPECT_EQ(read_all(dir / "layer.ele"), ".ele");
+  EXPECT_EQ(read_all(dir / "layer.face"), ".face");
+  EXPECT_EQ(dir.entry_count(), 4u);
+
+  // A staged name that was never written is a defect of the writer, not of the input.
+  OutputBatch unwritten;
+  unwritten.stage(dir / "other.vtu");
+  EXPECT_TRUE(test::throws_error([&] { unwritten.commit(); }, ErrorKind::Internal, {"other.vtu", "never written"}));
+}
+
 TEST(EnsureDirectory, CreatesAndRejectsFiles) {
   test::ScratchDir dir;
   ensure_directory(dir / "x" / "y");
@@ -97,12 +138,15 @@ TEST(OutputFolder, RemovesTheTemporariesOfKilledRunsOnly) {
   waitpid(gone, nullptr, 0);  // a pid that no longer runs
   const std::string stale = fmt::format(".summary.json.tmp-{}-0", gone);
   const std::string live = fmt::format(".summary.json.tmp-{}-3", ::getppid());
+  const std::string stale_staged = fmt::format(".tmp-{}-b2.layer.node", gone);  // OutputBatch::stage's name
   dir.write(stale, "half");
+  dir.write(stale_staged, "half");
   dir.write(live, "in progress");
   dir.write(".hidden", "mine");
   dir.write("summary.json.tmp-1-1", "not a temporary's name");
-  EXPECT_EQ(remove_stale_temporaries(dir.path()), 1u);
+  EXPECT_EQ(remove_stale_temporaries(dir.path()), 2u);
   EXPECT_FALSE(std::filesystem::exists(dir / stale));
+  EXPECT_FALSE(std::filesystem::exists(dir / stale_staged));
   EXPECT_TRUE(std::filesystem::exists(dir / live));
   EXPECT_TRUE(std::filesystem::exists(dir / ".hidden"));
   EXPECT_TRUE(std::filesystem::exists(dir / "summary.json.tmp-1-1"));

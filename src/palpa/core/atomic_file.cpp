@@ -215,6 +215,43 @@ void write_file_atomic(const std::filesystem::path& target,
   file.commit();
 }
 
+OutputBatch::OutputBatch() {
+  static std::atomic<unsigned> counter{0};
+  // ".tmp-<pid>-" as in temporary_name(): remove_stale_temporaries() knows it.
+  prefix_ = fmt::format(".tmp-{}-b{}.", ::getpid(), counter.fetch_add(1));
+}
+
+OutputBatch::~OutputBatch() {
+  for (const Staged& s : staged_) {
+    std::error_code ec;
+    std::filesystem::remove(s.temporary, ec);
+    unregister_temporary(s.temporary.string());
+  }
+}
+
+std::filesystem::path OutputBatch::stage(const std::filesystem::path& target) {
+  ErrorContext ctx;
+  ctx.file = target.string();
+  if (target.filename().empty()) throw_input_error("output path names no file", ctx, "a file name");
+  const std::filesystem::path dir = target.parent_path().empty() ? "." : target.parent_path();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) {
+    throw_input_error(fmt::format("output folder '{}' does not exist", dir.string()), ctx,
+                      "an existing folder (create it first)");
+  }
+  refuse_overwriting_an_input(target);
+  if (std::filesystem::is_directory(target, ec)) throw_input_error("output path is a folder", ctx, "a file name");
+  // A killed run's staged files in the folder go now (once per folder and batch).
+  if (std::find(cleaned_.begin(), cleaned_.end(), dir) == cleaned_.end()) {
+    remove_stale_temporaries(dir);
+    cleaned_.push_back(dir);
+  }
+  Staged s{target.parent_path() / (prefix_ + target.filename().string()), target};
+  register_temporary(s.temporary.string());
+  staged_.push_back(s);
+  return s.temporary;
+}
+
 std::ostream& OutputBatch::add(const std::filesystem::path& target, bool binary) {
   files_.push_back(std::make_unique<AtomicFile>(target, binary));
   return files_.back()->stream();
@@ -231,8 +268,26 @@ void OutputBatch::commit() {
       throw_input_error("writing failed (disk full or the file system refused it)", ctx);
     }
   }
+  for (const Staged& s : staged_) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(s.temporary, ec)) {
+      throw Error(ErrorKind::Internal, fmt::format("{}: staged for the batch but never written", s.target.string()));
+    }
+  }
   for (auto& f : files_) f->commit();
   files_.clear();
+  for (const Staged& s : staged_) {
+    std::error_code ec;
+    std::filesystem::rename(s.temporary, s.target, ec);
+    unregister_temporary(s.temporary.string());
+    if (ec) {
+      ErrorContext ctx;
+      ctx.file = s.target.string();
+      throw_input_error(fmt::format("cannot replace the file: {}", ec.message()), ctx);
+    }
+    note_written(s.target);
+  }
+  staged_.clear();
 }
 
 void ensure_directory(const std::filesystem::path& dir) {

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace palpa {
@@ -49,12 +50,32 @@ void write_file_atomic(const std::filesystem::path& target,
 // commit(). If anything throws before commit(), none of the targets is touched.
 class OutputBatch {
  public:
+  OutputBatch();
+  ~OutputBatch();  // removes what was staged unless committed
+  OutputBatch(const OutputBatch&) = delete;
+  OutputBatch& operator=(const OutputBatch&) = delete;
+
   std::ostream& add(const std::filesystem::path& target, bool binary = false);
+  // For a writer that makes its own files (a mesh, a VTU): where to write
+  // `target` for now, a temporary name beside it that ends in its file name,
+  // so that a writer deriving siblings from it (a TetGen .node's .ele and
+  // .face) writes them where stage() puts those siblings too. commit() renames
+  // each over its target. The first stage() into a folder removes the
+  // temporaries killed runs left there (remove_stale_temporaries). Throws
+  // palpa::Error (Input) as AtomicFile does for a missing folder or a target
+  // that is one of the run's inputs.
+  std::filesystem::path stage(const std::filesystem::path& target);
   void commit();
-  std::size_t size() const noexcept { return files_.size(); }
+  std::size_t size() const noexcept { return files_.size() + staged_.size(); }
 
  private:
   std::vector<std::unique_ptr<AtomicFile>> files_;
+  struct Staged {
+    std::filesystem::path temporary, target;
+  };
+  std::vector<Staged> staged_;
+  std::string prefix_;  // of this batch's staged names
+  std::vector<std::filesystem::path> cleaned_;  // folders whose stale temporaries are gone
 };
 
 // Creates `dir` (and parents) if needed; throws palpa::Error (Input) naming it if
