@@ -6,9 +6,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <cerrno>
 #include <chrono>
-#include <csignal>
 #include <cmath>
 #include <limits>
 #include <filesystem>
@@ -16,8 +14,6 @@
 #include <numbers>
 #include <optional>
 #include <string>
-#include <system_error>
-#include <unistd.h>
 #include <vector>
 
 #include "cli_common.hpp"
@@ -25,13 +21,11 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/interrupt.hpp"
-#include "palpa/core/json.hpp"
 #include "palpa/core/text.hpp"
-#include "palpa/io/csv.hpp"
 #include "palpa/io/mesh.hpp"
-#include "palpa/io/vtu.hpp"
 #include "palpa/mesh/bodies.hpp"
 #include "palpa/mesh/layer.hpp"
+#include "palpa/mesh/output.hpp"
 #include "palpa/mesh/surface_check.hpp"
 #include "palpa/mesh/tetrahedralize.hpp"
 
@@ -129,8 +123,6 @@ void add_quality_options(CLI::App& cmd, QualityArgs& q) {
                       "the --edge length for layers, no bound for solids)", Sign::Positive);
 }
 
-// Writes every output into a staging folder beside the first target, then
-// moves them into place: all files appear or none.
 // The folder `target` goes into; refused if it does not exist. Checked before
 // the meshing too, so that a typo in -o does not cost the whole run.
 std::filesystem::path existing_folder_of(const std::filesystem::path& target) {
@@ -143,79 +135,6 @@ std::filesystem::path existing_folder_of(const std::filesystem::path& target) {
                       "an existing folder");
   }
   return folder;
-}
-
-class Staging {
- public:
-  explicit Staging(const std::filesystem::path& first_target) {
-    const auto folder = existing_folder_of(first_target);
-    remove_stale_staging(folder);
-    dir_ = folder / fmt::format("{}{}", kPrefix, ::getpid());
-    std::filesystem::create_directory(dir_);
-    // A forced exit after an interrupt takes the staging folder with it.
-    tidy_ = register_forced_exit_tidy([dir = dir_] {
-      std::error_code ec;
-      std::filesystem::remove_all(dir, ec);
-    });
-  }
-  ~Staging() {
-    unregister_forced_exit_tidy(tidy_);
-    std::error_code ec;
-    std::filesystem::remove_all(dir_, ec);
-  }
-  Staging(const Staging&) = delete;
-  Staging& operator=(const Staging&) = delete;
-
-  // Where to write `target` for now. (An input of the run is never a target,
-  // side outputs included: refused before anything is renamed.)
-  std::filesystem::path stage(const std::filesystem::path& target) {
-    refuse_overwriting_an_input(target);
-    targets_.push_back(target);
-    return dir_ / target.filename();
-  }
-  void commit() {
-    for (const auto& t : targets_) std::filesystem::rename(dir_ / t.filename(), t);
-  }
-
- private:
-  static constexpr const char* kPrefix = ".palpa-mesh-";
-
-  // The staging folders of runs that no longer run (killed with SIGKILL, or by
-  // the out-of-memory killer, before their last rename).
-  static void remove_stale_staging(const std::filesystem::path& folder) {
-    std::error_code ec;
-    for (const auto& e : std::filesystem::directory_iterator(folder, ec)) {
-      const std::string name = e.path().filename().string();
-      if (name.rfind(kPrefix, 0) != 0 || !e.is_directory(ec)) continue;
-      const std::string pid = name.substr(std::string_view(kPrefix).size());
-      if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-      if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) continue;  // running, or not ours
-      std::filesystem::remove_all(e.path(), ec);
-    }
-  }
-
-  std::filesystem::path dir_;
-  std::vector<std::filesystem::path> targets_;
-  std::size_t tidy_ = 0;
-};
-
-std::filesystem::path with_suffix(const std::filesystem::path& out, const std::string& suffix,
-                                  const std::string& extension) {
-  return out.parent_path() / (out.stem().string() + suffix + extension);
-}
-
-Json statistics_json(const mesh::TetStatistics& s) {
-  return Json{{"tets", s.tets},
-              {"vertices", s.vertices},
-              {"inverted_tets", s.inverted},
-              {"min_dihedral_deg", s.min_dihedral / kDegree},
-              {"max_dihedral_deg", s.max_dihedral / kDegree},
-              {"max_radius_edge", s.max_radius_edge},
-              {"mean_radius_edge", s.mean_radius_edge},
-              {"tets_below_min_dihedral", s.below_min_dihedral},
-              {"tets_above_max_radius_edge", s.above_max_radius_edge},
-              {"min_tet_volume_m3", s.min_volume},
-              {"volume_m3", s.volume}};
 }
 
 void run_layer(const LayerArgs& a) {
@@ -282,61 +201,14 @@ void run_layer(const LayerArgs& a) {
   check_interrupt();
   const mesh::LayerSummary s = mesh::summarize_layer(layer, layer.quality);
 
-  const std::filesystem::path out = a.output;
-  Staging staging(out);
-  UnstructuredGrid grid = grid_of(layer.tets);
-  Eigen::VectorXd attached = Eigen::VectorXd::Zero(layer.tets.V.rows());
-  for (const Eigen::Index i : layer.attached) attached(i) = 1.0;
-  grid.point_data.push_back({"attached", attached});
-  if (layer.youngs_modulus.size() > 0) {
-    grid.cell_data.push_back({"youngs_modulus", layer.youngs_modulus});
-  }
-  write_vtu(staging.stage(out), grid);
-  const auto node = with_suffix(out, "", ".node");
-  write_tet_mesh(staging.stage(node), layer.tets);
-  staging.stage(with_suffix(out, "", ".ele"));
-  staging.stage(with_suffix(out, "", ".face"));
-  const auto core = with_suffix(out, "_core", ".obj");
-  write_surface_mesh(staging.stage(core), layer.core);
-  const auto outer = with_suffix(out, "_outer", ".obj");
-  write_surface_mesh(staging.stage(outer), layer.outer);
-  const auto summary = with_suffix(out, "_summary", ".json");
-  const auto attached_csv = with_suffix(out, "_attached", ".csv");
-  CsvTable attached_table;
-  attached_table.add_comment("vertices of " + out.filename().string() +
-                             " (0-based rows of its points / .node) attached to the rigid core");
-  attached_table.add_column("vertex", std::vector<double>(layer.attached.begin(), layer.attached.end()));
-  write_csv(staging.stage(attached_csv), attached_table);
-  const Json j{
-      {"palpa_mesh_layer", 1},
-      {"surface", a.surface},
-      {"edge_length_m", a.edge},
-      {"depth",
-       depth.samples ? Json{{"samples", a.depth_samples}, {"column", depth.samples->field}}
-                     : Json{{"uniform_m", depth.uniform}}},
-      {"quality_bounds", {{"max_radius_edge", layer.quality.max_radius_edge},
-                          {"min_dihedral_deg", layer.quality.min_dihedral / kDegree},
-                          {"max_volume_m3", layer.quality.max_volume}}},
-      {"elements", statistics_json(s.quality)},
-      {"outer_triangles", s.outer_triangles},
-      {"core_triangles", s.core_triangles},
-      {"attached_vertices", s.attached},
-      {"tets_dropped_inside_core", s.dropped_in_core},
-      {"volume_m3", {{"outer", s.outer_volume}, {"core", s.core_volume}, {"layer", s.layer_volume}}},
-      {"thickness_m", {{"min", s.thickness_min}, {"mean", s.thickness_mean}, {"max", s.thickness_max}}},
-      {"requested_depth_m", {{"min", s.depth_min}, {"mean", s.depth_mean}, {"max", s.depth_max}}},
-      {"depth_clamped_vertices", layer.depth_clamped},
-      {"youngs_modulus_Pa",
-       layer.youngs_modulus.size() > 0 ? Json{{"min", s.youngs_min}, {"max", s.youngs_max}}
-                                       : Json(nullptr)},
-      {"stage_seconds", timings}};
-  write_json_file(staging.stage(summary), j);
-  staging.commit();
+  mesh::LayerRequest request{a.surface, a.edge, depth, a.depth_samples, timings};
+  mesh::write_layer(layer, mesh::layer_summary_json(layer, s, request), a.output);
+  const mesh::LayerFiles f = mesh::layer_files(a.output);
   spdlog::info(
       "wrote {} (+ .node/.ele/.face, {}, {}, {}, {}): {} tets, {} attached vertices, min dihedral "
       "{:.1f} deg, max radius-edge {:.2f}, layer {:.4g} cm3, thickness {:.1f}-{:.1f} mm",
-      out.string(), core.filename().string(), outer.filename().string(),
-      summary.filename().string(), attached_csv.filename().string(), s.quality.tets, s.attached, s.quality.min_dihedral / kDegree,
+      a.output, f.core.filename().string(), f.outer.filename().string(), f.summary.filename().string(),
+      f.attached.filename().string(), s.quality.tets, s.attached, s.quality.min_dihedral / kDegree,
       s.quality.max_radius_edge, s.layer_volume * 1e6, s.thickness_min * 1e3,
       s.thickness_max * 1e3);
 }

@@ -73,17 +73,16 @@ TEST_F(MeshCli, LayerOfASphereWritesEveryOutputAndTheShellVolume) {
 // refused, and nothing is written: the input stays as it was.
 // The staging folder of a run killed between its final renames is cleared
 // by the next run into that folder; one of a running process stays.
-TEST_F(MeshCli, AStagingFolderLeftByAKilledRunIsCleared) {
-  const auto dead = out / ".palpa-mesh-4194304";  // above any pid the kernel hands out
-  std::filesystem::create_directory(dead);
-  out.write(".palpa-mesh-4194304/half.obj", "v 0 0 0\n");
-  const auto alive = out / fmt::format(".palpa-mesh-{}", ::getpid());
-  std::filesystem::create_directory(alive);
+TEST_F(MeshCli, StagedFilesLeftByAKilledRunAreCleared) {
+  const std::string dead = ".tmp-4194304-b0.b.node";  // above any pid the kernel hands out
+  out.write(dead, "half");
+  const std::string alive = fmt::format(".tmp-{}-b0.c.node", ::getpid());
+  out.write(alive, "in progress");
   const test::CommandResult r = test::run_palpa("mesh layer --surface " + shell_quote(sphere()) +
                                                 " --depth 10mm --edge 10mm -o " + shell_quote(out / "b.vtu"));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_FALSE(std::filesystem::exists(dead));
-  EXPECT_TRUE(std::filesystem::exists(alive));
+  EXPECT_FALSE(std::filesystem::exists(out / dead));
+  EXPECT_TRUE(std::filesystem::exists(out / alive));
   EXPECT_TRUE(std::filesystem::exists(out / "b.vtu"));
 }
 
