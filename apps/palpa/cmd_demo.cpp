@@ -17,7 +17,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "fit_output.hpp"
+#include "palpa/fit/run.hpp"
 #include "palpa/axisym/poke.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
@@ -154,7 +154,7 @@ void run_demo(const std::filesystem::path& examples, const std::filesystem::path
   // examples/fit/foam/README.md) -> a spline material.
   const std::filesystem::path dataset = examples / "fit" / "foam" / "dataset.json";
   const std::filesystem::path fit_out = out / "fit-foam";
-  const FitSummary f = run_fit(dataset, fit_out, fit::FitOptions{}, false, "palpa demo: palpa fit " + dataset.string());
+  const fit::FitSummary f = fit::run_fit(dataset, fit_out, fit::FitOptions{}, false, "palpa demo: palpa fit " + dataset.string());
   summary += fmt::format(
       "\nfit {} (spline, Levenberg-Marquardt): sqrt(eps) {:.4g} N after the modulus stage -> {:.4g} N; "
       "RMS error train {:.3g} N, validate {:.3g} N; {:.1f} s. Results in {}\n",

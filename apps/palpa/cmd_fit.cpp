@@ -16,12 +16,12 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "fit_output.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/progress.hpp"
 #include "palpa/fit/fit.hpp"
+#include "palpa/fit/run.hpp"
 #include "palpa/material/material_file.hpp"
 
 namespace palpa::cli {
@@ -53,140 +53,6 @@ struct FitArgs {
   std::string command_line;
 };
 
-}  // namespace
-
-fit::FitOptions fit_options_from(const std::string& model, const std::string& optimizer, const std::string& element) {
-  fit::FitOptions o;
-  o.model = model;
-  o.optimizer = fit::parse_optimizer(optimizer);
-  if (element == "fbar") {
-    o.simulation.element = axisym::ElementFormulation::FBar;
-  } else if (element == "standard") {
-    o.simulation.element = axisym::ElementFormulation::Standard;
-  } else {
-    throw_input_error(fmt::format("unknown element '{}'", element), ErrorContext{"", 0, 0, "option --element"},
-                      "fbar or standard");
-  }
-  return o;
-}
-
-namespace {
-
-// "0.067 N (48 of 52 points: r1.03mm to 3.61 of 4.05 mm)", or "n/a (no
-// validation curve)".
-std::string validation_text(const FitSummary& s, const char* unit) {
-  if (s.validate_points_total == 0) return "n/a (no validation curve)";
-  if (s.validate_points == 0) return "n/a (no validation point could be simulated)";
-  std::string text = fmt::format("{:.3g} {}", s.rms_validate, unit);
-  if (s.validate_points < s.validate_points_total) {
-    text += fmt::format(" (over {} of {} points: simulated {})", s.validate_points, s.validate_points_total,
-                        fmt::join(s.validate_short, ", "));
-  }
-  return text;
-}
-
-// "E (small strain) = 88.06 kPa, 95% 87.61 to 88.5 kPa; nu = 0.4999, 95% ...".
-std::string estimates_text(const fit::Uncertainty& u, const material::Material& m, double layer_depth) {
-  const material::ElasticConstants c = material::small_strain_constants(m);
-  const auto pressure = [](double v) { return fmt::format("{:.4g} kPa", v * 1e-3); };
-  if (!u.defined) {
-    return fmt::format("E (small strain) = {}, nu = {:.4g} (no intervals: {})", pressure(c.young()), c.poisson(),
-                       u.why_not);
-  }
-  const bool nu_held = std::find(u.held.begin(), u.held.end(), "nu") != u.held.end();
-  std::string text;
-  if (const fit::Estimate* e = u.find("E")) {
-    text += std::isfinite(e->standard_error)
-                ? fmt::format("E (small strain) = {}, 95% {:.4g} to {}", pressure(e->value), e->lo * 1e-3,
-                              pressure(e->hi))
-                : fmt::format("E (small strain) = {} (not determined by the curves)", pressure(e->value));
-    if (nu_held) text += " given nu";
-  }
-  if (const fit::Estimate* nu = u.find("nu")) {
-    if (nu_held) {
-      text += fmt::format("; nu = {:.5g} (at an end of its range)", nu->value);
-    } else if (!std::isfinite(nu->standard_error)) {
-      text += fmt::format("; nu = {:.5g} (not determined by the curves)", nu->value);
-    } else if (nu->standard_error > 0.0) {
-      text += fmt::format("; nu = {:.5g}, 95% {:.5g} to {:.5g}", nu->value, nu->lo, nu->hi);
-    } else {
-      text += fmt::format("; nu = {:.5g} (held)", nu->value);
-    }
-  }
-  if (const fit::Estimate* dd = u.find("layer_depth")) {
-    text += fmt::format("; layer depth {:.3g} mm", layer_depth * 1e3);
-    if (std::isfinite(dd->standard_error)) {
-      text += fmt::format(" (the objective's minimum {:.3g} mm, 95% {:.3g} to {:.3g} mm)", dd->value * 1e3,
-                          dd->lo * 1e3, dd->hi * 1e3);
-    }
-  }
-  return text;
-}
-
-}  // namespace
-
-FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
-                   const fit::FitOptions& o, bool resume, const std::string& command) {
-  const fit::Dataset d = fit::read_dataset(dataset_file);
-  // An input inside the output folder is refused now, not after the fit.
-  for (const auto& f : fit_output_files(out, d)) refuse_overwriting_an_input(f);
-  const auto t0 = std::chrono::steady_clock::now();
-  OutputFolder folder(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
-                      resume ? OutputFolder::Start::Resumed : OutputFolder::Start::Fresh);
-  fit::FitControl control;
-  control.checkpoint = out / "checkpoint.json";
-  control.resume = resume;
-  spdlog::info("fit: {} ({}), {} curves ({} train, {} validate), {} layer depth{}, model {}, optimizer {}",
-               dataset_file.string(), fit::to_string(d.test), d.curves.size(), d.count(fit::CurveRole::Train),
-               d.count(fit::CurveRole::Validate), d.layer_depths.size(), d.depth_search() ? " guesses" : "",
-               o.model, fit::to_string(o.optimizer));
-  // One unit per recorded iteration (the start of stage 2 included) and guess
-  // fitted; a guess that converges early leaves its remaining units to finish().
-  Progress progress("fit iterations", static_cast<std::size_t>(o.max_iterations + 1) * fit::guesses_fitted(d, o));
-  std::vector<std::size_t> seen(d.layer_depths.size(), 0);
-  control.on_iteration = [&](std::size_t g, const fit::GuessResult& r) {
-    const std::size_t n = r.history.size();
-    if (g < seen.size() && n > seen[g]) {
-      progress.advance(n - seen[g]);
-      seen[g] = n;
-    }
-    progress.set_note(fmt::format("D = {:.3g} mm: eps {:.4g}", r.layer_depth * 1e3, r.objective_final));
-  };
-  const fit::FitResult result = fit::fit_dataset(d, o, control);
-  progress.finish();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const FitSummary s = write_fit_outputs(out, d, o, result, seconds, command);
-  const auto& best = result.guesses[result.best];
-  if (d.depth_search()) {
-    for (std::size_t k = 0; k < result.guesses.size(); ++k) {
-      const auto& g = result.guesses[k];
-      const std::string whole = std::isfinite(g.objective_final)
-                                    ? fmt::format("eps {:.4g} after {} iterations", g.objective_final, g.iterations)
-                                    : std::string("not fitted further");
-      if (result.small_profile) {
-        spdlog::info("fit: layer depth {:.4g} mm: small indentations eps {:.4g} (E {:.4g} kPa); {}{}",
-                     g.layer_depth * 1e3, result.small_profile->objective[k], result.small_profile->young[k] * 1e-3,
-                     whole, k == result.best ? "  <- chosen" : "");
-      } else {
-        spdlog::info("fit: layer depth {:.4g} mm: {}{}", g.layer_depth * 1e3, whole,
-                     k == result.best ? "  <- best" : "");
-      }
-    }
-  }
-  const char* unit = d.test == fit::TestKind::Homogeneous ? "Pa" : "N";
-  spdlog::info("fit: sqrt(eps) {:.4g} -> {:.4g} {} ({} iterations, {} evaluations, {:.1f} s of fitting); "
-               "RMS error train {:.3g} {}, validate {}; wrote {}",
-               s.sqrt_objective_stage1, s.sqrt_objective_final, unit, best.iterations, best.evaluations, best.seconds,
-               s.rms_train, unit, validation_text(s, unit), out.string());
-  spdlog::info("fit: {}",
-               estimates_text(result.uncertainty, *best.material, d.depth_search() ? best.layer_depth : 0.0));
-  for (const auto& w : result.warnings) spdlog::warn("fit: {}", w);
-  folder.keep();
-  return s;
-}
-
-namespace {
-
 // "LO:HI", -1 < LO < HI < 0.5.
 fit::PoissonRange parse_nu_range(const std::string& text) {
   const ErrorContext where{"", 0, 0, "option --nu-range"};
@@ -209,7 +75,7 @@ fit::PoissonRange parse_nu_range(const std::string& text) {
 }
 
 void run_fit_command(const FitArgs& a) {
-  fit::FitOptions o = fit_options_from(a.model, a.optimizer, a.element);
+  fit::FitOptions o = fit::fit_options_from(a.model, a.optimizer, a.element);
   o.max_iterations = a.max_iterations;
   o.function_tolerance = a.tolerance;
   o.smoothing = a.smoothing;
@@ -241,7 +107,7 @@ void run_fit_command(const FitArgs& a) {
   }
   if (!resume && !a.overwrite) require_empty_output(out, "fit");
   try {
-    run_fit(a.dataset, out, o, resume, a.command_line);
+    fit::run_fit(a.dataset, out, o, resume, a.command_line);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::Interrupted && std::filesystem::exists(out / "checkpoint.json")) {
       spdlog::warn("fit: interrupted; the last iteration is in {}: continue with the same command and --resume",

@@ -2,7 +2,8 @@
 #pragma once
 // The output folder of a fit (palpa fit, palpa demo): material.json,
 // report.json, curves/<name>.csv, curves.svg, objective.svg and (depth search)
-// depth.svg. Every file is written atomically, all at the end.
+// depth.svg. Every file is written atomically, all at the end; and the
+// one-line texts a summary prints.
 
 #include <filesystem>
 #include <string>
@@ -10,7 +11,7 @@
 
 #include "palpa/fit/fit.hpp"
 
-namespace palpa::cli {
+namespace palpa::fit {
 
 struct FitSummary {
   double sqrt_objective_stage1 = 0.0;
@@ -33,12 +34,12 @@ std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path&
 FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Dataset& d, const fit::FitOptions& o,
                              const fit::FitResult& r, double seconds, const std::string& command);
 
-// Fit options with the model, optimizer and element named as on the command line.
-fit::FitOptions fit_options_from(const std::string& model, const std::string& optimizer, const std::string& element);
+// "0.067 N (over 48 of 52 points: simulated r1.03mm to 3.61 of 4.05 mm)", or
+// "n/a (no validation curve)"; `unit` of the residuals.
+std::string validation_text(const FitSummary& s, const char* unit);
 
-// Reads the dataset, fits (checkpointing into out/checkpoint.json; resuming
-// from it if asked), writes the outputs and logs a summary.
-FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
-                   const fit::FitOptions& o, bool resume, const std::string& command);
+// "E (small strain) = 88.06 kPa, 95% 87.61 to 88.5 kPa; nu = 0.4999, 95% ...;
+// layer depth ..." (the depth when `layer_depth` > 0).
+std::string estimates_text(const Uncertainty& u, const material::Material& m, double layer_depth);
 
-}  // namespace palpa::cli
+}  // namespace palpa::fit

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-#include "fit_output.hpp"
+#include "palpa/fit/output.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -17,7 +17,7 @@
 #include "palpa/material/material_file.hpp"
 #include "palpa/report/plot.hpp"
 
-namespace palpa::cli {
+namespace palpa::fit {
 
 namespace {
 
@@ -381,4 +381,52 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
   return s;
 }
 
-}  // namespace palpa::cli
+std::string validation_text(const FitSummary& s, const char* unit) {
+  if (s.validate_points_total == 0) return "n/a (no validation curve)";
+  if (s.validate_points == 0) return "n/a (no validation point could be simulated)";
+  std::string text = fmt::format("{:.3g} {}", s.rms_validate, unit);
+  if (s.validate_points < s.validate_points_total) {
+    text += fmt::format(" (over {} of {} points: simulated {})", s.validate_points, s.validate_points_total,
+                        fmt::join(s.validate_short, ", "));
+  }
+  return text;
+}
+
+std::string estimates_text(const fit::Uncertainty& u, const material::Material& m, double layer_depth) {
+  const material::ElasticConstants c = material::small_strain_constants(m);
+  const auto pressure = [](double v) { return fmt::format("{:.4g} kPa", v * 1e-3); };
+  if (!u.defined) {
+    return fmt::format("E (small strain) = {}, nu = {:.4g} (no intervals: {})", pressure(c.young()), c.poisson(),
+                       u.why_not);
+  }
+  const bool nu_held = std::find(u.held.begin(), u.held.end(), "nu") != u.held.end();
+  std::string text;
+  if (const fit::Estimate* e = u.find("E")) {
+    text += std::isfinite(e->standard_error)
+                ? fmt::format("E (small strain) = {}, 95% {:.4g} to {}", pressure(e->value), e->lo * 1e-3,
+                              pressure(e->hi))
+                : fmt::format("E (small strain) = {} (not determined by the curves)", pressure(e->value));
+    if (nu_held) text += " given nu";
+  }
+  if (const fit::Estimate* nu = u.find("nu")) {
+    if (nu_held) {
+      text += fmt::format("; nu = {:.5g} (at an end of its range)", nu->value);
+    } else if (!std::isfinite(nu->standard_error)) {
+      text += fmt::format("; nu = {:.5g} (not determined by the curves)", nu->value);
+    } else if (nu->standard_error > 0.0) {
+      text += fmt::format("; nu = {:.5g}, 95% {:.5g} to {:.5g}", nu->value, nu->lo, nu->hi);
+    } else {
+      text += fmt::format("; nu = {:.5g} (held)", nu->value);
+    }
+  }
+  if (const fit::Estimate* dd = u.find("layer_depth")) {
+    text += fmt::format("; layer depth {:.3g} mm", layer_depth * 1e3);
+    if (std::isfinite(dd->standard_error)) {
+      text += fmt::format(" (the objective's minimum {:.3g} mm, 95% {:.3g} to {:.3g} mm)", dd->value * 1e3,
+                          dd->lo * 1e3, dd->hi * 1e3);
+    }
+  }
+  return text;
+}
+
+}  // namespace palpa::fit
