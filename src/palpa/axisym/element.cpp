@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/axisym/element.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -10,6 +12,17 @@
 #include "palpa/material/kinematics.hpp"
 
 namespace palpa::axisym {
+
+std::string_view to_string(ElementFormulation f) noexcept {
+  return f == ElementFormulation::FBar ? "fbar" : "standard";
+}
+
+ElementFormulation parse_element_formulation(std::string_view name) {
+  if (name == "fbar") return ElementFormulation::FBar;
+  if (name == "standard") return ElementFormulation::Standard;
+  throw_input_error(fmt::format("unknown element '{}'", name), ErrorContext{"", 0, 0, "option --element"},
+                    "fbar or standard");
+}
 
 namespace {
 

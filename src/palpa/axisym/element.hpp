@@ -8,6 +8,8 @@
 // w_k = 2π r_k W_k |det J_k| (thesis 4.2 with the Jacobian made explicit), a
 // full-circle energy [J].
 
+#include <string_view>
+
 #include <Eigen/Core>
 #include <array>
 
@@ -27,6 +29,11 @@ inline constexpr int kGaussPoints = 9;
 // the element, which removes volumetric locking of the bilinear quad for
 // nearly incompressible tissue; identical to Standard where J is uniform.
 enum class ElementFormulation { Standard, FBar };
+
+// "standard" / "fbar", as files and the command line name them; an unknown
+// name is an Input error naming option --element.
+std::string_view to_string(ElementFormulation f) noexcept;
+ElementFormulation parse_element_formulation(std::string_view name);
 
 // F-bar leaves the variation of det F within an element without volumetric
 // stiffness; under strong compression that soft mode lets single Gauss points

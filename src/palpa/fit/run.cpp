@@ -19,14 +19,7 @@ fit::FitOptions fit_options_from(const std::string& model, const std::string& op
   fit::FitOptions o;
   o.model = model;
   o.optimizer = fit::parse_optimizer(optimizer);
-  if (element == "fbar") {
-    o.simulation.element = axisym::ElementFormulation::FBar;
-  } else if (element == "standard") {
-    o.simulation.element = axisym::ElementFormulation::Standard;
-  } else {
-    throw_input_error(fmt::format("unknown element '{}'", element), ErrorContext{"", 0, 0, "option --element"},
-                      "fbar or standard");
-  }
+  o.simulation.element = axisym::parse_element_formulation(element);
   return o;
 }
 
