@@ -114,8 +114,7 @@ mesh::TetQuality quality_from(const QualityArgs& q) {
 
 void add_quality_options(CLI::App& cmd, QualityArgs& q) {
   cmd.add_option("--max-radius-edge", q.max_radius_edge,
-                 "TetGen quality bound: largest circumradius / shortest edge of a tet (> 1)")
-      ->capture_default_str();
+                 "TetGen quality bound: largest circumradius / shortest edge of a tet (> 1; default 1.5)");
   add_quantity_option(cmd, "--min-dihedral", q.min_dihedral, Dimension::Angle,
                       "TetGen quality target: smallest dihedral angle (default 12 deg)", Sign::Positive);
   add_quantity_option(cmd, "--tet-size", q.tet_size, Dimension::Length,
@@ -283,22 +282,20 @@ void add_mesh_command(CLI::App& app) {
                     "in the scan's frame)")
       ->type_name("FILE.csv");
   layer->add_option("--depth-column", la->depth_column,
-                    "Base name of the depth column (e.g. bone_distance or fat_depth)")
-      ->capture_default_str();
+                    "Base name of the depth column (e.g. bone_distance or fat_depth; default depth)");
   layer->add_flag("--clamp-depth", la->clamp_depth,
                   "Thin the layer where the depth does not fit the local thickness (folds, toes, "
                   "the rim of a clipped body) instead of refusing");
   layer->add_option("--core-offset", la->core_offset,
                     "How the core surface is made: normals (each skin vertex pushed inward by its "
                     "depth) or distance (the level set of the distance to the skin: no core where "
-                    "the body is thinner than twice the depth)")
-      ->capture_default_str();
+                    "the body is thinner than twice the depth; default normals)");
   layer->add_option("--stiffness-samples", la->stiffness_samples,
                     "CSV of Young's moduli: x_<unit>,y_<unit>,z_<unit>,youngs_modulus_<unit>; "
                     "each tet gets the value interpolated at the skin above it")
       ->type_name("FILE.csv");
-  layer->add_option("--stiffness-column", la->stiffness_column, "Base name of the modulus column")
-      ->capture_default_str();
+  layer->add_option("--stiffness-column", la->stiffness_column,
+                    "Base name of the modulus column (default youngs_modulus)");
   add_quantity_option(*layer, "--edge", la->edge, Dimension::Length,
                       "Target edge length of both surfaces (default 5mm; 0 keeps the scan's)");
   add_quantity_option(*layer, "--max-sample-distance", la->max_sample_distance,
@@ -306,8 +303,7 @@ void add_mesh_command(CLI::App& app) {
                       "Largest distance from a sample to the surface (default 5mm)", Sign::Positive);
   layer->add_option("--interpolation", la->interpolation,
                     "Spreading samples over the surface: biharmonic (smooth, reproduces linear "
-                    "trends) or harmonic (no overshoot)")
-      ->capture_default_str();
+                    "trends; default) or harmonic (no overshoot)");
   add_quality_options(*layer, la->quality);
   layer->add_option("-o,--output", la->output,
                     "Output .vtu; beside it <name>.node/.ele/.face, <name>_core.obj, "
