@@ -186,9 +186,12 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
   const rest::RestResult r0 = first.solve();
   equilibrium_seconds_ = seconds_since(t0);
   first.freeze_contact_model();
+  // One line per design iteration from here on, not one per equilibrium.
+  first.set_log_solves(false);
   const rest::RestState s0 = first.state();
   rest_options_ = rest;
-  rest::RestOptions frozen = rest;
+  rest_options_.log_solves = false;
+  rest::RestOptions frozen = rest_options_;
   frozen.stiffness = r0.stiffness;
   frozen.update_areas = false;
   for (int i = 1; i < threads; ++i) {

@@ -286,9 +286,11 @@ RestResult RestSimulation::solve() {
       throw Error(ErrorKind::Solver, "the body is in equilibrium without touching the support: nothing presses it on");
     }
     ratio = term_->potential().max_depth() / options_.target_penetration;
-    spdlog::info("rest: solve {}: {} Newton iterations, {} contacts, k = {:.4g} N/m, deepest penetration {} ({:.2f}× the target)",
-                 r.solves, res.iterations, term_->potential().size(), contact_stiffness(),
-                 format_quantity(term_->potential().max_depth(), Dimension::Length), ratio);
+    spdlog::log(options_.log_solves ? spdlog::level::info : spdlog::level::debug,
+                "rest: solve {}: {} Newton iterations, {} contacts, k = {:.4g} N/m, deepest penetration {} ({:.2f}× the "
+                "target)",
+                r.solves, res.iterations, term_->potential().size(), contact_stiffness(),
+                format_quantity(term_->potential().max_depth(), Dimension::Length), ratio);
   };
   // The last solve always runs with the spring areas it ends with.
   const auto adjust = [&](int, bool last) {

@@ -99,6 +99,9 @@ struct RestOptions {
   // equilibrium is one smooth function of the support's shape (shape
   // optimization).
   bool update_areas = true;
+  // Each solve logs a line (Newton iterations, contacts, k, penetration); a
+  // caller that solves many times (the design) turns it down to debug.
+  bool log_solves = true;
   std::string support_name = "support";
   // Set: the support deforms (see DeformableSupport); else it is rigid.
   std::optional<DeformableSupport> deformable_support;
@@ -224,6 +227,7 @@ class RestSimulation {
     automatic_ = false;
     options_.update_areas = false;
   }
+  void set_log_solves(bool on) noexcept { options_.log_solves = on; }
   // Chooses the contact model anew at the current state and freezes it
   // again: a solve warm-started from the state with the automatic stiffness
   // rule (k corrected until the deepest penetration is on target) and, as
