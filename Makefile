@@ -27,7 +27,7 @@ build: setup
 	cmake --build --preset release -j $(JOBS) --target palpa_cli
 
 demo: build
-	./build/release/apps/palpa/palpa demo --out $(DEMO_OUT)
+	./build/release/apps/palpa/palpa demo -o $(DEMO_OUT)
 
 test-asan: setup
 	cmake --preset asan >/dev/null

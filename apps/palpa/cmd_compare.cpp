@@ -19,7 +19,7 @@ struct CompareArgs {
   std::string reference;
   std::string field = "pressure_Pa";
   std::string reference_field;
-  std::string json;
+  std::string summary;
 };
 
 void run_compare_command(const CompareArgs& a) {
@@ -42,8 +42,8 @@ void run_compare_command(const CompareArgs& a) {
              "largest {:.4g} kPa, correlation {}\n",
              c.vertices, c.rms_difference * 1e-3, 100.0 * c.relative_rms, c.max_difference * 1e-3,
              correlated ? fmt::format("{:.3f}", c.correlation) : std::string("undefined (a map is uniform there)"));
-  if (!a.json.empty()) {
-    write_json_file(a.json, {{"map", a.map},
+  if (!a.summary.empty()) {
+    write_json_file(a.summary, {{"map", a.map},
                              {"reference", a.reference},
                              {"vertices", c.vertices},
                              {"rms_difference_Pa", c.rms_difference},
@@ -69,8 +69,8 @@ void add_compare_command(CLI::App& app) {
   cmd->add_option("reference", a->reference, "The reference map on the same mesh (.ply or .vtu)")->required();
   cmd->add_option("--field", a->field, "Per-vertex pressure field [Pa] (default pressure_Pa)");
   cmd->add_option("--reference-field", a->reference_field, "The reference's field (default: --field)");
-  cmd->add_option("--json", a->json, "Also write the figures to this JSON file");
-  declare_paths(*cmd, {"map", "reference"}, {"--json"});
+  cmd->add_option("--summary", a->summary, "Also write the figures to this JSON file");
+  declare_paths(*cmd, {"map", "reference"}, {"--summary"});
   cmd->callback([a] { run_compare_command(*a); });
 }
 

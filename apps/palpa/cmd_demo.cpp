@@ -172,12 +172,12 @@ void add_demo_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "demo",
       "Run palpa on the bundled example data and write the results to a folder.\n"
-      "  palpa demo --out demo-out");
+      "  palpa demo -o demo-out");
   auto out = std::make_shared<std::string>("demo-out");
   auto examples = std::make_shared<std::string>(PALPA_EXAMPLES_DIR);
-  cmd->add_option("--out", *out, "Output folder (created if missing; default demo-out)");
+  cmd->add_option("-o,--output", *out, "Output folder (created if missing; default demo-out)");
   cmd->add_option("--examples", *examples, "Folder of the bundled examples");
-  declare_paths(*cmd, {"--examples"}, {"--out"});
+  declare_paths(*cmd, {"--examples"}, {"-o"});
   cmd->callback([out, examples] { run_demo(*examples, *out); });
 }
 

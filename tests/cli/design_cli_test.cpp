@@ -153,7 +153,7 @@ TEST(DesignCli, ScoresBaselinesAndComparesMaps) {
   EXPECT_NE(plot.find("score [Pa^3 m^2]"), std::string::npos);
   EXPECT_GT(s["pose_to_seat"]["before"]["contacts"].get<int>(), 0);
   const auto c = run_palpa("compare out/support_before.ply out/support_before.ply --reference-field pose_to_seat_Pa "
-                           "--json cmp.json",
+                           "--summary cmp.json",
                            dir.path());
   ASSERT_EQ(c.exit_code, 0) << c.err;
   EXPECT_NE(c.out.find("correlation"), std::string::npos) << c.out;

@@ -182,7 +182,7 @@ void check_results(const std::vector<Ran>& ran, const ScratchDir& dir) {
   for (const auto& r : ran) {
     if (r.exit_code != 0) continue;  // failed, or not run
     const std::string& t = r.command.text;
-    if (t.rfind("palpa demo --out demo-out", 0) == 0) {
+    if (t.rfind("palpa demo -o demo-out", 0) == 0) {
       EXPECT_TRUE(std::filesystem::exists(dir / "demo-out" / "summary.txt"));
       EXPECT_TRUE(std::filesystem::exists(dir / "demo-out" / "tissue_uniaxial.csv"));
       EXPECT_TRUE(std::filesystem::exists(dir / "demo-out" / "tissue_poke.csv"));

@@ -40,7 +40,7 @@ TEST(Sim3dCli, WritesCurveFramesAndSummary) {
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "state.json"));
   const std::string vtu = test::read_text(dir / "out" / "frames" / "body_0002.vtu");
-  for (const char* a : {"displacement_m", "contact_pressure_Pa", "von_mises_stress_Pa", "det_F"}) {
+  for (const char* a : {"displacement_m", "pressure_Pa", "von_mises_stress_Pa", "det_F"}) {
     EXPECT_NE(vtu.find(a), std::string::npos) << a;
   }
   EXPECT_NE(r.err.find("sim3d: 2 steps"), std::string::npos) << r.err;

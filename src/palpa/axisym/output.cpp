@@ -52,7 +52,7 @@ UnstructuredGrid deformed_grid(const PokeModel& m, const Eigen::VectorXd& x) {
   Eigen::MatrixXd disp = Eigen::MatrixXd::Zero(mesh.num_nodes(), 3);
   disp.leftCols<2>() = u;
   grid.point_data.push_back(DataArray{"displacement_m", disp});
-  grid.point_data.push_back(DataArray{"contact_pressure_Pa", m.contact_pressure(x)});
+  grid.point_data.push_back(DataArray{"pressure_Pa", m.contact_pressure(x)});
   const auto states = m.element_states(x);
   const auto n = static_cast<Eigen::Index>(states.size());
   Eigen::MatrixXd stretch(n, 3), jac(n, 1), cauchy(n, 4), mises(n, 1);

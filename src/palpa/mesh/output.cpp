@@ -80,7 +80,7 @@ void write_layer(const LayerMesh& layer, const Json& summary, const std::filesys
   Eigen::VectorXd attached = Eigen::VectorXd::Zero(layer.tets.V.rows());
   for (const Eigen::Index i : layer.attached) attached(i) = 1.0;
   grid.point_data.push_back({"attached", attached});
-  if (layer.youngs_modulus.size() > 0) grid.cell_data.push_back({"youngs_modulus", layer.youngs_modulus});
+  if (layer.youngs_modulus.size() > 0) grid.cell_data.push_back({"youngs_modulus_Pa", layer.youngs_modulus});
   write_vtu(batch.stage(f.vtu), grid);
   write_tet_mesh(batch.stage(f.node), layer.tets);
   batch.stage(f.ele);

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
 // What `palpa mesh layer` writes for a layer mesh: the tets as VTU (with the
-// vertices attached to the core and the per-tet Young's modulus when there is
-// one) and as TetGen .node/.ele/.face, the core and outer surfaces (OBJ), the
+// vertices attached to the core and the per-tet Young's modulus,
+// youngs_modulus_Pa, when there is one) and as TetGen .node/.ele/.face, the core and outer surfaces (OBJ), the
 // attached vertices (CSV) and a summary (JSON) — every file or none.
 
 #include <filesystem>

@@ -342,7 +342,7 @@ UnstructuredGrid Simulation::body_grid() const {
     pressure += t->pressures(p);
   }
   grid.point_data.push_back(DataArray{"contact_force_N", f.transpose()});
-  grid.point_data.push_back(DataArray{"contact_pressure_Pa", pressure});
+  grid.point_data.push_back(DataArray{"pressure_Pa", pressure});
   const Eigen::MatrixXd s = model_->cauchy_stress(u);
   grid.cell_data.push_back(DataArray{"cauchy_stress_xx_yy_zz_Pa", s.leftCols(3)});
   grid.cell_data.push_back(DataArray{"cauchy_stress_yz_xz_xy_Pa", s.rightCols(3)});
