@@ -147,22 +147,32 @@ bool is_output_bookkeeping(const std::filesystem::path& name) {
   return n == kOutputLockName || n == kOutputJournalName || n == kPreviousJournalName;
 }
 
-AtomicFile::AtomicFile(std::filesystem::path target, bool binary) : target_(std::move(target)) {
+namespace {
+
+// The folder an output file goes into, after refusing (Input, naming the
+// file) a path that names no file or a folder, a folder that does not exist,
+// and a target that is one of the run's inputs.
+std::filesystem::path checked_output_folder(const std::filesystem::path& target) {
   ErrorContext ctx;
-  ctx.file = target_.string();
-  if (target_.filename().empty()) {
-    throw_input_error("output path names no file", ctx, "a file name");
-  }
-  const std::filesystem::path dir = target_.parent_path().empty() ? "." : target_.parent_path();
+  ctx.file = target.string();
+  if (target.filename().empty()) throw_input_error("output path names no file", ctx, "a file name");
+  const std::filesystem::path dir = target.parent_path().empty() ? "." : target.parent_path();
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) {
     throw_input_error(fmt::format("output folder '{}' does not exist", dir.string()), ctx,
                       "an existing folder (create it first)");
   }
-  refuse_overwriting_an_input(target_);
-  if (std::filesystem::is_directory(target_, ec)) {
-    throw_input_error("output path is a folder", ctx, "a file name");
-  }
+  refuse_overwriting_an_input(target);
+  if (std::filesystem::is_directory(target, ec)) throw_input_error("output path is a folder", ctx, "a file name");
+  return dir;
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(std::filesystem::path target, bool binary) : target_(std::move(target)) {
+  const std::filesystem::path dir = checked_output_folder(target_);
+  ErrorContext ctx;
+  ctx.file = target_.string();
   temp_ = temporary_name(target_);
   register_temporary(temp_.string());
   auto mode = std::ios::out | std::ios::trunc;
@@ -230,17 +240,7 @@ OutputBatch::~OutputBatch() {
 }
 
 std::filesystem::path OutputBatch::stage(const std::filesystem::path& target) {
-  ErrorContext ctx;
-  ctx.file = target.string();
-  if (target.filename().empty()) throw_input_error("output path names no file", ctx, "a file name");
-  const std::filesystem::path dir = target.parent_path().empty() ? "." : target.parent_path();
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) {
-    throw_input_error(fmt::format("output folder '{}' does not exist", dir.string()), ctx,
-                      "an existing folder (create it first)");
-  }
-  refuse_overwriting_an_input(target);
-  if (std::filesystem::is_directory(target, ec)) throw_input_error("output path is a folder", ctx, "a file name");
+  const std::filesystem::path dir = checked_output_folder(target);
   // A killed run's staged files in the folder go now (once per folder and batch).
   if (std::find(cleaned_.begin(), cleaned_.end(), dir) == cleaned_.end()) {
     remove_stale_temporaries(dir);
