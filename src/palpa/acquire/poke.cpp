@@ -3,7 +3,6 @@
 
 #include <fmt/format.h>
 
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -206,6 +205,15 @@ PokeResult process_poke(const std::filesystem::path& force_file, const std::file
     r.pair_time.push_back(t);
     r.pair_indentation.push_back(d);
     r.pair_force.push_back(f);
+  }
+  // (The log checks, the filter's Nyquist limit and the rest plateaus refuse
+  // such a log first in every case tried; this keeps the curve from being
+  // drawn through a single sample should one get through.)
+  if (r.pairs_peak < 2) {
+    throw_input_error(fmt::format("{} force sample{} between the poke's start ({:.4g} s) and its maximum force ({:.4g} s)",
+                                  r.pairs_peak, r.pairs_peak == 1 ? "" : "s", t_begin, t_peak),
+                      ErrorContext{fl.file, 0, 0, "column '" + fl.value.name + "'"},
+                      "a force log sampled often enough to follow the loading (tens of samples)");
   }
   const auto first_i = std::span(r.pair_indentation).first(r.pairs_peak);
   const auto first_f = std::span(r.pair_force).first(r.pairs_peak);
