@@ -61,11 +61,14 @@ TEST(PenalizedSpline, SmoothsNoiseToWellBelowItsLevel) {
   }
 }
 
-TEST(PenalizedSpline, RefusesTooFewPairs) {
+TEST(PenalizedSpline, RefusesTooFewPairsOrTooFewDistinctX) {
   const std::vector<double> x{0.0, 0.5, 1.0}, y{0.0, 1.0, 2.0};
   EXPECT_THROW(fit_penalized_spline(x, y, 0.0, 1.0), std::invalid_argument);
   const std::vector<double> x4{0.0, 0.3, 0.6, 1.0}, y3{0.0, 1.0, 2.0};
   EXPECT_THROW(fit_penalized_spline(x4, y3, 0.0, 1.0), std::invalid_argument);
+  // Many pairs at two x leave a quadratic undetermined.
+  const std::vector<double> x2{0.0, 1.0, 0.0, 1.0, 0.0, 1.0}, y2{0.0, 1.0, 0.0, 1.0, 0.0, 1.0};
+  EXPECT_THROW(fit_penalized_spline(x2, y2, 0.0, 1.0), std::invalid_argument);
 }
 
 }  // namespace

@@ -208,6 +208,15 @@ TEST(AcquirePoke, RefusesLaserReadingsOutsideTheCalibration) {
                                  {"laser.csv:", "column 'voltage_V'", "outside the calibration table"}));
 }
 
+TEST(AcquirePoke, UniformCurveOfPairsAtTwoIndentationsIsAStraightLine) {
+  const std::vector<double> x{1e-3, 3e-3, 1e-3, 3e-3, 1e-3, 3e-3, 1e-3, 3e-3};  // a coarse laser
+  const std::vector<double> y{0.5, 1.5, 0.5, 1.5, 0.5, 1.5, 0.5, 1.5};
+  const Curve c = uniform_curve(x, y, 4e-3, 5);
+  EXPECT_NEAR(c.force[2], 1.0, 1e-12);  // 2 mm: halfway
+  EXPECT_NEAR(c.force[0], 0.5, 1e-12);  // the end values outside the pairs
+  EXPECT_NEAR(c.force[4], 1.5, 1e-12);
+}
+
 TEST(AcquirePoke, UniformCurveReproducesLinearDataExactly) {
   std::vector<double> x, y;
   for (int i = 0; i < 200; ++i) {

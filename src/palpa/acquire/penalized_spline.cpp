@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 namespace palpa::acquire {
 
@@ -56,6 +57,17 @@ PenalizedSpline fit_penalized_spline(std::span<const double> x, std::span<const 
   s.x0 = std::min(*xmin, lo);
   const double x1 = std::max(*xmax, hi);
   if (!(x1 > s.x0)) throw std::invalid_argument("fit_penalized_spline: the pairs share one x");
+  // The penalty leaves polynomials below its order free: the pairs must fix
+  // them, at as many distinct x.
+  std::vector<double> sorted(x.begin(), x.end());
+  std::sort(sorted.begin(), sorted.end());
+  int distinct = 1;
+  for (std::size_t i = 1; i < sorted.size(); ++i) {
+    if (sorted[i] - sorted[i - 1] > 1e-12 * (x1 - s.x0)) ++distinct;
+  }
+  if (distinct < o.penalty_order) {
+    throw std::invalid_argument("fit_penalized_spline: too few distinct x for the penalty's free polynomials");
+  }
   const auto segments = static_cast<Eigen::Index>(o.segments);
   s.h = (x1 - s.x0) / static_cast<double>(segments);
   const Eigen::Index nb = segments + 3;

@@ -34,9 +34,10 @@ struct PenalizedSpline {
   double operator()(double x) const;
 };
 
-// Fits the pairs (any order, at least penalty_order + 1 of them at distinct x).
-// The range is [min(x, lo), max(x, hi)]: pass the interval the curve will be
-// evaluated on. Throws std::invalid_argument on fewer pairs or mismatched spans.
+// Fits the pairs (any order; more than penalty_order of them, at no fewer than
+// penalty_order distinct x). The range is [min(x, lo), max(x, hi)]: pass the
+// interval the curve will be evaluated on. Throws std::invalid_argument on
+// fewer pairs or distinct x, or mismatched spans.
 PenalizedSpline fit_penalized_spline(std::span<const double> x, std::span<const double> y, double lo, double hi,
                                      const PenalizedSplineOptions& options = {});
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 
 #include "palpa/acquire/filter.hpp"
 #include "palpa/acquire/penalized_spline.hpp"
@@ -62,12 +63,17 @@ Curve uniform_curve(std::span<const double> indentation, std::span<const double>
   for (std::size_t j = 0; j < points; ++j) c.indentation.push_back(static_cast<double>(j) * h);
   const PenalizedSplineOptions o;
   if (indentation.size() > static_cast<std::size_t>(o.penalty_order) + 1) {
-    const PenalizedSpline s = fit_penalized_spline(indentation, force, 0.0, x_max, o);
-    for (double x : c.indentation) c.force.push_back(s(x));
-    if (spline) *spline = s;
-    return c;
+    try {
+      const PenalizedSpline s = fit_penalized_spline(indentation, force, 0.0, x_max, o);
+      for (double x : c.indentation) c.force.push_back(s(x));
+      if (spline) *spline = s;
+      return c;
+    } catch (const std::invalid_argument&) {
+      // (pairs at fewer than three distinct indentations: a coarse laser)
+    }
   }
-  // Too few pairs for a smooth curve: straight lines between them.
+  // Too few pairs, or too few distinct indentations, for a smooth curve:
+  // straight lines between them.
   std::vector<std::size_t> order(indentation.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return indentation[a] < indentation[b]; });
