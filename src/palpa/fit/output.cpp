@@ -21,9 +21,6 @@ namespace palpa::fit {
 
 namespace {
 
-using fit::CurveRole;
-using fit::TestKind;
-
 // Display units of a dataset's curves.
 struct CurveUnits {
   const char* x_label;
@@ -32,13 +29,13 @@ struct CurveUnits {
   double y_factor;
 };
 
-CurveUnits units_of(const fit::Dataset& d) {
+CurveUnits units_of(const Dataset& d) {
   if (d.test == TestKind::Homogeneous) return {"stretch (shear: gamma)", "nominal stress [kPa]", 1.0, 1e-3};
   if (d.test == TestKind::Compression) return {"platen travel [mm]", "force [N]", 1e3, 1.0};
   return {"indentation [mm]", "force [N]", 1e3, 1.0};
 }
 
-std::string curve_label(const fit::Dataset& d, const fit::MeasuredCurve& c) {
+std::string curve_label(const Dataset& d, const MeasuredCurve& c) {
   if (d.test == TestKind::Indentation) return fmt::format("a = {:.3g} mm", c.radius * 1e3);
   return c.name;
 }
@@ -49,7 +46,7 @@ std::vector<double> times(const std::vector<double>& v, double f) {
   return out;
 }
 
-report::Plot curves_plot(const fit::Dataset& d, const std::vector<fit::CurvePrediction>& pred,
+report::Plot curves_plot(const Dataset& d, const std::vector<CurvePrediction>& pred,
                          const std::string& title) {
   const CurveUnits u = units_of(d);
   report::Plot p;
@@ -75,7 +72,7 @@ struct Errors {
   std::vector<std::string> short_curves;  // validation curves simulated part way
 };
 
-Json estimate_json(const fit::Estimate& e) {
+Json estimate_json(const Estimate& e) {
   return Json{{"name", e.name},
               {"value", number_or_null(e.value)},
               {"standard_error", number_or_null(e.standard_error)},
@@ -83,7 +80,7 @@ Json estimate_json(const fit::Estimate& e) {
               {"hi95", number_or_null(e.hi)}};
 }
 
-Json uncertainty_json(const fit::Uncertainty& u) {
+Json uncertainty_json(const Uncertainty& u) {
   Json estimates = Json::array(), names = Json::array(), matrix = Json::array();
   for (const auto& e : u.estimates) {
     estimates.push_back(estimate_json(e));
@@ -112,7 +109,7 @@ Json uncertainty_json(const fit::Uncertainty& u) {
 
 }  // namespace
 
-std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path& out, const fit::Dataset& d) {
+std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path& out, const Dataset& d) {
   std::vector<std::filesystem::path> files;
   for (const char* name : {"checkpoint.json", "report.json", "material.json", "curves.svg", "objective.svg"}) {
     files.push_back(out / name);
@@ -122,21 +119,21 @@ std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path&
   return files;
 }
 
-FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Dataset& d, const fit::FitOptions& o,
-                             const fit::FitResult& r, double seconds, const std::string& command) {
-  const fit::GuessResult& best = r.guesses[r.best];
+FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d, const FitOptions& o,
+                             const FitResult& r, double seconds, const std::string& command) {
+  const GuessResult& best = r.guesses[r.best];
   // Every curve, train and validate, with the stage-1 and fitted materials: a
   // line per curve as it finishes (the deep ones take minutes).
   Progress progress("fit curves (stage 1 and fitted, every curve)", 2 * d.curves.size());
-  const auto curves_of = fit::predict_curves(
+  const auto curves_of = predict_curves(
       d, best.layer_depth, std::vector<const material::Material*>{best.stage1_material.get(), best.material.get()},
       o.simulation, [&](std::size_t m, std::size_t i) {
         progress.set_note(fmt::format("{} ({}) done", d.curves[i].name, m == 0 ? "stage 1" : "fitted"));
         progress.advance();
       });
   progress.finish();
-  const std::vector<fit::CurvePrediction>& before = curves_of[0];
-  const std::vector<fit::CurvePrediction>& after = curves_of[1];
+  const std::vector<CurvePrediction>& before = curves_of[0];
+  const std::vector<CurvePrediction>& after = curves_of[1];
 
   ensure_directory(out);
   ensure_directory(out / "curves");
@@ -154,7 +151,7 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
       return std::vector<double>(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(rows));
     };
     CsvTable t;
-    t.add_comment(fmt::format("palpa fit: {} curve '{}' of {} ({}), layer depth {} m", fit::to_string(c.role), c.name,
+    t.add_comment(fmt::format("palpa fit: {} curve '{}' of {} ({}), layer depth {} m", to_string(c.role), c.name,
                               d.file.filename().string(), d.sample, best.layer_depth));
     if (rows < c.x.size()) {
       t.add_comment(fmt::format("the simulations stopped early: {} of {} measured points", rows, c.x.size()));
@@ -171,12 +168,12 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
       t.add_quantity("force_fitted", "N", Dimension::Force, head(after[i].y));
     }
     batch.add(out / "curves" / (c.name + ".csv")) << format_csv(t);
-    const double ss = fit::sum_of_squares(c, after[i]);
+    const double ss = sum_of_squares(c, after[i]);
     double max_err = 0.0;
     for (std::size_t j = 0; j < c.y.size(); ++j) {
       if (std::isfinite(after[i].y[j])) max_err = std::max(max_err, std::abs(after[i].y[j] - c.y[j]));
     }
-    const std::size_t compared = fit::compared_points(c, after[i]);
+    const std::size_t compared = compared_points(c, after[i]);
     if (c.role == CurveRole::Train) {
       err.sq_train += ss;
       err.n_train += compared;
@@ -198,11 +195,11 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
       }
     }
     Json cj{{"name", c.name},
-            {"role", std::string(fit::to_string(c.role))},
+            {"role", std::string(to_string(c.role))},
             {"file", c.file.string()},
             {"points", c.y.size()},
-            {"rms_error_stage1", number_or_null(fit::rms_error(c, before[i]))},
-            {"rms_error_fitted", number_or_null(fit::rms_error(c, after[i]))},
+            {"rms_error_stage1", number_or_null(rms_error(c, before[i]))},
+            {"rms_error_fitted", number_or_null(rms_error(c, after[i]))},
             {"max_abs_error_fitted", max_err},
             {"largest_measured", *std::max_element(c.y.begin(), c.y.end())},
             {"points_compared_fitted", compared},
@@ -223,7 +220,7 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
   s.validate_short = err.short_curves;
   s.seconds = seconds;
 
-  const auto starts_json = [](const std::vector<fit::StartTrial>& starts) {
+  const auto starts_json = [](const std::vector<StartTrial>& starts) {
     Json a = Json::array();
     for (const auto& t : starts) {
       a.push_back({{"label", t.label},
@@ -261,12 +258,12 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
       {"command", command},
       {"dataset", d.file.string()},
       {"sample", d.sample},
-      {"test", std::string(fit::to_string(d.test))},
+      {"test", std::string(to_string(d.test))},
       {"model", o.model},
-      {"optimizer", std::string(fit::to_string(o.optimizer))},
+      {"optimizer", std::string(to_string(o.optimizer))},
       {"mesh_level", o.simulation.mesh_level},
       {"extrapolated", d.test != TestKind::Homogeneous && !d.curves.empty() &&
-                           axisym::extrapolates(fit::poke_setup(d, d.curves.front(), best.layer_depth, o.simulation))},
+                           axisym::extrapolates(poke_setup(d, d.curves.front(), best.layer_depth, o.simulation))},
       {"steps", o.simulation.steps},
       {"residual_unit", unit},
       {"layer_depth_m", best.layer_depth},
@@ -282,14 +279,14 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
                      {"validate_points", s.validate_points},
                      {"validate_points_measured", s.validate_points_total},
                      {"validate_curves_short", s.validate_short}}},
-      {"depth_from", d.depth_search() ? Json(std::string(fit::to_string(o.depth_from))) : Json(nullptr)},
+      {"depth_from", d.depth_search() ? Json(std::string(to_string(o.depth_from))) : Json(nullptr)},
       {"small_indentation_profile",
        r.small_profile ? Json{{"objective", r.small_profile->objective},
                               {"young_Pa", r.small_profile->young},
                               {"training_points", r.small_profile->points},
                               {"deepest_indentation_m", r.small_profile->cut},
                               {"rule", fmt::format("indentations up to {:g} min(punch radius, shallowest guess)",
-                                                   fit::kSmallIndentation)}}
+                                                   kSmallIndentation)}}
                        : Json(nullptr)},
       {"uncertainty", uncertainty_json(r.uncertainty)},
       {"warnings", r.warnings},
@@ -331,7 +328,7 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Datase
   report::Figure fo;
   fo.title = "objective per iteration";
   report::Plot po;
-  po.title = fmt::format("eps [{}^2] ({}, {})", unit, o.model, fit::to_string(o.optimizer));
+  po.title = fmt::format("eps [{}^2] ({}, {})", unit, o.model, to_string(o.optimizer));
   po.x.label = "iteration";
   po.y.label = fmt::format("eps [{}^2]", unit);
   po.y.log = true;
@@ -392,7 +389,7 @@ std::string validation_text(const FitSummary& s, const char* unit) {
   return text;
 }
 
-std::string estimates_text(const fit::Uncertainty& u, const material::Material& m, double layer_depth) {
+std::string estimates_text(const Uncertainty& u, const material::Material& m, double layer_depth) {
   const material::ElasticConstants c = material::small_strain_constants(m);
   const auto pressure = [](double v) { return fmt::format("{:.4g} kPa", v * 1e-3); };
   if (!u.defined) {
@@ -401,14 +398,14 @@ std::string estimates_text(const fit::Uncertainty& u, const material::Material& 
   }
   const bool nu_held = std::find(u.held.begin(), u.held.end(), "nu") != u.held.end();
   std::string text;
-  if (const fit::Estimate* e = u.find("E")) {
+  if (const Estimate* e = u.find("E")) {
     text += std::isfinite(e->standard_error)
                 ? fmt::format("E (small strain) = {}, 95% {:.4g} to {}", pressure(e->value), e->lo * 1e-3,
                               pressure(e->hi))
                 : fmt::format("E (small strain) = {} (not determined by the curves)", pressure(e->value));
     if (nu_held) text += " given nu";
   }
-  if (const fit::Estimate* nu = u.find("nu")) {
+  if (const Estimate* nu = u.find("nu")) {
     if (nu_held) {
       text += fmt::format("; nu = {:.5g} (at an end of its range)", nu->value);
     } else if (!std::isfinite(nu->standard_error)) {
@@ -419,7 +416,7 @@ std::string estimates_text(const fit::Uncertainty& u, const material::Material& 
       text += fmt::format("; nu = {:.5g} (held)", nu->value);
     }
   }
-  if (const fit::Estimate* dd = u.find("layer_depth")) {
+  if (const Estimate* dd = u.find("layer_depth")) {
     text += fmt::format("; layer depth {:.3g} mm", layer_depth * 1e3);
     if (std::isfinite(dd->standard_error)) {
       text += fmt::format(" (the objective's minimum {:.3g} mm, 95% {:.3g} to {:.3g} mm)", dd->value * 1e3,

@@ -27,12 +27,12 @@ struct FitSummary {
 };
 
 // Every file write_fit_outputs and the checkpoint write into `out`.
-std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path& out, const fit::Dataset& d);
+std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path& out, const Dataset& d);
 
 // Simulates every curve with the best guess's stage-1 and fitted materials and
 // writes the folder. `command` is recorded in the provenance.
-FitSummary write_fit_outputs(const std::filesystem::path& out, const fit::Dataset& d, const fit::FitOptions& o,
-                             const fit::FitResult& r, double seconds, const std::string& command);
+FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d, const FitOptions& o,
+                             const FitResult& r, double seconds, const std::string& command);
 
 // "0.067 N (over 48 of 52 points: simulated r1.03mm to 3.61 of 4.05 mm)", or
 // "n/a (no validation curve)"; `unit` of the residuals.

@@ -15,34 +15,34 @@
 
 namespace palpa::fit {
 
-fit::FitOptions fit_options_from(const std::string& model, const std::string& optimizer, const std::string& element) {
-  fit::FitOptions o;
+FitOptions fit_options_from(const std::string& model, const std::string& optimizer, const std::string& element) {
+  FitOptions o;
   o.model = model;
-  o.optimizer = fit::parse_optimizer(optimizer);
+  o.optimizer = parse_optimizer(optimizer);
   o.simulation.element = axisym::parse_element_formulation(element);
   return o;
 }
 
 FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
-                   const fit::FitOptions& o, bool resume, const std::string& command) {
-  const fit::Dataset d = fit::read_dataset(dataset_file);
+                   const FitOptions& o, bool resume, const std::string& command) {
+  const Dataset d = read_dataset(dataset_file);
   // An input inside the output folder is refused now, not after the fit.
   for (const auto& f : fit_output_files(out, d)) refuse_overwriting_an_input(f);
   const auto t0 = std::chrono::steady_clock::now();
   OutputFolder folder(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
                       resume ? OutputFolder::Start::Resumed : OutputFolder::Start::Fresh);
-  fit::FitControl control;
+  FitControl control;
   control.checkpoint = out / "checkpoint.json";
   control.resume = resume;
   spdlog::info("fit: {} ({}), {} curves ({} train, {} validate), {} layer depth{}, model {}, optimizer {}",
-               dataset_file.string(), fit::to_string(d.test), d.curves.size(), d.count(fit::CurveRole::Train),
-               d.count(fit::CurveRole::Validate), d.layer_depths.size(), d.depth_search() ? " guesses" : "",
-               o.model, fit::to_string(o.optimizer));
+               dataset_file.string(), to_string(d.test), d.curves.size(), d.count(CurveRole::Train),
+               d.count(CurveRole::Validate), d.layer_depths.size(), d.depth_search() ? " guesses" : "",
+               o.model, to_string(o.optimizer));
   // One unit per recorded iteration (the start of stage 2 included) and guess
   // fitted; a guess that converges early leaves its remaining units to finish().
-  Progress progress("fit iterations", static_cast<std::size_t>(o.max_iterations + 1) * fit::guesses_fitted(d, o));
+  Progress progress("fit iterations", static_cast<std::size_t>(o.max_iterations + 1) * guesses_fitted(d, o));
   std::vector<std::size_t> seen(d.layer_depths.size(), 0);
-  control.on_iteration = [&](std::size_t g, const fit::GuessResult& r) {
+  control.on_iteration = [&](std::size_t g, const GuessResult& r) {
     const std::size_t n = r.history.size();
     if (g < seen.size() && n > seen[g]) {
       progress.advance(n - seen[g]);
@@ -50,7 +50,7 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
     }
     progress.set_note(fmt::format("D = {:.3g} mm: eps {:.4g}", r.layer_depth * 1e3, r.objective_final));
   };
-  const fit::FitResult result = fit::fit_dataset(d, o, control);
+  const FitResult result = fit_dataset(d, o, control);
   progress.finish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const FitSummary s = write_fit_outputs(out, d, o, result, seconds, command);
@@ -71,7 +71,7 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
       }
     }
   }
-  const char* unit = d.test == fit::TestKind::Homogeneous ? "Pa" : "N";
+  const char* unit = d.test == TestKind::Homogeneous ? "Pa" : "N";
   spdlog::info("fit: sqrt(eps) {:.4g} -> {:.4g} {} ({} iterations, {} evaluations, {:.1f} s of fitting); "
                "RMS error train {:.3g} {}, validate {}; wrote {}",
                s.sqrt_objective_stage1, s.sqrt_objective_final, unit, best.iterations, best.evaluations, best.seconds,
