@@ -154,7 +154,8 @@ void run_demo(const std::filesystem::path& examples, const std::filesystem::path
   // examples/fit/foam/README.md) -> a spline material.
   const std::filesystem::path dataset = examples / "fit" / "foam" / "dataset.json";
   const std::filesystem::path fit_out = out / "fit-foam";
-  const fit::FitSummary f = fit::run_fit(dataset, fit_out, fit::FitOptions{}, false, "palpa demo: palpa fit " + dataset.string());
+  const fit::FitSummary f =
+      fit::run_fit(dataset, fit_out, fit::FitOptions{}, false, "palpa demo: palpa fit " + dataset.string());
   summary += fmt::format(
       "\nfit {} (spline, Levenberg-Marquardt): sqrt(eps) {:.4g} N after the modulus stage -> {:.4g} N; "
       "RMS error train {:.3g} N, validate {:.3g} N; {:.1f} s. Results in {}\n",

@@ -156,8 +156,8 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--ogden-terms", a->ogden_terms, "Terms of the ogden model (default 2)")->check(CLI::Range(1, 6));
   cmd->add_option("--starts", a->starts,
                   "Shape-stage starts tried for 5 iterations each before the best goes on: ogden has 3 or 4, "
-                  "mooney-rivlin 3, neo-hookean-volume and spline 2, the other models 1 (default 0: all of the model's; "
-                  "1: stage 1's material alone)")
+                  "mooney-rivlin 3, neo-hookean-volume and spline 2, the other models 1 (default 0: all of the "
+                  "model's; 1: stage 1's material alone)")
       ->check(CLI::Range(0, 10));
   cmd->add_option("--initial", a->initial,
                   "Material file to start from (its modulus is fitted first); default neo-Hookean "

@@ -31,7 +31,8 @@ void check_edge_for(double area, double edge, const std::string& what) {
     throw_input_error(fmt::format("{} of {:.4g} m² remeshed to edges of {} would make about {:.3g} triangles, "
                                   "more than the {:.0f} palpa makes",
                                   what, area, format_quantity(edge, Dimension::Length), n, mesh::kMaxRemeshTriangles),
-                      option_context("--edge"), "a longer --edge, or --unit for a surface whose coordinates are not metres");
+                      option_context("--edge"),
+                      "a longer --edge, or --unit for a surface whose coordinates are not metres");
   }
 }
 

@@ -100,7 +100,8 @@ PokeResult process_poke(const std::filesystem::path& force_log, const std::files
 // `pairs` (indentation [m], force [N], any order) on the uniform grid 0..x_max
 // with `points` points: a P-spline through the pairs (penalized_spline.hpp;
 // quadratic data is reproduced exactly), or straight lines between them when
-// there are too few for one (or too few distinct indentations). The spline, if any, is stored in `spline`.
+// there are too few for one (or too few distinct indentations). The spline,
+// if any, is stored in `spline`.
 Curve uniform_curve(std::span<const double> indentation, std::span<const double> force, double x_max,
                     std::size_t points, PenalizedSpline* spline = nullptr);
 
