@@ -8,6 +8,7 @@
 
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/text.hpp"
 
 namespace palpa::cli {
 
@@ -36,6 +37,20 @@ CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double&
       help);
   opt->type_name(dimension == Dimension::Dimensionless ? "NUMBER" : "QUANTITY");
   return opt;
+}
+
+std::pair<double, double> parse_range(const std::string& text, const std::string& option, const std::string& example) {
+  ErrorContext where;
+  where.field = fmt::format("option {}", option);
+  const auto parts = split(text, ':');
+  if (parts.size() != 2) throw_input_error(fmt::format("'{}' is not a range", text), where, "LOW:HIGH, e.g. " + example);
+  const auto lo = parse_finite_double(parts[0]);
+  const auto hi = parse_finite_double(parts[1]);
+  if (!lo || !hi || !(*hi > *lo)) {
+    throw_input_error(fmt::format("'{}' is not an increasing range of numbers", text), where,
+                      "LOW:HIGH with LOW < HIGH, e.g. " + example);
+  }
+  return {*lo, *hi};
 }
 
 void require_empty_output(const std::filesystem::path& out, std::string_view what) {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "palpa/core/units.hpp"
@@ -23,6 +24,10 @@ enum class Sign { Any, Positive, NonNegative };
 // appended.
 CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double& target,
                                  Dimension dimension, const std::string& description, Sign sign = Sign::Any);
+
+// "LOW:HIGH" -> (LOW, HIGH), two plain numbers with LOW < HIGH; an input
+// error naming `option` otherwise, with `example` ("0.6:1.6") as the expected form.
+std::pair<double, double> parse_range(const std::string& text, const std::string& option, const std::string& example);
 
 // Refuses (palpa::Error, Input, naming option -o) an output folder that
 // exists and is not empty: `what` ("fit", "simulation") names the run that

@@ -23,6 +23,7 @@
 #include "palpa/fit/fit.hpp"
 #include "palpa/fit/run.hpp"
 #include "palpa/material/material_file.hpp"
+#include "palpa/material/registry.hpp"
 
 namespace palpa::cli {
 
@@ -55,23 +56,12 @@ struct FitArgs {
 
 // "LO:HI", -1 < LO < HI < 0.5.
 fit::PoissonRange parse_nu_range(const std::string& text) {
-  const ErrorContext where{"", 0, 0, "option --nu-range"};
-  const char* expected = "LO:HI with -1 < LO < HI < 0.5, such as 0.45:0.4999";
-  const std::size_t colon = text.find(':');
-  if (colon == std::string::npos) throw_input_error(fmt::format("'{}' has no ':'", text), where, expected);
-  fit::PoissonRange r;
-  try {
-    std::size_t used_lo = 0, used_hi = 0;
-    r.lo = std::stod(text.substr(0, colon), &used_lo);
-    r.hi = std::stod(text.substr(colon + 1), &used_hi);
-    if (used_lo != colon || used_hi != text.size() - colon - 1) throw std::invalid_argument("trailing characters");
-  } catch (const std::exception&) {
-    throw_input_error(fmt::format("'{}' is not two numbers", text), where, expected);
+  const auto [lo, hi] = parse_range(text, "--nu-range", "0.45:0.4999");
+  if (!(lo > -1.0 && hi < 0.5)) {
+    throw_input_error(fmt::format("'{}' is not a range of Poisson's ratios", text),
+                      ErrorContext{"", 0, 0, "option --nu-range"}, "LO:HI with -1 < LO < HI < 0.5, such as 0.45:0.4999");
   }
-  if (!(r.lo > -1.0 && r.lo < r.hi && r.hi < 0.5)) {
-    throw_input_error(fmt::format("'{}' is not an increasing range of Poisson's ratios", text), where, expected);
-  }
-  return r;
+  return fit::PoissonRange{lo, hi};
 }
 
 void run_fit_command(const FitArgs& a) {
@@ -132,8 +122,8 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("-o,--output", a->output, "Output folder (material.json, report.json, curves, plots)")
       ->required();
   cmd->add_option("--model", a->model,
-                  "spline (Valanis-Landel natural cubic splines, default), neo-hookean, neo-hookean-volume, "
-                  "neo-hookean-isochoric, mooney-rivlin, yeoh or ogden");
+                  fmt::format("Material model to fit: {} (default spline: Valanis-Landel natural cubic splines)",
+                              material::model_names(true)));
   cmd->add_option("--optimizer", a->optimizer,
                   "lm (Levenberg-Marquardt, default) or nlcg (nonlinear conjugate gradients)");
   cmd->add_option("--max-iterations", a->max_iterations, "Iterations of the shape stage per layer depth (default 50)")

@@ -13,10 +13,10 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/text.hpp"
 #include "palpa/io/csv.hpp"
-#include "palpa/material/checks.hpp"
-#include "palpa/material/homogeneous.hpp"
 #include "palpa/material/material_file.hpp"
-#include "palpa/material/models.hpp"
+#include "palpa/material/elastic_constants.hpp"
+#include "palpa/material/output.hpp"
+#include "palpa/material/registry.hpp"
 #include "palpa/material/spline_material.hpp"
 
 namespace palpa::cli {
@@ -24,21 +24,6 @@ namespace palpa::cli {
 namespace {
 
 using namespace palpa::material;
-
-// "lo:hi" -> (lo, hi), plain numbers.
-std::pair<double, double> parse_range(const std::string& text, const std::string& option) {
-  const auto parts = split(text, ':');
-  ErrorContext where;
-  where.field = fmt::format("option {}", option);
-  if (parts.size() != 2) throw_input_error(fmt::format("'{}' is not a range", text), where, "LOW:HIGH, e.g. 0.6:1.6");
-  const auto lo = parse_finite_double(parts[0]);
-  const auto hi = parse_finite_double(parts[1]);
-  if (!lo || !hi || !(*hi > *lo)) {
-    throw_input_error(fmt::format("'{}' is not an increasing range of numbers", text), where,
-                      "LOW:HIGH with LOW < HIGH, e.g. 0.6:1.6");
-  }
-  return {*lo, *hi};
-}
 
 struct CreateOptions {
   std::string model = "neo-hookean-volume";
@@ -50,153 +35,84 @@ struct CreateOptions {
   std::string h_range = "0.6:1.6";
   std::vector<std::string> mu;
   std::vector<double> alpha;
-  // Scalar parameters by option name, SI.
+  // Scalar parameters by key, SI, and their options.
   std::map<std::string, double> values;
   std::map<std::string, CLI::Option*> options;
 };
 
-double required(const CreateOptions& o, const std::string& name) {
-  const auto it = o.values.find(name);
-  if (it == o.values.end() || o.options.at(name)->count() == 0) {
-    throw_input_error(fmt::format("model '{}' needs --{}", o.model, name), ErrorContext{},
-                      fmt::format("--{} with its value", name));
-  }
-  return it->second;
-}
+std::string option_name(std::string_view key) { return fmt::format("--{}", key); }
 
-double optional(const CreateOptions& o, const std::string& name, double fallback) {
-  return o.options.at(name)->count() > 0 ? o.values.at(name) : fallback;
-}
-
-// Refuses options that do not belong to the chosen model.
-void only(const CreateOptions& o, std::initializer_list<const char*> allowed) {
-  for (const auto& [name, opt] : o.options) {
-    if (opt->count() == 0) continue;
-    bool ok = false;
-    for (const char* a : allowed) ok = ok || name == a;
-    if (!ok) {
-      std::string list;
-      for (const char* a : allowed) list += (list.empty() ? "--" : ", --") + std::string(a);
-      throw_input_error(fmt::format("--{} does not apply to model '{}'", name, o.model),
-                        ErrorContext{}, list.empty() ? "no parameter options" : list);
-    }
+// The parameters given on the command line, by key.
+ParameterValues given_parameters(const CreateOptions& o) {
+  ParameterValues v;
+  for (const auto& [key, opt] : o.options) {
+    if (opt->count() > 0) v.scalars[key] = o.values.at(key);
   }
-}
-
-std::unique_ptr<Material> build_material(const CreateOptions& o) {
-  const std::string& m = o.model;
-  if (m != "ogden" && (!o.mu.empty() || !o.alpha.empty())) {
-    throw_input_error(fmt::format("--mu and --alpha do not apply to model '{}'", m), ErrorContext{},
-                      "--model ogden for Ogden parameters");
-  }
-  if (m != "spline" && !o.from.empty()) {
-    throw_input_error(fmt::format("--from does not apply to model '{}'", m), ErrorContext{},
-                      "--model spline --from material.json");
-  }
-  if (m == "neo-hookean" || m == "stvk" || m == "corotational") {
-    only(o, {"E", "nu"});
-    const double e = required(o, "E");
-    const double nu = required(o, "nu");
-    if (m == "neo-hookean") return std::make_unique<NeoHookean>(e, nu);
-    if (m == "stvk") return std::make_unique<StVenantKirchhoff>(e, nu);
-    return std::make_unique<Corotational>(e, nu);
-  }
-  if (m == "neo-hookean-volume") {
-    only(o, {"E", "nu", "volume-share"});
-    return std::make_unique<NeoHookean>(NeoHookean::with_volume_term(
-        required(o, "E"), required(o, "nu"), optional(o, "volume-share", 0.5)));
-  }
-  if (m == "neo-hookean-isochoric") {
-    // Either the native C10, D1, or E and nu converted (C10 = mu/2, D1 = 2/K).
-    if (o.options.at("E")->count() > 0 || o.options.at("nu")->count() > 0) {
-      only(o, {"E", "nu"});
-      const ElasticConstants l = lame_from_young(required(o, "E"), required(o, "nu"));
-      return std::make_unique<IsochoricInvariant>(IsochoricInvariant::neo_hookean(l.mu / 2.0, 2.0 / l.bulk()));
-    }
-    only(o, {"C10", "D1"});
-    return std::make_unique<IsochoricInvariant>(
-        IsochoricInvariant::neo_hookean(required(o, "C10"), required(o, "D1")));
-  }
-  if (m == "mooney-rivlin") {
-    only(o, {"C10", "C01", "D1"});
-    return std::make_unique<IsochoricInvariant>(IsochoricInvariant::mooney_rivlin(
-        required(o, "C10"), required(o, "C01"), required(o, "D1")));
-  }
-  if (m == "yeoh") {
-    only(o, {"C10", "C20", "C30", "D1"});
-    return std::make_unique<IsochoricInvariant>(IsochoricInvariant::yeoh(
-        required(o, "C10"), optional(o, "C20", 0.0), optional(o, "C30", 0.0), required(o, "D1")));
-  }
-  if (m == "ogden") {
-    only(o, {"nu"});
-    if (o.mu.empty() || o.alpha.empty()) {
-      throw_input_error("model 'ogden' needs --mu and --alpha", ErrorContext{},
-                        "--mu 6kPa,-0.5kPa --alpha 4.7,-2 --nu 0.45");
-    }
-    std::vector<double> mu;
+  if (!o.mu.empty()) {
+    auto& mu = v.lists["mu"];
     for (const auto& text : o.mu) {
       mu.push_back(parse_quantity(text, Dimension::Pressure, ErrorContext{"", 0, 0, "option --mu"}));
     }
-    return std::make_unique<Ogden>(std::move(mu), o.alpha, required(o, "nu"));
   }
-  if (m == "spline") {
-    only(o, {});
-    if (o.from.empty()) {
-      throw_input_error("model 'spline' is built from another material", ErrorContext{},
-                        "--from material.json (the material the spline reproduces)");
-    }
-    const MaterialFile source = read_material_file(o.from);
-    SplineLayout layout;
-    const auto range = [&](const std::string& text, const std::string& name) {
-      const auto [lo, hi] = parse_range(text, name);
-      return SplineRange{lo, hi, o.knots};
-    };
-    layout.f = range(o.f_range, "--f-range");
-    layout.g = range(o.g_range, "--g-range");
-    layout.h = range(o.h_range, "--h-range");
-    return std::make_unique<SplineMaterial>(SplineMaterial::from_model(*source.material, layout));
-  }
-  std::string names;
-  for (const auto& info : known_models()) names += (names.empty() ? "" : ", ") + std::string(info.name);
-  throw_input_error(fmt::format("unknown model '{}'", m), ErrorContext{"", 0, 0, "option --model"},
-                    fmt::format("one of: {}", names));
+  if (!o.alpha.empty()) v.lists["alpha"] = o.alpha;
+  return v;
 }
 
-void show(const std::string& path) {
-  const MaterialFile f = read_material_file(path);
-  const Material& m = *f.material;
-  fmt::print("{}\n  model: {}\n  {}\n", path, m.model(), m.description());
-  fmt::print("parameters:\n");
-  const Eigen::VectorXd theta = m.params();
-  if (m.model() == "spline") {
-    const Json j = material_to_json(m);
-    for (const char* part : {"f", "g", "h"}) {
-      const auto& knots = j["parameters"][part]["knots"];
-      fmt::print("  {}: {} knots from {:.4g} to {:.4g}\n", part, knots.size(), knots.front().get<double>(),
-                 knots.back().get<double>());
-    }
-  } else {
-    for (Eigen::Index k = 0; k < m.num_params(); ++k) {
-      const ParamInfo info = m.param_info(k);
-      fmt::print("  {:<14} {:<16} {}\n", info.name, format_quantity(theta[k], info.dimension), info.meaning);
+// neo-hookean-isochoric also takes E and nu: C10 = mu/2, D1 = 2/K.
+void isochoric_from_young(ParameterValues& v) {
+  if (!v.has("E") && !v.has("nu")) return;
+  for (const char* key : {"E", "nu"}) {
+    if (!v.has(key)) {
+      throw_input_error(fmt::format("model 'neo-hookean-isochoric' needs --{} with {}", key, key[0] == 'E' ? "--nu" : "--E"),
+                        ErrorContext{}, "--E and --nu, or --C10 and --D1");
     }
   }
-  const MaterialCheck c = check_material(m);
-  fmt::print("small strain: E = {}, nu = {:.4g}, shear modulus = {}, bulk modulus = {}\n",
-             format_quantity(c.small_strain.young(), Dimension::Pressure), c.small_strain.poisson(),
-             format_quantity(c.small_strain.mu, Dimension::Pressure),
-             format_quantity(c.small_strain.bulk(), Dimension::Pressure));
-  if (c.problems.empty()) {
-    fmt::print("checks: stress-free at rest, stable at rest, stable in uniaxial, equibiaxial "
-               "and shear loading for stretches 0.5 to 2\n");
-  } else {
-    for (const auto& p : c.problems) fmt::print("warning: {}\n", p);
+  for (const char* key : {"C10", "D1"}) {
+    if (v.has(key)) {
+      throw_input_error(fmt::format("--{} with --E and --nu", key), ErrorContext{}, "--E and --nu, or --C10 and --D1");
+    }
   }
-  if (!f.provenance.created_by.empty() || !f.provenance.method.empty()) {
-    fmt::print("provenance: {} {} {}", f.provenance.method, f.provenance.created_by, f.provenance.created);
-    if (f.provenance.objective) fmt::print(", objective {:.6g}", *f.provenance.objective);
-    fmt::print("\n");
+  const ElasticConstants l = lame_from_young(v.scalars.at("E"), v.scalars.at("nu"));
+  v.scalars.erase("E");
+  v.scalars.erase("nu");
+  v.scalars["C10"] = l.mu / 2.0;
+  v.scalars["D1"] = 2.0 / l.bulk();
+}
+
+std::unique_ptr<Material> spline_from(const CreateOptions& o) {
+  if (o.from.empty()) {
+    throw_input_error("model 'spline' is built from another material", ErrorContext{},
+                      "--from material.json (the material the spline reproduces)");
   }
+  const MaterialFile source = read_material_file(o.from);
+  const auto range = [&](const std::string& text, const std::string& name) {
+    const auto [lo, hi] = parse_range(text, name, "0.6:1.6");
+    return SplineRange{lo, hi, o.knots};
+  };
+  SplineLayout layout;
+  layout.f = range(o.f_range, "--f-range");
+  layout.g = range(o.g_range, "--g-range");
+  layout.h = range(o.h_range, "--h-range");
+  return std::make_unique<SplineMaterial>(SplineMaterial::from_model(*source.material, layout));
+}
+
+std::unique_ptr<Material> build_material(const CreateOptions& o) {
+  const ModelSpec& model = model_spec(o.model, ErrorContext{"", 0, 0, "option --model"});
+  ParameterValues given = given_parameters(o);
+  if (model.name != "spline" && !o.from.empty()) {
+    throw_input_error(fmt::format("--from does not apply to model '{}'", model.name), ErrorContext{},
+                      "--model spline --from material.json");
+  }
+  if (model.name == "spline") {
+    const auto keys = given.keys();
+    if (!keys.empty()) {
+      throw_input_error(fmt::format("--{} does not apply to model 'spline'", keys.front()), ErrorContext{},
+                        "--from material.json and the knot options");
+    }
+    return spline_from(o);
+  }
+  if (model.name == "neo-hookean-isochoric") isochoric_from_young(given);
+  return make_material(model, std::move(given), ErrorContext{}, option_name);
 }
 
 struct CurveOptions {
@@ -211,48 +127,23 @@ struct CurveOptions {
 void curve(const CurveOptions& o, const CLI::Option* stretch_opt, const CLI::Option* shear_opt) {
   const MaterialFile f = read_material_file(o.input);
   const LoadCase lc = parse_load_case(o.test);
-  if (lc == LoadCase::SimpleShear && stretch_opt->count() > 0) {
+  const bool shear = lc == LoadCase::SimpleShear;
+  if (shear && stretch_opt->count() > 0) {
     throw_input_error("--stretch is for uniaxial and equibiaxial tests", ErrorContext{},
                       "--shear LOW:HIGH for the shear test");
   }
-  if (lc != LoadCase::SimpleShear && shear_opt->count() > 0) {
+  if (!shear && shear_opt->count() > 0) {
     throw_input_error("--shear is for the shear test", ErrorContext{}, "--stretch LOW:HIGH");
   }
-  const auto [lo, hi] = lc == LoadCase::SimpleShear ? parse_range(o.shear, "--shear")
-                                                    : parse_range(o.stretch, "--stretch");
-  if (lc != LoadCase::SimpleShear && !(lo > 0.0)) {
+  const auto [lo, hi] = shear ? parse_range(o.shear, "--shear", "-0.5:0.5") : parse_range(o.stretch, "--stretch", "0.6:1.6");
+  if (!shear && !(lo > 0.0)) {
     throw_input_error(fmt::format("stretch range starts at {}", lo), ErrorContext{"", 0, 0, "option --stretch"},
                       "stretches > 0");
   }
-  const auto pts = homogeneous_curve(*f.material, lc, lo, hi, o.points);
-  CsvTable t;
-  t.add_comment(fmt::format("{} test of {} ({})", o.test, o.input, f.material->model()));
-  std::vector<double> load, lateral, nominal, cauchy, c11, c22, energy;
-  for (const auto& p : pts) {
-    load.push_back(p.load);
-    lateral.push_back(p.lateral);
-    nominal.push_back(p.nominal);
-    cauchy.push_back(p.cauchy);
-    c11.push_back(p.cauchy_11);
-    c22.push_back(p.cauchy_22);
-    energy.push_back(p.energy);
-  }
-  if (lc == LoadCase::SimpleShear) {
-    t.add_column("shear_strain", load);
-    t.add_quantity("nominal_shear_stress", "Pa", Dimension::Pressure, nominal);
-    t.add_quantity("cauchy_shear_stress", "Pa", Dimension::Pressure, cauchy);
-    t.add_quantity("cauchy_normal_11", "Pa", Dimension::Pressure, c11);
-    t.add_quantity("cauchy_normal_22", "Pa", Dimension::Pressure, c22);
-  } else {
-    t.add_column("stretch", load);
-    t.add_column("lateral_stretch", lateral);
-    t.add_quantity("nominal_stress", "Pa", Dimension::Pressure, nominal);
-    t.add_quantity("cauchy_stress", "Pa", Dimension::Pressure, cauchy);
-  }
-  t.add_quantity("energy_density", "Pa", Dimension::Pressure, energy);
-  write_csv(o.output, t);
-  spdlog::info("wrote {}: {} test of {} ({}), {} points, {} {} to {}", o.output, o.test, o.input,
-               f.material->model(), pts.size(), lc == LoadCase::SimpleShear ? "shear" : "stretch", lo, hi);
+  write_csv(o.output, homogeneous_curve_table(*f.material, lc, lo, hi, o.points,
+                                              fmt::format("{} test of {} ({})", o.test, o.input, f.material->model())));
+  spdlog::info("wrote {}: {} test of {} ({}), {} points, {} {} to {}", o.output, o.test, o.input, f.material->model(),
+               o.points, shear ? "shear" : "stretch", lo, hi);
 }
 
 }  // namespace
@@ -272,19 +163,21 @@ void add_material_command(CLI::App& app) {
   cmd->add_option("--model", opts->model,
                   "Model name (see `palpa material models`); default neo-hookean-volume");
   cmd->add_option("-o,--output", opts->output, "Material file to write (.json)");
-  const auto quantity = [&](const std::string& name, Dimension d, const std::string& help) {
-    opts->values[name] = 0.0;
-    opts->options[name] = add_quantity_option(*cmd, "--" + name, opts->values[name], d, help);
-  };
-  quantity("E", Dimension::Pressure, "Young's modulus at small strain");
-  quantity("nu", Dimension::Dimensionless, "Poisson's ratio at small strain, -1 < nu < 0.5");
-  quantity("volume-share", Dimension::Dimensionless,
-           "neo-hookean-volume: share of Lame's lambda in the (J-1)^2 term, 0..1 (default 0.5)");
-  quantity("C10", Dimension::Pressure, "coefficient of (Ibar1 - 3)");
-  quantity("C01", Dimension::Pressure, "mooney-rivlin: coefficient of (Ibar2 - 3)");
-  quantity("C20", Dimension::Pressure, "yeoh: coefficient of (Ibar1 - 3)^2 (default 0)");
-  quantity("C30", Dimension::Pressure, "yeoh: coefficient of (Ibar1 - 3)^3 (default 0)");
-  quantity("D1", Dimension::Compliance, "volumetric compliance, bulk modulus K = 2/D1");
+  // One option per scalar parameter key of any model, named as in material files.
+  for (const ModelSpec& model : models()) {
+    for (const ParameterSpec& p : model.parameters) {
+      if (p.kind != ParameterKind::Scalar || opts->options.count(std::string(p.key)) > 0) continue;
+      const std::string key(p.key);
+      opts->values[key] = 0.0;
+      std::vector<std::string_view> users;
+      for (const ModelSpec& m : models()) {
+        if (m.find(key) != nullptr) users.push_back(m.name);
+      }
+      std::string help = users.size() == 1 ? fmt::format("{}: {}", users.front(), p.meaning) : std::string(p.meaning);
+      if (p.default_value) help += fmt::format(" (default {:g})", *p.default_value);
+      opts->options[key] = add_quantity_option(*cmd, option_name(key), opts->values[key], p.dimension, help);
+    }
+  }
   cmd->add_option("--mu", opts->mu, "ogden: moduli mu_p with units, comma-separated")->delimiter(',');
   cmd->add_option("--alpha", opts->alpha, "ogden: exponents alpha_p, comma-separated")->delimiter(',');
   cmd->add_option("--from", opts->from, "spline: material file the spline reproduces");
@@ -313,12 +206,12 @@ void add_material_command(CLI::App& app) {
                                                "  palpa material show m.json");
   auto show_path = std::make_shared<std::string>();
   show_cmd->add_option("file", *show_path, "Material file")->required();
-  show_cmd->callback([show_path] { show(*show_path); });
+  show_cmd->callback([show_path] { fmt::print("{}", describe(read_material_file(*show_path), *show_path)); });
 
   auto* models_cmd = cmd->add_subcommand("models", "List the material models and their parameters.");
   models_cmd->callback([] {
-    for (const auto& info : known_models()) {
-      fmt::print("{:<24} {}\n{:<24} parameters: {}\n", info.name, info.summary, "", info.parameters);
+    for (const ModelSpec& m : models()) {
+      fmt::print("{:<24} {}\n{:<24} parameters: {}\n", m.name, m.summary, "", m.parameter_summary());
     }
   });
 

@@ -58,6 +58,25 @@ TEST(MaterialCli, WritesShowsAndPlotsAMaterial) {
   EXPECT_NE(r.out.find("f: 6 knots from 0.5 to 2"), std::string::npos) << r.out;
 }
 
+// Every parameter is spelled on the command line as in the file it writes.
+TEST(MaterialCli, ParametersAreSpelledAsInTheFile) {
+  ScratchDir dir;
+  auto r = run_palpa("material --model neo-hookean-volume --E 10kPa --nu 0.45 --volume_share 0.25 -o v.json",
+                     dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(test::read_text(dir / "v.json").find("\"volume_share\": 0.25"), std::string::npos);
+  // The isochoric neo-Hookean also takes E and nu: C10 = mu/2 = E / (4 (1 + nu)), D1 = 2/K.
+  r = run_palpa("material --model neo-hookean-isochoric --E 12kPa --nu 0.5e0 -o i.json", dir.path());
+  EXPECT_EQ(r.exit_code, 2);
+  r = run_palpa("material --model neo-hookean-isochoric --E 13kPa --nu 0.3 -o i.json", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(test::read_text(dir / "i.json").find("\"C10\": \"2.5 kPa\""), std::string::npos)
+      << test::read_text(dir / "i.json");
+  r = run_palpa("material models", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("parameters: E, nu, volume_share (default 0.5)"), std::string::npos) << r.out;
+}
+
 struct BadCall {
   const char* args;
   const char* message;
@@ -79,6 +98,11 @@ TEST(MaterialCli, BadInputIsRefusedAndNothingIsWritten) {
       {"material curve good.json --stretch 1.5:1.0 -o out.json", "not an increasing range"},
       {"material curve good.json --test torsion -o out.json", "unknown test 'torsion'"},
       {"material --model neo-hookean --E 10kPa --nu 0.3", "no output file"},
+      {"material --model neo-hookean-isochoric --E 10kPa -o out.json", "needs --nu with --E"},
+      {"material --model neo-hookean-isochoric --E 10kPa --nu 0.3 --D1 '2e-6 1/Pa' -o out.json", "--D1 with --E"},
+      {"material --model yeoh --C10 1kPa --D1 '2e-6 1/Pa' --mu 1kPa -o out.json", "--mu does not apply to model 'yeoh'"},
+      {"material --model ogden --mu 1kPa --nu 0.3 -o out.json", "needs --alpha"},
+      {"material --model spline --from good.json --E 1kPa -o out.json", "--E does not apply to model 'spline'"},
   };
   for (const BadCall& c : calls) {
     ScratchDir dir;

@@ -17,6 +17,7 @@
 #include "palpa/fit/checkpoint.hpp"
 #include "palpa/fit/optimize.hpp"
 #include "palpa/material/models.hpp"
+#include "palpa/material/registry.hpp"
 
 namespace palpa::fit {
 
@@ -184,9 +185,8 @@ std::vector<Stage2Start> stage2_starts(const Material& stage1, const FitOptions&
       add(label, std::move(material));
     }
   } else {
-    throw_input_error(fmt::format("unknown or unfittable model '{}'", m), ErrorContext{"", 0, 0, "model"},
-                      "spline, neo-hookean, neo-hookean-volume, neo-hookean-isochoric, mooney-rivlin, yeoh "
-                      "or ogden");
+    material::model_spec(m, ErrorContext{"", 0, 0, "model"}, true);  // names the fittable models
+    throw_input_error(fmt::format("no stage-2 start for model '{}'", m), ErrorContext{"", 0, 0, "model"});
   }
   return out;
 }

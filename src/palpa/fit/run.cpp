@@ -12,12 +12,13 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/progress.hpp"
+#include "palpa/material/registry.hpp"
 
 namespace palpa::fit {
 
 FitOptions fit_options_from(const std::string& model, const std::string& optimizer, const std::string& element) {
   FitOptions o;
-  o.model = model;
+  o.model = material::model_spec(model, ErrorContext{"", 0, 0, "option --model"}, true).name;
   o.optimizer = parse_optimizer(optimizer);
   o.simulation.element = axisym::parse_element_formulation(element);
   return o;

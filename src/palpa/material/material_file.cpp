@@ -9,8 +9,8 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/version.hpp"
-#include "palpa/material/models.hpp"
-#include "palpa/material/spline_material.hpp"
+#include "palpa/material/registry.hpp"
+#include "palpa/material/spline.hpp"
 
 namespace palpa::material {
 
@@ -44,132 +44,62 @@ auto with_context(const JsonView& where, Fn&& build) {
   }
 }
 
-double scalar(const JsonView& params, const std::string& name, Dimension d) {
-  return params.at(name).as_quantity(d);
-}
-
-double scalar_or(const JsonView& params, const std::string& name, Dimension d, double fallback) {
-  const auto v = params.find(name);
-  return v ? v->as_quantity(d) : fallback;
-}
-
 std::vector<double> quantity_list(const JsonView& v, Dimension d) {
   std::vector<double> out;
   for (std::size_t i = 0; i < v.size(); ++i) out.push_back(v.at(i).as_quantity(d));
   return out;
 }
 
-NaturalCubicSpline spline_from_json(const JsonView& v, const char* name) {
+// A spline's knots and values, checked here so that a problem names its field.
+SplineValues spline_from_json(const JsonView& v, const std::string& key) {
   v.expect_only({"knots", "values_Pa"});
-  const std::vector<double> knots = v.at("knots").as_number_array();
-  const std::vector<double> values = v.at("values_Pa").as_number_array();
-  return with_context(v, [&] { return NaturalCubicSpline(knots, values, name); });
-}
-
-Json spline_to_json(const NaturalCubicSpline& s) {
-  return Json{{"knots", s.knots()}, {"values_Pa", s.values()}};
+  SplineValues s{v.at("knots").as_number_array(), v.at("values_Pa").as_number_array()};
+  with_context(v, [&] { return NaturalCubicSpline(s.knots, s.values, "spline " + key); });
+  return s;
 }
 
 }  // namespace
 
-const std::vector<ModelInfo>& known_models() {
-  static const std::vector<ModelInfo> models = {
-      {"neo-hookean", "compressible neo-Hookean, logarithmic volume term", "E, nu"},
-      {"neo-hookean-volume", "neo-Hookean with a volume-preservation term (default tissue model)",
-       "E, nu, volume_share (default 0.5)"},
-      {"neo-hookean-isochoric", "isochoric neo-Hookean of Abaqus/CalculiX/FEBio", "C10, D1"},
-      {"mooney-rivlin", "isochoric Mooney-Rivlin", "C10, C01, D1"},
-      {"yeoh", "isochoric Yeoh, up to 3 terms", "C10, C20 (0), C30 (0), D1"},
-      {"stvk", "Saint Venant-Kirchhoff", "E, nu"},
-      {"corotational", "linear corotational", "E, nu"},
-      {"ogden", "Ogden, N terms, logarithmic volume term", "mu[], alpha[], nu"},
-      {"spline", "Valanis-Landel natural cubic spline material", "f, g, h: knots and values_Pa"},
-  };
-  return models;
-}
-
 std::unique_ptr<Material> material_from_json(const JsonView& root) {
-  const std::string model = root.at("model").as_string();
+  const JsonView name = root.at("model");
+  const ModelSpec& model = model_spec(name.as_string(), name.context());
   const JsonView p = root.at("parameters");
-  const auto scalars = [&](std::vector<std::string> allowed) { p.expect_only(allowed); };
-  const Dimension kPa = Dimension::Pressure;
-  const Dimension kNum = Dimension::Dimensionless;
-  const Dimension kComp = Dimension::Compliance;
-
-  return with_context(p, [&]() -> std::unique_ptr<Material> {
-    if (model == "neo-hookean") {
-      scalars({"E", "nu"});
-      return std::make_unique<NeoHookean>(scalar(p, "E", kPa), scalar(p, "nu", kNum));
+  std::vector<std::string> keys;
+  for (const auto& spec : model.parameters) keys.emplace_back(spec.key);
+  p.expect_only(keys);
+  ParameterValues values;
+  for (const auto& spec : model.parameters) {
+    const std::string key(spec.key);
+    if (spec.default_value && !p.has(key)) continue;
+    const JsonView v = p.at(key);  // names a missing required parameter
+    switch (spec.kind) {
+      case ParameterKind::Scalar: values.scalars[key] = v.as_quantity(spec.dimension); break;
+      case ParameterKind::List: values.lists[key] = quantity_list(v, spec.dimension); break;
+      case ParameterKind::Spline: values.splines[key] = spline_from_json(v, key); break;
     }
-    if (model == "neo-hookean-volume") {
-      scalars({"E", "nu", "volume_share"});
-      return std::make_unique<NeoHookean>(NeoHookean::with_volume_term(
-          scalar(p, "E", kPa), scalar(p, "nu", kNum), scalar_or(p, "volume_share", kNum, 0.5)));
-    }
-    if (model == "neo-hookean-isochoric") {
-      scalars({"C10", "D1"});
-      return std::make_unique<IsochoricInvariant>(
-          IsochoricInvariant::neo_hookean(scalar(p, "C10", kPa), scalar(p, "D1", kComp)));
-    }
-    if (model == "mooney-rivlin") {
-      scalars({"C10", "C01", "D1"});
-      return std::make_unique<IsochoricInvariant>(IsochoricInvariant::mooney_rivlin(
-          scalar(p, "C10", kPa), scalar(p, "C01", kPa), scalar(p, "D1", kComp)));
-    }
-    if (model == "yeoh") {
-      scalars({"C10", "C20", "C30", "D1"});
-      return std::make_unique<IsochoricInvariant>(IsochoricInvariant::yeoh(
-          scalar(p, "C10", kPa), scalar_or(p, "C20", kPa, 0.0), scalar_or(p, "C30", kPa, 0.0),
-          scalar(p, "D1", kComp)));
-    }
-    if (model == "stvk") {
-      scalars({"E", "nu"});
-      return std::make_unique<StVenantKirchhoff>(scalar(p, "E", kPa), scalar(p, "nu", kNum));
-    }
-    if (model == "corotational") {
-      scalars({"E", "nu"});
-      return std::make_unique<Corotational>(scalar(p, "E", kPa), scalar(p, "nu", kNum));
-    }
-    if (model == "ogden") {
-      scalars({"mu", "alpha", "nu"});
-      return std::make_unique<Ogden>(quantity_list(p.at("mu"), kPa),
-                                     quantity_list(p.at("alpha"), kNum), scalar(p, "nu", kNum));
-    }
-    if (model == "spline") {
-      scalars({"f", "g", "h"});
-      return std::make_unique<SplineMaterial>(spline_from_json(p.at("f"), "spline f"),
-                                              spline_from_json(p.at("g"), "spline g"),
-                                              spline_from_json(p.at("h"), "spline h"));
-    }
-    std::string names;
-    for (const auto& m : known_models()) names += (names.empty() ? "" : ", ") + std::string(m.name);
-    root.at("model").fail(fmt::format("unknown model '{}'", model), fmt::format("one of: {}", names));
-  });
+  }
+  return with_context(p, [&] { return make_material(model, std::move(values), p.context()); });
 }
 
 Json material_to_json(const Material& m) {
+  const ModelSpec& model = model_spec(m.model());
+  const ParameterValues values = parameter_values(m);
   Json params = Json::object();
-  if (const auto* s = dynamic_cast<const SplineMaterial*>(&m)) {
-    params["f"] = spline_to_json(s->spline(SplineMaterial::Part::F));
-    params["g"] = spline_to_json(s->spline(SplineMaterial::Part::G));
-    params["h"] = spline_to_json(s->spline(SplineMaterial::Part::H));
-  } else if (const auto* o = dynamic_cast<const Ogden*>(&m)) {
-    const Eigen::VectorXd t = o->params();
-    const Eigen::Index n = o->num_terms();
-    Json mu = Json::array();
-    Json alpha = Json::array();
-    for (Eigen::Index q = 0; q < n; ++q) {
-      mu.push_back(quantity_json(t[q], Dimension::Pressure));
-      alpha.push_back(t[n + q]);
-    }
-    params["mu"] = mu;
-    params["alpha"] = alpha;
-    params["nu"] = t[2 * n];
-  } else {
-    const Eigen::VectorXd t = m.params();
-    for (Eigen::Index k = 0; k < m.num_params(); ++k) {
-      const ParamInfo info = m.param_info(k);
-      params[info.name] = quantity_json(t[k], info.dimension);
+  for (const auto& spec : model.parameters) {
+    const std::string key(spec.key);
+    switch (spec.kind) {
+      case ParameterKind::Scalar: params[key] = quantity_json(values.scalars.at(key), spec.dimension); break;
+      case ParameterKind::List: {
+        Json list = Json::array();
+        for (const double x : values.lists.at(key)) list.push_back(quantity_json(x, spec.dimension));
+        params[key] = list;
+        break;
+      }
+      case ParameterKind::Spline: {
+        const SplineValues& s = values.splines.at(key);
+        params[key] = Json{{"knots", s.knots}, {"values_Pa", s.values}};
+        break;
+      }
     }
   }
   return Json{{"palpa_material", kFormatVersion}, {"model", std::string(m.model())}, {"parameters", params}};

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #pragma once
-// Material files (material.json) and the model registry.
+// Material files (material.json); the models and their parameters are in
+// registry.hpp.
 //
 // {
 //   "palpa_material": 1,
@@ -16,6 +17,7 @@
 //
 // The reader names the file and the field for every problem (unknown model,
 // missing or unknown parameter, non-physical or non-finite value).
+// Parameters that have a default (registry.hpp) may be left out.
 //
 // (This lives in the material module rather than io: reading a file means
 // constructing models, and io may not depend on material.)
@@ -38,15 +40,6 @@ struct Provenance {
   std::optional<double> objective;   // final objective value of a fit, if any
   Json details = Json::object();     // free-form extra information
 };
-
-struct ModelInfo {
-  std::string_view name;
-  std::string_view summary;
-  std::string_view parameters;  // e.g. "E, nu"
-};
-
-// Every model palpa knows, in a stable order.
-const std::vector<ModelInfo>& known_models();
 
 // Builds a material from the "model" and "parameters" fields of a view.
 std::unique_ptr<Material> material_from_json(const JsonView& root);
