@@ -7,11 +7,11 @@
 #include <fmt/ranges.h>
 #include <string>
 
+#include "palpa/core/checkpoint.hpp"
+
 namespace palpa::design {
 
 namespace {
-
-constexpr int kCheckpointVersion = 1;
 
 const char* method_name(DesignMethod m) { return m == DesignMethod::Lbfgs ? "lbfgs" : "cg"; }
 
@@ -76,34 +76,34 @@ IterationRecord record_of(const JsonView& j) {
 Json checkpoint_json(const DesignCheckpoint& c) {
   Json hist = Json::array();
   for (const IterationRecord& r : c.history) hist.push_back(record_json(r));
-  return {{"palpa_design_checkpoint", kCheckpointVersion},
-          {"method", method_name(c.method)},
-          {"iteration", c.iteration},
-          {"gamma", c.gamma},
-          {"theta", to_json(c.theta)},
-          {"direction", to_json(c.direction)},
-          {"gradient", to_json(c.gradient)},
-          {"steepest", c.steepest},
-          {"phi", c.phi},
-          {"zeta", c.zeta},
-          {"psi", c.psi},
-          {"max_penetration", c.max_penetration},
-          {"refreeze_failed", c.refreeze_failed},
-          {"state", state_json(c.state)},
-          {"history", hist},
-          {"evaluations", c.evaluations},
-          {"newton_iterations", c.newton_iterations},
-          {"moves", c.moves},
-          {"filter_radius", c.filter_radius},
-          {"seconds", c.seconds}};
+  Json doc = checkpoint_document("design");
+  doc.update(Json{{"method", method_name(c.method)},
+                  {"iteration", c.iteration},
+                  {"gamma", c.gamma},
+                  {"theta", to_json(c.theta)},
+                  {"direction", to_json(c.direction)},
+                  {"gradient", to_json(c.gradient)},
+                  {"steepest", c.steepest},
+                  {"phi", c.phi},
+                  {"zeta", c.zeta},
+                  {"psi", c.psi},
+                  {"max_penetration", c.max_penetration},
+                  {"refreeze_failed", c.refreeze_failed},
+                  {"state", state_json(c.state)},
+                  {"history", hist},
+                  {"evaluations", c.evaluations},
+                  {"newton_iterations", c.newton_iterations},
+                  {"moves", c.moves},
+                  {"filter_radius", c.filter_radius},
+                  {"seconds", c.seconds}});
+  return doc;
 }
 
 DesignCheckpoint read_design_checkpoint(const std::filesystem::path& path, const DesignCheckpoint& like) {
-  const Json doc = read_json_file(path, InputUse::RunState);
+  // The run's scene and options are checked member by member below, each
+  // with its own message.
+  const Json doc = read_checkpoint(path, {"design", {}, {}, {}});
   const JsonView j(doc, path.string());
-  if (j.at("palpa_design_checkpoint").as_integer() != kCheckpointVersion) {
-    j.at("palpa_design_checkpoint").fail("unsupported version", std::to_string(kCheckpointVersion));
-  }
   DesignCheckpoint c = like;
   const std::string method = j.at("method").as_string();
   if (method != method_name(like.method)) {

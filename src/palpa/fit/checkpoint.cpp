@@ -11,6 +11,7 @@
 #include <limits>
 #include <sstream>
 
+#include "palpa/core/checkpoint.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/material/material_file.hpp"
@@ -121,7 +122,8 @@ Checkpoint::Checkpoint(std::filesystem::path path, const Dataset& d, const FitOp
             {"initial", material::material_to_json(initial)}};
   text += "\n--\n" + opts.dump();
   fingerprint_ = palpa::fingerprint(text);
-  doc_ = Json{{"palpa_fit_checkpoint", 1}, {"fingerprint", fingerprint_}, {"guesses", Json::object()}};
+  doc_ = checkpoint_document("fit", fingerprint_);
+  doc_["guesses"] = Json::object();
 }
 
 void Checkpoint::load() {
@@ -133,14 +135,9 @@ void Checkpoint::load() {
     throw_input_error(fmt::format("checkpoint '{}' does not exist", path_.string()),
                       ErrorContext{path_.string(), 0, 0, ""}, "the output folder of an interrupted fit");
   }
-  Json j = read_json_file(path_, InputUse::RunState);
-  const JsonView v(j, path_.string());
-  if (!v.is_object() || !v.has("palpa_fit_checkpoint")) v.fail("not a fit checkpoint", "a palpa fit checkpoint");
-  if (v.at("fingerprint").as_string() != fingerprint_) {
-    v.at("fingerprint").fail("the dataset, its curve files or the fit options differ from the interrupted fit's",
-                             "the same dataset and options as the interrupted fit (or start afresh without --resume)");
-  }
-  doc_ = std::move(j);
+  doc_ = read_checkpoint(
+      path_, {"fit", fingerprint_, "the dataset, its curve files or the fit options differ from the interrupted fit's",
+              "the same dataset and options as the interrupted fit (or start afresh without --resume)"});
 }
 
 void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,

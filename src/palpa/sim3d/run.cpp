@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/checkpoint.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/text.hpp"
@@ -445,11 +446,9 @@ Json run(const Scene& scene, const RunOptions& options) {
     if (!fs::exists(state_path)) {
       throw Error(ErrorKind::Input, fmt::format("{}: there is no interrupted run to resume (no state.json)", options.out.string()));
     }
-    const Json doc = read_json_file(state_path, InputUse::RunState);
+    const Json doc =
+        read_checkpoint(state_path, {"sim3d", fp, "the scene differs from the interrupted run's", "the same scene file and mesh"});
     const JsonView v(doc, state_path.string());
-    if (v.at("fingerprint").as_string() != fp) {
-      v.at("fingerprint").fail("the scene differs from the interrupted run's", "the same scene file and mesh");
-    }
     const std::vector<double> x = v.at("state").as_number_array();
     std::vector<std::vector<double>> areas;
     for (std::size_t i = 0; i < v.at("spring_areas").size(); ++i) {
@@ -577,16 +576,16 @@ Json run(const Scene& scene, const RunOptions& options) {
         anchors.push_back(flat);
       }
       const Eigen::VectorXd& x = sim.state();
-      write_json_file(state_path, Json{{"palpa_sim3d_state", 1},
-                                       {"fingerprint", fp},
-                                       {"next_step", s + 1},
-                                       {"state", std::vector<double>(x.data(), x.data() + x.size())},
-                                       {"stiffness", k},
-                                       {"spring_areas", areas},
-                                       {"anchors", anchors},
-                                       {"records", records},
-                                       {"body_frames", frame_pair(body_frames)},
-                                       {"obstacle_frames", ofr}});
+      Json doc = checkpoint_document("sim3d", fp);
+      doc.update(Json{{"next_step", s + 1},
+                      {"state", std::vector<double>(x.data(), x.data() + x.size())},
+                      {"stiffness", k},
+                      {"spring_areas", areas},
+                      {"anchors", anchors},
+                      {"records", records},
+                      {"body_frames", frame_pair(body_frames)},
+                      {"obstacle_frames", ofr}});
+      write_json_file(state_path, doc);
     }
     std::string note = fmt::format("{} Newton its", r.newton_iterations);
     if (!r.obstacles.empty()) note += fmt::format(", force {:.4g} N", r.obstacles[0].indentation_force);
