@@ -13,6 +13,7 @@
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/core/termination.hpp"
 #include "palpa/design/optimizer.hpp"
 #include "palpa/design/output.hpp"
 #include "palpa/design/scene.hpp"
@@ -56,7 +57,10 @@ void run_design_command(const DesignArgs& a) {
     const JsonView d(done, finished.string());
     const int iterations = static_cast<int>(d.at("iterations").as_integer());
     const std::string reason = d.at("stop_reason").as_string();
-    const bool at_limit = reason.find("iteration") != std::string::npos;
+    // (A summary without a termination was written by an older palpa: not resumed.)
+    const auto termination = d.find("termination");
+    const bool at_limit = termination && parse_termination(termination->as_string(), termination->context()) ==
+                                             Termination::IterationLimit;
     if (!at_limit || iterations >= scene.options.max_iterations) {
       spdlog::info("design: the run in {} is finished ({} iterations, stopped by {}); nothing to resume{}", out.string(),
                    iterations, reason,
@@ -143,7 +147,7 @@ void run_design_command(const DesignArgs& a) {
                s["optimizer"]["zeta_reduction_percent"].get<double>(), s["zeta_body_reduction_percent"].get<double>(),
                initial["peak_pressure_Pa"]["body"].get<double>() * 1e-3,
                optimized["peak_pressure_Pa"]["body"].get<double>() * 1e-3, optimized["max_penetration_m"].get<double>() * 1e3,
-               r.iterations, r.evaluations, r.seconds, r.stop_reason, verdict, out.string());
+               r.iterations, r.evaluations, r.seconds, r.stop.detail, verdict, out.string());
 }
 
 }  // namespace

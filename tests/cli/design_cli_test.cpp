@@ -212,6 +212,7 @@ TEST(DesignCli, ResumesAnInterruptedRun) {
   const auto b = summary(dir / "straight" / "summary.json");
   EXPECT_TRUE(a["resumed"].get<bool>());
   EXPECT_EQ(a["iterations"], 4);
+  EXPECT_EQ(a["termination"], "iteration_limit");
   EXPECT_EQ(a["final"]["zeta"].get<double>(), b["final"]["zeta"].get<double>());
   // The seconds count the whole run, the part before the resume too.
   EXPECT_GT(a["seconds"].get<double>(), first_part);

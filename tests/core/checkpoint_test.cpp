@@ -5,6 +5,7 @@
 
 #include "common/test_support.hpp"
 #include "palpa/core/checkpoint.hpp"
+#include "palpa/core/termination.hpp"
 
 namespace palpa {
 namespace {
@@ -35,6 +36,16 @@ TEST(Checkpoint, IsReadBackByARunOfItsKindOnly) {
                            {"checkpoint.json", "not a palpa checkpoint", "a palpa fit checkpoint"}));
   write_json_file(path, Json::array());
   EXPECT_TRUE(throws_error([&] { read_checkpoint(path, fit); }, ErrorKind::Input, {"not a palpa checkpoint"}));
+}
+
+TEST(Termination, NamesRoundTripAndUnknownOnesAreRefused) {
+  for (const Termination t : {Termination::Converged, Termination::IterationLimit, Termination::NoProgress,
+                              Termination::Failed, Termination::NotRun}) {
+    EXPECT_EQ(parse_termination(to_string(t)), t);
+  }
+  EXPECT_EQ(to_string(Termination::IterationLimit), "iteration_limit");
+  EXPECT_TRUE(throws_error([] { parse_termination("done", ErrorContext{"summary.json", 0, 0, "termination"}); },
+                           ErrorKind::Input, {"summary.json", "unknown termination 'done'", "iteration_limit"}));
 }
 
 }  // namespace

@@ -302,7 +302,7 @@ TEST(DesignBaselines, PoseToSeatBalancesTheForceAndActsOnTheLoadLine) {
 TEST(DesignOptimizer, LbfgsLowersTheScoreToo) {
   const SurfaceMesh s = slab(15);
   const DesignResult r = cushion_design(s, DesignMethod::Lbfgs, 8, 2);
-  ASSERT_GE(r.iterations, 4) << r.stop_reason;
+  ASSERT_GE(r.iterations, 4) << r.stop.detail;
   EXPECT_LT(r.final.zeta, 0.6 * r.initial.zeta);
   EXPECT_LT(r.final.rest.balance_error, 0.005);
   // Post-smoothing moved only design vertices, and was re-scored.

@@ -103,7 +103,7 @@ TEST(Checkpoint, ResumedNlcgEndsBitForBitWhereAnUninterruptedFitEnds) {
   FitOptions o = options(Optimizer::Nlcg);
   o.simulation.mesh_level = 1;
   const Runs runs = interrupted_and_resumed(d, o, dir / "checkpoint.json");
-  ASSERT_GT(runs.whole.iterations, kInterruptAfter) << runs.whole.stop_reason;
+  ASSERT_GT(runs.whole.iterations, kInterruptAfter) << runs.whole.stop.detail;
   expect_bit_for_bit(runs);
   RecordProperty("iterations", runs.whole.iterations);
 }
@@ -117,7 +117,7 @@ TEST(Checkpoint, ResumedLmEndsBitForBitWhereAnUninterruptedFitEnds) {
   o.max_iterations = 40;
   o.function_tolerance = 1e-9;
   const Runs runs = interrupted_and_resumed(d, o, dir / "checkpoint.json");
-  ASSERT_GT(runs.whole.iterations, kInterruptAfter + 1) << runs.whole.stop_reason;
+  ASSERT_GT(runs.whole.iterations, kInterruptAfter + 1) << runs.whole.stop.detail;
   expect_bit_for_bit(runs);
   RecordProperty("iterations", runs.whole.iterations);
 }
@@ -220,7 +220,7 @@ TEST(Checkpoint, ASmallIndentationDepthSearchResumesItsChosenGuess) {
   EXPECT_EQ(whole.best, 1u);  // 6 mm
   const GuessResult& w = whole.guesses[whole.best];
   constexpr int kStopAfter = 1;  // (it converges in 3)
-  ASSERT_GT(w.iterations, kStopAfter + 1) << w.stop_reason;
+  ASSERT_GT(w.iterations, kStopAfter + 1) << w.stop.detail;
 
   FitControl c;
   c.checkpoint = dir / "checkpoint.json";

@@ -139,7 +139,8 @@ TEST(HomogeneousFit, ModulusOnlyIsTheLeastSquaresScale) {
   o.modulus_only = true;
   const FitResult r = fit_dataset(d, o);
   const GuessResult& g = r.guesses.at(0);
-  EXPECT_EQ(g.stop_reason, "modulus only");
+  EXPECT_EQ(g.stop.detail, "modulus only");
+  EXPECT_EQ(g.stop.termination, Termination::Converged);
   EXPECT_NEAR(g.modulus_scale, 2.3, 0.01 * 2.3);
   EXPECT_LT(relative(material::small_strain_constants(*g.material).young(), 23e3), 0.01);
   EXPECT_LT(g.objective_stage1, 0.01 * g.objective_initial);

@@ -25,6 +25,7 @@
 #include "palpa/mesh/csg.hpp"
 #include "palpa/rest/adjoint.hpp"
 #include "palpa/solve/blas.hpp"
+#include "palpa/solve/ceres_termination.hpp"
 
 namespace palpa::design {
 
@@ -100,6 +101,22 @@ class LbfgsCallback final : public ceres::IterationCallback {
  private:
   std::function<bool(const ceres::IterationSummary&)> f_;
 };
+
+// Whether Ceres stopped because the objective fell by at most `tolerance`
+// of itself in its last iteration (its function-tolerance test), rather than
+// by its gradient or parameter tolerance: the figures of the last iteration
+// decide, as in Ceres' own test.
+bool function_tolerance_reached(const ceres::GradientProblemSolver::Summary& summary, double tolerance) {
+  if (summary.iterations.empty()) return false;
+  // The terminating iteration is the last one recorded when Ceres records it
+  // before its tests (its cost is then the final cost); otherwise it follows
+  // the last one recorded.
+  const ceres::IterationSummary& last = summary.iterations.back();
+  const bool recorded = summary.final_cost == last.cost;
+  const double change = recorded ? last.cost_change : last.cost - summary.final_cost;
+  const double previous = recorded ? last.cost + last.cost_change : last.cost;
+  return std::abs(change) <= tolerance * std::abs(previous);
+}
 
 }  // namespace
 
@@ -456,7 +473,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     save(it);
   };
 
-  result.stop_reason = fmt::format("the iteration limit ({})", options_.max_iterations);
+  result.stop = Stop{Termination::IterationLimit, fmt::format("the iteration limit ({})", options_.max_iterations)};
   int iteration = first - 1;
   // A run killed between an iteration's checkpoint and the refreeze that
   // follows it refreezes now, as the uninterrupted run did then.
@@ -506,8 +523,9 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
       rec.restarted = true;
     }
     if (best < 0) {
-      result.stop_reason = space_->max_move(d) > 0.0 ? "no step length lowers φ along the steepest descent"
-                                                     : "the gradient vanishes";
+      result.stop = space_->max_move(d) > 0.0
+                        ? Stop{Termination::NoProgress, "no step length lowers φ along the steepest descent"}
+                        : Stop{Termination::Converged, "the gradient vanishes"};
       return 2;
     }
     Evaluation& next = trials[static_cast<std::size_t>(best)];
@@ -532,7 +550,8 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
                  it, base.phi, base.zeta, gamma_ * base.psi, rec.move * 1e3, rec.evaluations, rec.seconds);
     if (progress) progress(rec);
     if (decrease < options_.min_relative_decrease * std::abs(previous)) {
-      result.stop_reason = fmt::format("φ fell by less than {:.3g} of itself", options_.min_relative_decrease);
+      result.stop = Stop{Termination::Converged,
+                         fmt::format("φ fell by less than {:.3g} of itself", options_.min_relative_decrease)};
       return 1;
     }
     return 0;
@@ -632,9 +651,8 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
       refreeze(iteration);
       continue;  // a fresh L-BFGS on the new contact model
     }
-    result.stop_reason = "L-BFGS: " + summary.message;
-    if (summary.termination_type == ceres::CONVERGENCE &&
-        summary.message.find("Function tolerance") != std::string::npos) {
+    result.stop = Stop{termination_of(summary.termination_type), "L-BFGS: " + summary.message};
+    if (summary.termination_type == ceres::CONVERGENCE && function_tolerance_reached(summary, so.function_tolerance)) {
       break;  // φ fell by less than min_relative_decrease
     }
     if (iteration >= options_.max_iterations) break;

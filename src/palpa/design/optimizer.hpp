@@ -71,6 +71,7 @@
 #include <string>
 #include <vector>
 
+#include "palpa/core/termination.hpp"
 #include "palpa/design/filter.hpp"
 #include "palpa/design/score.hpp"
 #include "palpa/rest/rest.hpp"
@@ -175,7 +176,7 @@ struct DesignResult {
   int refreezes = 0;          // times the contact model was chosen anew
   double seconds = 0.0;       // the whole run (a resumed run: with the seconds before the resume)
   double equilibrium_seconds = 0.0;  // the initial equilibrium from scratch
-  std::string stop_reason;
+  Stop stop;  // why the run stopped
   bool resumed = false;
 };
 

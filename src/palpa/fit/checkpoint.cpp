@@ -181,7 +181,8 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,
       {"iterations", r.iterations},
       {"evaluations", r.evaluations},
       {"seconds", r.seconds},
-      {"stop_reason", r.stop_reason},
+      {"termination", std::string(to_string(r.stop.termination))},
+      {"stop_reason", r.stop.detail},
       {"done", r.done},
       {"state", st}};
   if (!r.starts.empty()) {
@@ -246,7 +247,8 @@ bool Checkpoint::restore(std::size_t g, GuessResult& r, GuessState& s, std::vect
   r.iterations = static_cast<int>(v.at("iterations").as_integer());
   r.evaluations = static_cast<int>(v.at("evaluations").as_integer());
   r.seconds = v.at("seconds").as_number();
-  r.stop_reason = v.at("stop_reason").as_string();
+  r.stop.termination = parse_termination(v.at("termination").as_string(), v.at("termination").context());
+  r.stop.detail = v.at("stop_reason").as_string();
   r.done = v.at("done").as_bool();
   const JsonView st = v.at("state");
   s.x = json_vector(st.at("x"));

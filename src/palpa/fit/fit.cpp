@@ -518,7 +518,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
                    r.layer_depth * 1e3, s1.scale, s1.objective_initial, s1.objective_scaled);
       if (o.modulus_only) {
         r.done = true;
-        r.stop_reason = "modulus only";
+        r.stop = Stop{Termination::Converged, "modulus only"};
         publish(g, r, state);
         return;
       }
@@ -561,14 +561,14 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     const OptimizeOutcome out = optimize(problem, state, oo, cb);
     r.material = std::shared_ptr<Material>(problem.material_at(out.x));
     r.objective_final = out.objective - problem.regularization(out.x);
-    r.stop_reason = out.reason;
+    r.stop = out.stop;
     r.x_final = out.x;
     r.evaluations = evaluations0 + problem.evaluations();
     r.seconds = seconds();
     r.done = true;
     spdlog::info("layer depth {:.4g} mm: stage 2 ({}, {}) eps {:.4g} -> {:.4g} after {} iterations ({})",
                  r.layer_depth * 1e3, o.model, to_string(o.optimizer), r.objective_stage1, r.objective_final,
-                 r.iterations, out.reason);
+                 r.iterations, out.stop.detail);
     GuessState final_state;
     final_state.x = out.x;
     publish(g, r, final_state);
@@ -611,7 +611,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
       r.stage1_material = std::shared_ptr<Material>(scaled_material(*initial, s1[g].scale));
       r.material = std::shared_ptr<Material>(r.stage1_material->clone());
       r.objective_initial = r.objective_stage1 = r.objective_final = std::numeric_limits<double>::quiet_NaN();
-      r.stop_reason = "not fitted: the small indentations chose another depth";
+      r.stop = Stop{Termination::NotRun, "not fitted: the small indentations chose another depth"};
       r.done = true;
     }
     result.small_profile = std::move(profile);

@@ -47,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "palpa/core/termination.hpp"
 #include "palpa/fit/coordinates.hpp"
 #include "palpa/fit/dataset.hpp"
 #include "palpa/fit/simulate.hpp"
@@ -143,7 +144,7 @@ struct GuessResult {
   int iterations = 0;
   int evaluations = 0;
   double seconds = 0.0;
-  std::string stop_reason;
+  Stop stop;  // why stage 2 stopped (NotRun: a guess the depth search did not choose)
   bool done = false;
 };
 

@@ -11,6 +11,7 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
+#include "palpa/solve/ceres_termination.hpp"
 
 namespace palpa::fit {
 
@@ -161,10 +162,11 @@ OptimizeOutcome levenberg_marquardt(TrainingProblem& p, const GuessState& start,
   out.iterations = static_cast<int>(summary.num_successful_steps + summary.num_unsuccessful_steps);
   out.objective = 2.0 * summary.final_cost;
   switch (summary.termination_type) {
-    case ceres::CONVERGENCE: out.reason = "converged: " + summary.message; break;
-    case ceres::NO_CONVERGENCE: out.reason = "iteration limit reached"; break;
-    default: out.reason = "stopped: " + summary.message; break;
+    case ceres::CONVERGENCE: out.stop.detail = "converged: " + summary.message; break;
+    case ceres::NO_CONVERGENCE: out.stop.detail = "iteration limit reached"; break;
+    default: out.stop.detail = "stopped: " + summary.message; break;
   }
+  out.stop.termination = termination_of(summary.termination_type);
   // Ceres returns the best point it accepted; make sure ε is the one of x.
   if (const Evaluation* e = cache.at(x)) out.objective = e->objective;
   return out;
@@ -190,7 +192,7 @@ OptimizeOutcome nonlinear_cg(TrainingProblem& p, const GuessState& start, const 
     if (!o.start_recorded && cb.on_iteration) cb.on_iteration(s.x, s.objective, s);
   }
   OptimizeOutcome out;
-  out.reason = "iteration limit reached";
+  out.stop = Stop{Termination::IterationLimit, "iteration limit reached"};
   int small_decreases = 0;
   const auto n = s.x.size();
   for (int it = o.done_iterations + 1; it <= o.max_iterations; ++it) {
@@ -202,7 +204,7 @@ OptimizeOutcome nonlinear_cg(TrainingProblem& p, const GuessState& start, const 
       s.since_restart = 0;
     }
     if (!(slope < 0.0)) {
-      out.reason = "converged: zero gradient";
+      out.stop = Stop{Termination::Converged, "converged: zero gradient"};
       break;
     }
     const double dmax = s.direction.cwiseAbs().maxCoeff();
@@ -253,7 +255,7 @@ OptimizeOutcome nonlinear_cg(TrainingProblem& p, const GuessState& start, const 
       }
     }
     if (!accepted) {
-      out.reason = "stopped: the line search found no lower objective";
+      out.stop = Stop{Termination::NoProgress, "stopped: the line search found no lower objective"};
       break;
     }
     const Eigen::VectorXd g_new = 2.0 * best.jacobian.transpose() * best.residuals;
@@ -273,7 +275,8 @@ OptimizeOutcome nonlinear_cg(TrainingProblem& p, const GuessState& start, const 
     out.iterations = it;
     small_decreases = decrease < o.function_tolerance ? small_decreases + 1 : 0;
     if (small_decreases >= 2) {
-      out.reason = fmt::format("converged: relative decrease below {:g} twice", o.function_tolerance);
+      out.stop = Stop{Termination::Converged,
+                      fmt::format("converged: relative decrease below {:g} twice", o.function_tolerance)};
       break;
     }
   }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "palpa/core/termination.hpp"
 #include "palpa/fit/coordinates.hpp"
 #include "palpa/fit/dataset.hpp"
 #include "palpa/fit/simulate.hpp"
@@ -117,7 +118,7 @@ struct OptimizeOutcome {
   Eigen::VectorXd x;
   double objective = 0.0;
   int iterations = 0;
-  std::string reason;  // why it stopped
+  Stop stop;  // why it stopped
 };
 
 // Ceres' trust-region Levenberg–Marquardt with the exact Jacobian.

@@ -246,7 +246,8 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d,
                        {"iterations", g.iterations},
                        {"evaluations", g.evaluations},
                        {"seconds", g.seconds},
-                       {"stop_reason", g.stop_reason},
+                       {"termination", std::string(to_string(g.stop.termination))},
+                       {"stop_reason", g.stop.detail},
                        {"starts", starts_json(g.starts)},
                        {"history", hist}});
   }
@@ -294,7 +295,8 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d,
       {"iterations", best.iterations},
       {"evaluations", best.evaluations},
       {"seconds", seconds},
-      {"stop_reason", best.stop_reason},
+      {"termination", std::string(to_string(best.stop.termination))},
+      {"stop_reason", best.stop.detail},
       {"curves", curves},
       {"guesses", guesses}};
   batch.add(out / "report.json") << format_json(report, out / "report.json");
