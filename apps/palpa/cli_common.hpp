@@ -29,11 +29,6 @@ CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double&
 // error naming `option` otherwise, with `example` ("0.6:1.6") as the expected form.
 std::pair<double, double> parse_range(const std::string& text, const std::string& option, const std::string& example);
 
-// Refuses (palpa::Error, Input, naming option -o) an output folder that
-// exists and is not empty: `what` ("fit", "simulation") names the run that
-// --resume would continue there.
-void require_empty_output(const std::filesystem::path& out, std::string_view what);
-
 // Declares which of a command's options (by any of their names, positional
 // ones by their name) are files it reads and which are files or folders it
 // writes. A name ending in '=' ("--interface=") takes values NAME=FILE, of

@@ -3,23 +3,12 @@
 // force–indentation, plate-compression or homogeneous stress–stretch curves.
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
-#include <spdlog/spdlog.h>
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <filesystem>
-#include <mutex>
-#include <stdexcept>
 #include <string>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
-#include "palpa/core/input_file.hpp"
-#include "palpa/core/progress.hpp"
 #include "palpa/fit/fit.hpp"
 #include "palpa/fit/run.hpp"
 #include "palpa/material/material_file.hpp"
@@ -80,31 +69,7 @@ void run_fit_command(const FitArgs& a) {
   o.depth_from = fit::parse_depth_from(a.depth_from);
   o.modulus_only = a.modulus_only;
   if (!a.initial.empty()) o.initial = material::read_material_file(a.initial).material;
-  const std::filesystem::path out = a.output;
-  bool resume = a.resume;
-  // --resume where there is nothing to resume starts afresh, so that a
-  // workflow can always pass it.
-  if (resume && !std::filesystem::exists(out / "checkpoint.json")) {
-    spdlog::info("fit: no checkpoint in {}: starting afresh", out.string());
-    resume = false;
-  }
-  // A finished fit is left exactly as it is (a checkpoint of another fit is
-  // refused here, naming what differs).
-  if (resume && std::filesystem::exists(out / "report.json") &&
-      fit::fit_finished(fit::read_dataset(a.dataset), o, out / "checkpoint.json")) {
-    spdlog::info("fit: the fit in {} is finished (report.json); nothing to resume", out.string());
-    return;
-  }
-  if (!resume && !a.overwrite) require_empty_output(out, "fit");
-  try {
-    fit::run_fit(a.dataset, out, o, resume, a.command_line);
-  } catch (const Error& e) {
-    if (e.kind() == ErrorKind::Interrupted && std::filesystem::exists(out / "checkpoint.json")) {
-      spdlog::warn("fit: interrupted; the last iteration is in {}: continue with the same command and --resume",
-                   (out / "checkpoint.json").string());
-    }
-    throw;
-  }
+  fit::run_fit_in_folder(a.dataset, a.output, o, a.resume, a.overwrite, a.command_line);
 }
 
 }  // namespace

@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -14,8 +13,6 @@
 #include "cli_common.hpp"
 #include "mesh_options.hpp"
 #include "palpa/core/error.hpp"
-#include "palpa/core/interrupt.hpp"
-#include "palpa/core/json.hpp"
 #include "palpa/io/mesh.hpp"
 #include "palpa/mesh/layer.hpp"
 #include "palpa/mesh/output.hpp"
@@ -87,27 +84,8 @@ void run_layer(const LayerArgs& a) {
     throw_input_error(fmt::format("unknown core offset '{}'", a.core_offset), option_context("--core-offset"),
                       "normals or distance");
   }
-  auto started = std::chrono::steady_clock::now();
-  std::string current;
-  Json timings = Json::object();
-  o.on_stage = [&](std::string_view stage) {
-    check_interrupt();
-    const auto now = std::chrono::steady_clock::now();
-    if (!current.empty()) {
-      timings[current] = std::chrono::duration<double>(now - started).count();
-    }
-    current = stage;
-    started = now;
-    spdlog::info("mesh layer: {}", stage);
-  };
-  const mesh::LayerMesh layer = mesh::make_layer(scan, depth, stiffness, o);
-  timings[current] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  check_interrupt();
-  const mesh::LayerSummary s = mesh::summarize_layer(layer, layer.quality);
-
-  mesh::LayerRequest request{a.surface, a.edge, depth, a.depth_samples, timings};
-  mesh::write_layer(layer, mesh::layer_summary_json(layer, s, request), a.output);
+  const mesh::LayerSummary s = mesh::mesh_layer_to_files(
+      scan, stiffness, o, mesh::LayerRequest{a.surface, a.edge, depth, a.depth_samples}, a.output);
   const mesh::LayerFiles f = mesh::layer_files(a.output);
   spdlog::info(
       "wrote {} (+ .node/.ele/.face, {}, {}, {}, {}): {} tets, {} attached vertices, min dihedral "

@@ -10,6 +10,8 @@ namespace palpa::cli {
 void add_units_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 void add_material_command(CLI::App& app);
+// palpa material show / models / curve (cmd_material_inspect.cpp).
+void add_material_inspection(CLI::App& material);
 void add_demo_command(CLI::App& app);
 void add_poke_command(CLI::App& app);
 void add_fit_command(CLI::App& app);

@@ -55,6 +55,18 @@ TEST(MaterialFile, ReadsUserWrittenFile) {
   EXPECT_DOUBLE_EQ(f.material->params()[3], -2.0);
 }
 
+TEST(MaterialFile, TheIsochoricNeoHookeanReadsFromYoungAndPoisson) {
+  ScratchDir dir;
+  const auto p = dir.write("m.json", R"({"model": "neo-hookean-isochoric", "parameters": {"E": "13 kPa", "nu": 0.3}})");
+  const MaterialFile f = read_material_file(p);
+  EXPECT_NEAR(f.material->params()[0], 2500.0, 1e-9);
+  // Written back in its own parameters.
+  EXPECT_TRUE(material_to_json(*f.material)["parameters"].contains("C10"));
+  const auto mixed = dir.write("x.json", R"({"model": "neo-hookean-isochoric", "parameters": {"E": "13 kPa", "nu": 0.3,
+      "C10": "1 kPa"}})");
+  EXPECT_TRUE(throws_error([&] { read_material_file(mixed); }, ErrorKind::Input, {"x.json", "C10 with E"}));
+}
+
 struct BadCase {
   std::string name;
   std::string content;

@@ -67,6 +67,23 @@ TEST(MaterialRegistry, WrongParametersAreRefusedByName) {
   EXPECT_TRUE(throws_error([&] { make_material("neo-hookean", v); }, ErrorKind::Input, {"must be positive"}));
 }
 
+TEST(MaterialRegistry, TheIsochoricNeoHookeanAlsoTakesYoungAndPoisson) {
+  ParameterValues v;
+  v.scalars = {{"E", 13e3}, {"nu", 0.3}};
+  const auto m = make_material("neo-hookean-isochoric", v);
+  // C10 = mu/2 = E / (4 (1 + nu)), D1 = 2/K = 6 (1 - 2 nu) / E.
+  EXPECT_NEAR(m->params()[0], 13e3 / 5.2, 1e-9);
+  EXPECT_NEAR(m->params()[1], 6.0 * 0.4 / 13e3, 1e-15);
+  const auto spell = [](std::string_view key) { return "--" + std::string(key); };
+  v.scalars = {{"E", 13e3}};
+  EXPECT_TRUE(throws_error([&] { make_material("neo-hookean-isochoric", v, {}, spell); }, ErrorKind::Input,
+                           {"needs --nu with --E", "--C10, --D1 or --E, --nu"}));
+  v.scalars = {{"E", 13e3}, {"nu", 0.3}, {"D1", 1e-5}};
+  EXPECT_TRUE(throws_error([&] { make_material("neo-hookean-isochoric", v, {}, spell); }, ErrorKind::Input,
+                           {"--D1 with --E"}));
+  EXPECT_EQ(model_spec("neo-hookean-isochoric").parameter_summary(), "C10, D1; or E, nu");
+}
+
 TEST(MaterialRegistry, OnlyModelsWithAFitAreFittable) {
   EXPECT_EQ(model_names(true),
             "neo-hookean, neo-hookean-volume, neo-hookean-isochoric, mooney-rivlin, yeoh, ogden, spline");

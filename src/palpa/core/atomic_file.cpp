@@ -304,6 +304,26 @@ void ensure_directory(const std::filesystem::path& dir) {
   if (ec) throw_input_error(fmt::format("cannot create the folder: {}", ec.message()), ctx);
 }
 
+void require_empty_output(const std::filesystem::path& out, std::string_view what) {
+  // What a killed run left half-written does not count, nor the lock of a run
+  // still writing there (OutputFolder refuses that one by name), nor the
+  // journals of the outputs of earlier runs.
+  remove_stale_temporaries(out);
+  std::error_code ec;
+  bool empty = true;
+  if (std::filesystem::is_directory(out, ec)) {
+    for (const auto& e : std::filesystem::directory_iterator(out, ec)) {
+      if (!is_output_bookkeeping(e.path())) empty = false;
+    }
+  }
+  if (!empty) {
+    throw_input_error(fmt::format("output folder '{}' is not empty", out.string()),
+                      ErrorContext{out.string(), 0, 0, "option -o"},
+                      fmt::format("a new or empty folder, --resume to continue an interrupted {} there, or --overwrite",
+                                  what));
+  }
+}
+
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir) {
   std::size_t removed = 0;
   std::error_code ec;

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstddef>
 #include <filesystem>
+#include <string_view>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -100,6 +101,11 @@ bool is_output_bookkeeping(const std::filesystem::path& name);
 // holds (kOutputLockName); returns how many. Files of running processes and
 // every other file stay.
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
+
+// Refuses (palpa::Error, Input, naming option -o) an output folder that
+// exists and holds anything but bookkeeping and a killed run's temporaries:
+// `what` ("fit", "design run") names the run that --resume would continue there.
+void require_empty_output(const std::filesystem::path& out, std::string_view what);
 
 // An output folder for the length of a run: created (with missing parents) as
 // ensure_directory does; if the run ends without keep() — an exception, bad

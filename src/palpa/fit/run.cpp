@@ -84,4 +84,32 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
   return s;
 }
 
+std::optional<FitSummary> run_fit_in_folder(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
+                                            const FitOptions& o, bool resume, bool overwrite, const std::string& command) {
+  const std::filesystem::path checkpoint = out / "checkpoint.json";
+  // --resume where there is nothing to resume starts afresh, so that a
+  // workflow can always pass it.
+  if (resume && !std::filesystem::exists(checkpoint)) {
+    spdlog::info("fit: no checkpoint in {}: starting afresh", out.string());
+    resume = false;
+  }
+  // A finished fit is left exactly as it is (a checkpoint of another fit is
+  // refused here, naming what differs).
+  if (resume && std::filesystem::exists(out / "report.json") &&
+      fit_finished(read_dataset(dataset_file), o, checkpoint)) {
+    spdlog::info("fit: the fit in {} is finished (report.json); nothing to resume", out.string());
+    return std::nullopt;
+  }
+  if (!resume && !overwrite) require_empty_output(out, "fit");
+  try {
+    return run_fit(dataset_file, out, o, resume, command);
+  } catch (const Error& e) {
+    if (e.kind() == ErrorKind::Interrupted && std::filesystem::exists(checkpoint)) {
+      spdlog::warn("fit: interrupted; the last iteration is in {}: continue with the same command and --resume",
+                   checkpoint.string());
+    }
+    throw;
+  }
+}
+
 }  // namespace palpa::fit

@@ -5,6 +5,7 @@
 // (output.hpp) and log the summary.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "palpa/fit/fit.hpp"
@@ -21,5 +22,12 @@ FitOptions fit_options_from(const std::string& model, const std::string& optimiz
 // recorded in the provenance.
 FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesystem::path& out, const FitOptions& o,
                    bool resume, const std::string& command);
+
+// run_fit as a command runs it: `resume` goes on from out/checkpoint.json
+// (afresh when there is none) and leaves a finished fit exactly as it is
+// (returning nothing); without it the folder must be empty unless
+// `overwrite`. Interrupted: says where the checkpoint is and rethrows.
+std::optional<FitSummary> run_fit_in_folder(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
+                                            const FitOptions& o, bool resume, bool overwrite, const std::string& command);
 
 }  // namespace palpa::fit

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -66,9 +67,24 @@ std::unique_ptr<Material> material_from_json(const JsonView& root) {
   const JsonView p = root.at("parameters");
   std::vector<std::string> keys;
   for (const auto& spec : model.parameters) keys.emplace_back(spec.key);
+  for (const auto& alt : model.alternatives) {
+    for (const auto& spec : alt.parameters) keys.emplace_back(spec.key);
+  }
   p.expect_only(keys);
   ParameterValues values;
-  for (const auto& spec : model.parameters) {
+  // The alternative parameters given are read as they are (make_material
+  // checks that they come as a whole set); the model's own otherwise.
+  std::vector<ParameterSpec> read = model.parameters;
+  for (const auto& alt : model.alternatives) {
+    const bool any = std::any_of(alt.parameters.begin(), alt.parameters.end(),
+                                 [&](const ParameterSpec& s) { return p.has(std::string(s.key)); });
+    if (!any) continue;
+    read = alt.parameters;
+    for (const auto& spec : model.parameters) {
+      if (p.has(std::string(spec.key))) read.push_back(spec);
+    }
+  }
+  for (const auto& spec : read) {
     const std::string key(spec.key);
     if (spec.default_value && !p.has(key)) continue;
     const JsonView v = p.at(key);  // names a missing required parameter

@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
+#include "palpa/material/elastic_constants.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/material/spline_material.hpp"
 
@@ -33,7 +36,7 @@ NaturalCubicSpline spline_of(const ParameterValues& v, std::string_view key) {
 std::vector<ModelSpec> make_models() {
   std::vector<ModelSpec> out;
   out.push_back({"neo-hookean", "compressible neo-Hookean, logarithmic volume term", {kYoung, kPoisson}, true,
-                 [](const ParameterValues& v) { return std::make_unique<NeoHookean>(at(v, "E"), at(v, "nu")); }});
+                 [](const ParameterValues& v) { return std::make_unique<NeoHookean>(at(v, "E"), at(v, "nu")); }, {}});
   out.push_back({"neo-hookean-volume",
                  "neo-Hookean with a volume-preservation term (default tissue model)",
                  {kYoung, kPoisson,
@@ -41,31 +44,38 @@ std::vector<ModelSpec> make_models() {
                  true, [](const ParameterValues& v) {
                    return std::make_unique<NeoHookean>(
                        NeoHookean::with_volume_term(at(v, "E"), at(v, "nu"), at(v, "volume_share")));
-                 }});
+                 }, {}});
   out.push_back({"neo-hookean-isochoric", "isochoric neo-Hookean of Abaqus/CalculiX/FEBio", {kC10, kD1}, true,
                  [](const ParameterValues& v) {
                    return std::make_unique<IsochoricInvariant>(
                        IsochoricInvariant::neo_hookean(at(v, "C10"), at(v, "D1")));
-                 }});
+                 },
+                 // Or from the small-strain E and nu: C10 = mu/2, D1 = 2/K.
+                 {AlternativeParameters{{kYoung, kPoisson}, [](const ParameterValues& v) {
+                    const ElasticConstants c = lame_from_young(at(v, "E"), at(v, "nu"));
+                    ParameterValues own;
+                    own.scalars = {{"C10", c.mu / 2.0}, {"D1", 2.0 / c.bulk()}};
+                    return own;
+                  }}}});
   out.push_back({"mooney-rivlin", "isochoric Mooney-Rivlin",
                  {kC10, scalar("C01", kPressure, "coefficient of (Ibar2 - 3)"), kD1}, true,
                  [](const ParameterValues& v) {
                    return std::make_unique<IsochoricInvariant>(
                        IsochoricInvariant::mooney_rivlin(at(v, "C10"), at(v, "C01"), at(v, "D1")));
-                 }});
+                 }, {}});
   out.push_back({"yeoh", "isochoric Yeoh, up to 3 terms",
                  {kC10, scalar("C20", kPressure, "coefficient of (Ibar1 - 3)^2", 0.0),
                   scalar("C30", kPressure, "coefficient of (Ibar1 - 3)^3", 0.0), kD1},
                  true, [](const ParameterValues& v) {
                    return std::make_unique<IsochoricInvariant>(
                        IsochoricInvariant::yeoh(at(v, "C10"), at(v, "C20"), at(v, "C30"), at(v, "D1")));
-                 }});
+                 }, {}});
   out.push_back({"stvk", "Saint Venant-Kirchhoff", {kYoung, kPoisson}, false, [](const ParameterValues& v) {
                    return std::make_unique<StVenantKirchhoff>(at(v, "E"), at(v, "nu"));
-                 }});
+                 }, {}});
   out.push_back({"corotational", "linear corotational", {kYoung, kPoisson}, false, [](const ParameterValues& v) {
                    return std::make_unique<Corotational>(at(v, "E"), at(v, "nu"));
-                 }});
+                 }, {}});
   out.push_back({"ogden", "Ogden, N terms, logarithmic volume term",
                  {ParameterSpec{"mu", ParameterKind::List, kPressure, std::nullopt, "moduli mu_p, one per term"},
                   ParameterSpec{"alpha", ParameterKind::List, kNumber, std::nullopt, "exponents alpha_p, one per term"},
@@ -73,7 +83,7 @@ std::vector<ModelSpec> make_models() {
                  true, [](const ParameterValues& v) {
                    return std::make_unique<Ogden>(v.lists.find("mu")->second, v.lists.find("alpha")->second,
                                                   at(v, "nu"));
-                 }});
+                 }, {}});
   const auto spline = [](std::string_view key, std::string_view meaning) {
     return ParameterSpec{key, ParameterKind::Spline, kPressure, std::nullopt, meaning};
   };
@@ -82,7 +92,7 @@ std::vector<ModelSpec> make_models() {
                   spline("h", "h(J): knots and values_Pa")},
                  true, [](const ParameterValues& v) {
                    return std::make_unique<SplineMaterial>(spline_of(v, "f"), spline_of(v, "g"), spline_of(v, "h"));
-                 }});
+                 }, {}});
   return out;
 }
 
@@ -121,6 +131,16 @@ const ParameterSpec* ModelSpec::find(std::string_view key) const {
   return nullptr;
 }
 
+const ParameterSpec* ModelSpec::find_any(std::string_view key) const {
+  if (const ParameterSpec* p = find(key)) return p;
+  for (const auto& alt : alternatives) {
+    for (const auto& p : alt.parameters) {
+      if (p.key == key) return &p;
+    }
+  }
+  return nullptr;
+}
+
 std::string ModelSpec::parameter_summary() const {
   std::string out;
   for (const auto& p : parameters) {
@@ -128,6 +148,11 @@ std::string ModelSpec::parameter_summary() const {
     out += p.key;
     if (p.kind == ParameterKind::List) out += "[]";
     if (p.default_value) out += fmt::format(" (default {:g})", *p.default_value);
+  }
+  for (const auto& alt : alternatives) {
+    std::string keys;
+    for (const auto& p : alt.parameters) keys += (keys.empty() ? "" : ", ") + std::string(p.key);
+    out += fmt::format("; or {}", keys);
   }
   return out;
 }
@@ -162,12 +187,36 @@ const ModelSpec& model_spec(std::string_view name, const ErrorContext& where, bo
 std::unique_ptr<Material> make_material(const ModelSpec& model, ParameterValues values, const ErrorContext& where,
                                         const KeySpelling& spell) {
   const auto spelled = [&](std::string_view key) { return spell ? spell(key) : std::string(key); };
+  const auto list = [&](const std::vector<ParameterSpec>& params) {
+    std::string out;
+    for (const auto& p : params) out += (out.empty() ? "" : ", ") + spelled(p.key);
+    return out;
+  };
+  std::string allowed = list(model.parameters);
+  for (const auto& alt : model.alternatives) allowed += " or " + list(alt.parameters);
   for (const std::string& key : values.keys()) {
-    if (model.find(key) != nullptr) continue;
-    std::string allowed;
-    for (const auto& p : model.parameters) allowed += (allowed.empty() ? "" : ", ") + spelled(p.key);
+    if (model.find_any(key) != nullptr) continue;
     throw_input_error(fmt::format("{} does not apply to model '{}'", spelled(key), model.name), where,
                       allowed.empty() ? "no parameters" : allowed);
+  }
+  // Alternative parameters: all of one set and none of the model's own.
+  for (const auto& alt : model.alternatives) {
+    const auto given = std::find_if(alt.parameters.begin(), alt.parameters.end(),
+                                    [&](const ParameterSpec& p) { return values.has(p.key); });
+    if (given == alt.parameters.end()) continue;
+    for (const auto& p : alt.parameters) {
+      if (!values.has(p.key)) {
+        throw_input_error(fmt::format("model '{}' needs {} with {}", model.name, spelled(p.key), spelled(given->key)),
+                          where, allowed);
+      }
+    }
+    for (const auto& p : model.parameters) {
+      if (values.has(p.key)) {
+        throw_input_error(fmt::format("{} with {}", spelled(p.key), spelled(given->key)), where, allowed);
+      }
+    }
+    values = alt.convert(values);
+    break;
   }
   for (const auto& p : model.parameters) {
     const auto kind = kind_of(values, p.key);

@@ -49,6 +49,13 @@ struct ParameterValues {
   std::vector<std::string> keys() const;
 };
 
+// Another set of parameters a model also takes (the isochoric neo-Hookean
+// from E and nu), converted to its own.
+struct AlternativeParameters {
+  std::vector<ParameterSpec> parameters;  // all required
+  std::function<ParameterValues(const ParameterValues&)> convert;
+};
+
 struct ModelSpec {
   std::string_view name;
   std::string_view summary;
@@ -57,8 +64,12 @@ struct ModelSpec {
   // Builds the model from complete values (every required key present,
   // defaults filled in); the constructors validate the values themselves.
   std::function<std::unique_ptr<Material>(const ParameterValues&)> build;
+  std::vector<AlternativeParameters> alternatives;
 
+  // The model's own parameter `key`, or null.
   const ParameterSpec* find(std::string_view key) const;
+  // `key` among the model's own or alternative parameters, or null.
+  const ParameterSpec* find_any(std::string_view key) const;
   // "E, nu, volume_share (default 0.5)".
   std::string parameter_summary() const;
 };
@@ -76,8 +87,9 @@ const ModelSpec& model_spec(std::string_view name, const ErrorContext& where = {
 using KeySpelling = std::function<std::string(std::string_view key)>;
 
 // Builds `model` from `values`: a key the model does not take, a required
-// parameter missing, a value of the wrong kind are input errors at `where`
-// naming the key as `spell` writes it; defaults fill the optional ones.
+// parameter missing, a value of the wrong kind, own and alternative
+// parameters mixed are input errors at `where` naming the key as `spell`
+// writes it; defaults fill the optional ones.
 std::unique_ptr<Material> make_material(const ModelSpec& model, ParameterValues values, const ErrorContext& where = {},
                                         const KeySpelling& spell = {});
 std::unique_ptr<Material> make_material(std::string_view model, ParameterValues values,

@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/mesh/output.hpp"
 
+#include <spdlog/spdlog.h>
+
+#include <chrono>
 #include <numbers>
 #include <vector>
 
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/interrupt.hpp"
 #include "palpa/io/csv.hpp"
 #include "palpa/io/mesh.hpp"
 #include "palpa/io/vtu.hpp"
@@ -94,6 +98,29 @@ void write_layer(const LayerMesh& layer, const Json& summary, const std::filesys
   batch.add(f.attached) << format_csv(attached_table);
   batch.add(f.summary) << format_json(summary, f.summary);
   batch.commit();
+}
+
+LayerSummary mesh_layer_to_files(const SurfaceMesh& scan, const std::optional<Samples>& stiffness, LayerOptions o,
+                                 LayerRequest request, const std::filesystem::path& vtu) {
+  auto started = std::chrono::steady_clock::now();
+  std::string current;
+  const auto close_stage = [&] {
+    const auto now = std::chrono::steady_clock::now();
+    if (!current.empty()) request.stage_seconds[current] = std::chrono::duration<double>(now - started).count();
+    started = now;
+  };
+  o.on_stage = [&](std::string_view stage) {
+    check_interrupt();
+    close_stage();
+    current = stage;
+    spdlog::info("mesh layer: {}", stage);
+  };
+  const LayerMesh layer = make_layer(scan, request.depth, stiffness, o);
+  close_stage();
+  check_interrupt();
+  const LayerSummary s = summarize_layer(layer, layer.quality);
+  write_layer(layer, layer_summary_json(layer, s, request), vtu);
+  return s;
 }
 
 }  // namespace palpa::mesh

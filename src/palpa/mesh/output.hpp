@@ -6,6 +6,7 @@
 // attached vertices (CSV) and a summary (JSON) — every file or none.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "palpa/core/json.hpp"
@@ -36,5 +37,11 @@ Json layer_summary_json(const LayerMesh& layer, const LayerSummary& s, const Lay
 
 // Writes every file of layer_files(vtu), or none (the folder must exist).
 void write_layer(const LayerMesh& layer, const Json& summary, const std::filesystem::path& vtu);
+
+// The whole of `palpa mesh layer` after its inputs are read: meshes the layer
+// (logging each stage, timing it into the summary, checking for an interrupt
+// between stages), summarizes it and writes every file of layer_files(vtu).
+LayerSummary mesh_layer_to_files(const SurfaceMesh& scan, const std::optional<Samples>& stiffness, LayerOptions o,
+                                 LayerRequest request, const std::filesystem::path& vtu);
 
 }  // namespace palpa::mesh

@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+#include "palpa/design/run.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
+
+#include "palpa/core/atomic_file.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
+#include "palpa/core/termination.hpp"
+#include "palpa/design/output.hpp"
+#include "palpa/design/scene.hpp"
+
+namespace palpa::design {
+
+namespace {
+
+// Whether the finished run in `summary` could go on past its iteration limit
+// to `max_iterations`; says why not otherwise.
+bool can_go_on(const std::filesystem::path& summary, const std::filesystem::path& out, int max_iterations) {
+  const Json done = read_json_file(summary, InputUse::RunState);
+  const JsonView d(done, summary.string());
+  const int iterations = static_cast<int>(d.at("iterations").as_integer());
+  // (A summary without a termination was written by an older palpa: not resumed.)
+  const auto termination = d.find("termination");
+  const bool at_limit =
+      termination && parse_termination(termination->as_string(), termination->context()) == Termination::IterationLimit;
+  if (at_limit && iterations < max_iterations) return true;
+  spdlog::info("design: the run in {} is finished ({} iterations, stopped by {}); nothing to resume{}", out.string(),
+               iterations, d.at("stop_reason").as_string(),
+               at_limit ? fmt::format(" (raise --iterations above {} to go on)", iterations) : std::string());
+  return false;
+}
+
+}  // namespace
+
+std::optional<Json> run_design(const DesignRun& run) {
+  const std::filesystem::path& out = run.out;
+  const std::filesystem::path checkpoint = out / "checkpoint.json";
+  const std::filesystem::path finished = out / "summary.json";
+  bool resume = run.resume;
+  // --resume where there is nothing to resume starts afresh, so that a
+  // workflow can always pass it.
+  if (resume && !std::filesystem::exists(checkpoint)) {
+    spdlog::info("design: no checkpoint in {}: starting afresh", out.string());
+    resume = false;
+  }
+  if (!resume && !run.overwrite) require_empty_output(out, "design run");
+  DesignScene scene = read_design_scene(run.scene, run.baselines);
+  if (run.iterations) scene.options.max_iterations = *run.iterations;
+  if (run.threads) scene.options.threads = *run.threads;
+  if (run.method) scene.options.method = *run.method;
+  // A finished run is resumed only to go on past the iteration limit it
+  // stopped at; otherwise it is left exactly as it is.
+  if (resume && std::filesystem::exists(finished) && !can_go_on(finished, out, scene.options.max_iterations)) {
+    return std::nullopt;
+  }
+  scene.options.checkpoint = checkpoint;
+  scene.options.resume = resume;
+  if (!resume) {
+    // A fresh run leaves no result of an earlier one that could pass for its own.
+    std::error_code ec;
+    std::filesystem::remove(checkpoint, ec);
+    std::filesystem::remove(finished, ec);
+  }
+  if (!scene.start.empty()) {
+    spdlog::info("design: starting from the baseline '{}' (the scene's own support, {}, is scored beside it)",
+                 scene.start, scene.scene_support->source);
+  }
+  spdlog::info("design: {}: body from {} ({} vertices, {} tetrahedra), support {} ({} vertices), {}",
+               run.scene.string(), scene.rest.body_source, scene.rest.body.mesh.V.rows(),
+               scene.rest.body.mesh.T.rows(), scene.rest.support_source, scene.rest.support.V.rows(), scene.region);
+  ShapeOptimizer optimizer(scene.rest.body, scene.rest.support, scene.rest.options, scene.design_vertices,
+                           scene.options);
+  spdlog::info("design: initial shape: ζ = {:.6g}, γ = {:.4g}, φ = {:.6g}; {} design variables",
+               optimizer.initial().zeta, optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
+  // Only now: bad input leaves nothing behind.
+  OutputFolder folder(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
+                      resume ? OutputFolder::Start::Resumed : OutputFolder::Start::Fresh);
+  DesignResult r;
+  try {
+    r = optimizer.run();
+  } catch (const Error& e) {
+    if (e.kind() == ErrorKind::Interrupted) {
+      // The best shape so far, as a shape to look at or make; no summary (the
+      // run is not finished, nothing is checked from scratch).
+      if (optimizer.last_accepted().rows() > 0) {
+        write_support_shape(out, "support_interrupted",
+                            SurfaceMesh{optimizer.last_accepted(), optimizer.simulation().support().triangles()});
+        spdlog::warn("design: interrupted; the last finished iteration is in {} and its support in "
+                     "support_interrupted.obj (m) and support_interrupted_mm.stl: continue with --resume",
+                     checkpoint.string());
+      } else {
+        spdlog::warn("design: interrupted before the first iteration finished: nothing to keep");
+      }
+    }
+    throw;
+  }
+  // The outputs count together: a failure part way (a full disk, a shape that
+  // no longer solves from scratch) takes back the ones already written.
+  const std::size_t written_before = folder.written_count();
+  Json s;
+  try {
+    s = write_design_outputs(out, scene, optimizer, r);
+  } catch (...) {
+    folder.remove_written_since(written_before);
+    throw;
+  }
+  for (const char* f : {"support_interrupted.obj", "support_interrupted_mm.stl"}) {
+    std::error_code ec;
+    std::filesystem::remove(out / f, ec);  // an interruption's shape is not this run's result
+  }
+  folder.keep();
+  return s;
+}
+
+std::string design_headline(const Json& s) {
+  const Json& initial = s["initial"];
+  const Json& optimized = s["final"];
+  std::string verdict;
+  for (const Json& w : s["worse_than_baselines"]) {
+    verdict += fmt::format("; WORSE than the baseline '{}' on {}", w["baseline"].get<std::string>(),
+                           fmt::join(w["on"].get<std::vector<std::string>>(), " and "));
+  }
+  if (s.contains("start")) {
+    const Json& st = s["start"];
+    verdict += fmt::format("; against the scene's own support ζ {:.1f}% lower, ζ_body {:.1f}% lower, body peak {:.3g} → "
+                           "{:.3g} kPa",
+                           st["zeta_reduction_percent"].get<double>(), st["zeta_body_reduction_percent"].get<double>(),
+                           st["scene_support"]["peak_pressure_Pa"]["body"].get<double>() * 1e-3,
+                           optimized["peak_pressure_Pa"]["body"].get<double>() * 1e-3);
+  }
+  return fmt::format(
+      "design: from scratch, ζ {:.6g} → {:.6g} ({:.1f}% lower; the optimizer's own view {:.1f}%), ζ_body {:.1f}% lower, "
+      "peak pressure {:.3g} → {:.3g} kPa (body), max penetration {:.3g} mm, {} iterations, {} equilibria, {:.1f} s "
+      "({}){}",
+      initial["zeta"].get<double>(), optimized["zeta"].get<double>(), s["zeta_reduction_percent"].get<double>(),
+      s["optimizer"]["zeta_reduction_percent"].get<double>(), s["zeta_body_reduction_percent"].get<double>(),
+      initial["peak_pressure_Pa"]["body"].get<double>() * 1e-3, optimized["peak_pressure_Pa"]["body"].get<double>() * 1e-3,
+      optimized["max_penetration_m"].get<double>() * 1e3, s["iterations"].get<int>(),
+      s["equilibrium_solves"].get<int>(), s["seconds"].get<double>(), s["stop_reason"].get<std::string>(), verdict);
+}
+
+}  // namespace palpa::design
