@@ -5,6 +5,8 @@
 #   make test    install, build, run the whole suite, every test once: the unit tests
 #                in the sanitizer build, then the physics and command-line tests in the
 #                Release build (ends with ctest's summary)
+#   make python  build the Python module into build/release/python (use it with
+#                PYTHONPATH=build/release/python /usr/bin/python3)
 #   make bench   build (Release) and run the benchmarks, one JSON line per figure
 #   make fuzz    build the libFuzzer programs (preset fuzz) and run each for
 #                FUZZ_SECONDS (default 60); findings go to build/fuzz/fuzz/artifacts
@@ -14,7 +16,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_SECONDS ?= 60
 DEMO_OUT ?= demo-out
 
-.PHONY: all setup build demo test test-release test-asan bench fuzz clean
+.PHONY: all setup build python demo test test-release test-asan bench fuzz clean
 
 all: build
 
@@ -25,6 +27,10 @@ setup:
 build: setup
 	cmake --preset release >/dev/null
 	cmake --build --preset release -j $(JOBS) --target palpa_cli
+
+python: setup
+	cmake --preset release >/dev/null
+	cmake --build --preset release -j $(JOBS) --target python
 
 demo: build
 	./build/release/apps/palpa/palpa demo -o $(DEMO_OUT)

@@ -10,6 +10,7 @@
 # ccache: the build uses it when present (see CMakeLists.txt), so a build in a
 # fresh clone or worktree reuses what an earlier build of the same sources
 # compiled.
+# pybind11, numpy and pytest: the Python module (`make python`) and its tests.
 set -euo pipefail
 
 packages=(
@@ -22,6 +23,7 @@ packages=(
   libceres-dev zlib1g-dev
   libopenblas0-pthread
   python3 python3-meshio
+  python3-dev pybind11-dev python3-numpy python3-pytest
   calculix-ccx
 )
 

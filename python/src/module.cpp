@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+// palpa._palpa: the compiled part of the Python module.
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+
+#include <memory>
+
+#include "common.hpp"
+#include "palpa/core/error.hpp"
+#include "palpa/core/version.hpp"
+
+namespace palpa::python {
+
+namespace {
+
+std::unique_ptr<tbb::global_control> g_threads;
+
+constexpr int kDimensions = static_cast<int>(Dimension::PressurePerLength) + 1;
+
+Dimension dimension_named(const std::string& name) {
+  std::string names;
+  for (int k = 0; k < kDimensions; ++k) {
+    const auto d = static_cast<Dimension>(k);
+    if (dimension_name(d) == name) return d;
+    names += fmt::format("{}{}", k ? ", " : "", dimension_name(d));
+  }
+  throw_input_error(fmt::format("unknown dimension '{}'", name), ErrorContext{"", 0, 0, "dimension"}, names);
+}
+
+// The SI value of `text` in whichever dimension its unit has (none: a number).
+double any_quantity(const std::string& text) {
+  for (int k = 1; k < kDimensions; ++k) {
+    try {
+      return parse_quantity(text, static_cast<Dimension>(k), ErrorContext{});
+    } catch (const Error&) {
+    }
+  }
+  return parse_quantity(text, Dimension::Dimensionless, ErrorContext{"", 0, 0, "text"});
+}
+
+}  // namespace
+
+}  // namespace palpa::python
+
+PYBIND11_MODULE(_palpa, m) {
+  using namespace palpa;
+  using namespace palpa::python;
+  m.doc() = "palpa: soft-tissue mechanics (compiled part; import palpa)";
+  m.attr("__version__") = std::string(kVersion);
+
+  static py::exception<Error> input_error(m, "InputError", PyExc_ValueError);
+  static py::exception<Error> solver_error(m, "SolverError", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const Error& e) {
+      switch (e.kind()) {
+        case ErrorKind::Input: input_error(e.what()); return;
+        case ErrorKind::Solver: solver_error(e.what()); return;
+        case ErrorKind::Interrupted: PyErr_SetString(PyExc_KeyboardInterrupt, e.what()); return;
+        case ErrorKind::Internal: PyErr_SetString(PyExc_RuntimeError, e.what()); return;
+      }
+    }
+  });
+
+  m.def(
+      "quantity",
+      [](const std::string& text, const std::string& dimension) {
+        if (!dimension.empty()) return parse_quantity(text, dimension_named(dimension), ErrorContext{});
+        return any_quantity(text);
+      },
+      py::arg("text"), py::arg("dimension") = "",
+      "The SI value of a quantity with its unit: quantity('12 kPa') -> 12000.0. With `dimension` ('length', "
+      "'force', 'pressure', ...) a unit of another kind is refused.");
+  m.def(
+      "set_threads",
+      [](int n) {
+        if (n < 0) throw_input_error(fmt::format("{} threads", n), ErrorContext{"", 0, 0, "n"}, "0 (all cores) or more");
+        g_threads.reset();
+        if (n > 0) g_threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+      },
+      py::arg("n"), "Threads palpa's own loops may use (0: every core, the default).");
+  m.def(
+      "threads", [] { return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism); },
+      "Threads palpa's own loops may use now.");
+
+  bind_material(m);
+  bind_poke(m);
+}

@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+// palpa.poke: a punch pressed into a layer (or a sample compressed between
+// plates), the axisymmetric simulation of `palpa poke`.
+
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include "common.hpp"
+#include "palpa/axisym/element.hpp"
+#include "palpa/axisym/poke.hpp"
+#include "palpa/core/error.hpp"
+
+namespace palpa::python {
+
+namespace {
+
+struct PokeResult {
+  Eigen::VectorXd indentation, force, iterations, substeps, residual, penetration, min_det_f, contact_nodes,
+      mesh_correction;
+  Eigen::MatrixXd sensitivities;  // (n_depths, n_params), empty without
+  std::vector<std::string> parameter_names;
+  int newton_iterations = 0;
+};
+
+PokeResult run_poke(const material::Material& material, double thickness, double radius, double depth, int steps,
+                    const std::string& test, const std::string& contact, int mesh_level, bool extrapolate,
+                    const std::string& element, double fillet, double outer_radius, bool sensitivities) {
+  axisym::PokeSetup setup;
+  setup.test = axisym::parse_poke_test(test);
+  if (setup.test == axisym::PokeTest::Indentation) {
+    setup.contact = axisym::parse_punch_contact(contact.empty() ? "stick" : contact);
+  } else {
+    setup.contact = axisym::parse_platen_contact(contact.empty() ? "bonded" : contact);
+  }
+  setup.geometry.punch_radius = radius;
+  setup.geometry.thickness = thickness;
+  setup.geometry.outer_radius = outer_radius;
+  setup.mesh_level = mesh_level;
+  setup.extrapolate = extrapolate;
+  setup.element = axisym::parse_element_formulation(element);
+  setup.fillet_radius = fillet;
+  axisym::PokeOptions options;
+  options.max_depth = depth;
+  options.steps = steps;
+  options.sensitivities = sensitivities;
+  PokeResult r;
+  axisym::PokeCurve curve;
+  {
+    LongCall call;
+    axisym::PokeSimulator sim(material, setup);
+    curve = sim.run(options);
+  }
+  const auto n = static_cast<Eigen::Index>(curve.samples.size());
+  for (Eigen::VectorXd* v : {&r.indentation, &r.force, &r.iterations, &r.substeps, &r.residual, &r.penetration,
+                             &r.min_det_f, &r.contact_nodes, &r.mesh_correction}) {
+    v->resize(n);
+  }
+  if (sensitivities) r.sensitivities.resize(n, material.num_params());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const axisym::PokeSample& s = curve.samples[static_cast<std::size_t>(i)];
+    r.indentation[i] = s.depth;
+    r.force[i] = s.force;
+    r.iterations[i] = s.newton_iterations;
+    r.substeps[i] = s.substeps;
+    r.residual[i] = s.residual;
+    r.penetration[i] = s.max_penetration;
+    r.min_det_f[i] = s.min_jacobian;
+    r.contact_nodes[i] = s.contact_nodes;
+    r.mesh_correction[i] = s.mesh_correction;
+    if (sensitivities) r.sensitivities.row(i) = s.dforce_dparams.transpose();
+  }
+  for (Eigen::Index k = 0; k < material.num_params(); ++k) r.parameter_names.push_back(material.param_info(k).name);
+  r.newton_iterations = curve.newton_iterations;
+  return r;
+}
+
+}  // namespace
+
+void bind_poke(py::module_& m) {
+  py::class_<PokeResult>(m, "PokeResult", "The curve of palpa.poke, one entry per depth (depth 0 first).")
+      .def_property_readonly("indentation", [](const PokeResult& r) { return to_numpy(r.indentation); },
+                             "Indentation (compression: plate travel) [m].")
+      .def_property_readonly("force", [](const PokeResult& r) { return to_numpy(r.force); }, "Force [N].")
+      .def_property_readonly("iterations", [](const PokeResult& r) { return to_numpy(r.iterations); },
+                             "Newton iterations to reach each depth.")
+      .def_property_readonly("substeps", [](const PokeResult& r) { return to_numpy(r.substeps); },
+                             "Sub-steps each depth increment needed (1 unless it was cut).")
+      .def_property_readonly("residual", [](const PokeResult& r) { return to_numpy(r.residual); },
+                             "Final force residual ‖g‖∞ [N].")
+      .def_property_readonly("penetration", [](const PokeResult& r) { return to_numpy(r.penetration); },
+                             "Largest penetration of the punch into the layer [m].")
+      .def_property_readonly("min_det_f", [](const PokeResult& r) { return to_numpy(r.min_det_f); },
+                             "Smallest det F over the mesh.")
+      .def_property_readonly("contact_nodes", [](const PokeResult& r) { return to_numpy(r.contact_nodes); },
+                             "Surface nodes on the punch.")
+      .def_property_readonly("mesh_correction", [](const PokeResult& r) { return to_numpy(r.mesh_correction); },
+                             "With extrapolation: the force's estimated discretization error [N]; 0 without.")
+      .def_property_readonly(
+          "sensitivities",
+          [](const PokeResult& r) -> py::object {
+            if (r.sensitivities.size() == 0) return py::none();
+            return to_numpy(r.sensitivities);
+          },
+          "dF/dθ per depth and material parameter, (n_depths, n_params) [N per SI unit], or None.")
+      .def_readonly("parameter_names", &PokeResult::parameter_names, "The columns of `sensitivities`.")
+      .def_readonly("newton_iterations", &PokeResult::newton_iterations, "Newton iterations in all.");
+
+  m.def(
+      "poke",
+      [](const std::shared_ptr<material::Material>& material, const py::handle& thickness, const py::handle& radius,
+         const py::handle& depth, int steps, const std::string& test, const std::string& contact, int mesh_level,
+         bool extrapolate, const std::string& element, const py::handle& fillet, const py::handle& outer_radius,
+         bool sensitivities) {
+        if (!material) throw py::type_error("material: expected a palpa.Material, got None");
+        const auto positive = [](const py::handle& v, const char* name) {
+          const double x = quantity_arg(v, Dimension::Length, name);
+          if (!(x > 0.0)) throw_input_error(format_quantity(x, Dimension::Length), ErrorContext{"", 0, 0, name},
+                                            "a positive length");
+          return x;
+        };
+        if (steps < 1) throw_input_error(fmt::format("{} steps", steps), ErrorContext{"", 0, 0, "steps"}, "1 or more");
+        return run_poke(*material, positive(thickness, "thickness"), positive(radius, "radius"),
+                        positive(depth, "depth"), steps, test, contact, mesh_level, extrapolate,
+                        element, quantity_arg(fillet, Dimension::Length, "fillet"),
+                        quantity_arg(outer_radius, Dimension::Length, "outer_radius"), sensitivities);
+      },
+      py::arg("material"), py::kw_only(), py::arg("thickness"), py::arg("radius"), py::arg("depth"),
+      py::arg("steps") = 20, py::arg("test") = "indentation", py::arg("contact") = "", py::arg("mesh_level") = 2,
+      py::arg("extrapolate") = true, py::arg("element") = "fbar", py::arg("fillet") = 0.0,
+      py::arg("outer_radius") = 0.0, py::arg("sensitivities") = false,
+      R"doc(Presses a rigid flat cylindrical punch of `radius` into a layer of `thickness` on a
+rigid base, to `depth` in `steps` equal increments (test='compression': a cylindrical
+sample of radius `radius` and height `thickness` between two plates). Lengths in metres
+or as strings with units ("3 mm"). contact: 'stick' (default) or 'frictionless' for a
+punch, 'bonded' (default) or 'frictionless' for plates. Releases the GIL; Ctrl-C raises
+KeyboardInterrupt. Returns a PokeResult.)doc");
+}
+
+}  // namespace palpa::python
