@@ -15,28 +15,111 @@ what was expected; palpa.SolverError (a RuntimeError) a numerical failure;
 Ctrl-C during a long call raises KeyboardInterrupt.
 """
 
+import dataclasses
+import json
+import os
+import tempfile
+from typing import Any, Callable, Optional, Sequence
+
+import numpy as np
+
 from ._palpa import (  # noqa: F401
     InputError,
     Material,
     PokeResult,
     SolverError,
     __version__,
+    _fit,
     models,
     poke,
     quantity,
+    read_mesh,
+    set_log_level,
     set_threads,
     threads,
+    write_mesh,
 )
 
+
+@dataclasses.dataclass
+class FitResult:
+    """What palpa.fit found: the fitted material, report.json as a dict (per-curve
+    RMS errors, uncertainty, warnings, every layer-depth guess), the objective
+    history of the chosen guess, and the output folder (None when the fit ran in
+    a temporary one)."""
+
+    material: Material
+    report: dict
+    history: dict
+    out: Optional[str]
+
+    @property
+    def curves(self) -> list:
+        """Per curve: name, role, RMS error of the stage-1 and fitted materials."""
+        return self.report["curves"]
+
+
+def fit(
+    dataset: str,
+    *,
+    model: str = "spline",
+    optimizer: str = "lm",
+    out: Optional[str] = None,
+    resume: bool = False,
+    overwrite: bool = False,
+    progress: Optional[Callable[[dict], Any]] = None,
+    max_iterations: int = 50,
+    tolerance: float = 1e-5,
+    fix: Sequence[str] = (),
+    nu_range: Optional[tuple] = None,
+    starts: int = 0,
+    ogden_terms: int = 2,
+    element: str = "fbar",
+    mesh_level: int = 2,
+    steps: int = 20,
+    depth_from: str = "small",
+    smoothing: float = 0.1,
+    initial: Optional[str] = None,
+) -> Optional[FitResult]:
+    """Fits `model` to the curves of a dataset file, exactly as `palpa fit DATASET -o OUT`
+    (same options, same outputs and checkpoint in `out`; a temporary folder when
+    `out` is None). `progress(info)` is called after every iteration with a dict
+    (guess, layer_depth [m], iteration, objective, evaluations, seconds); an
+    exception it raises stops the fit. Ctrl-C raises KeyboardInterrupt with the
+    checkpoint kept in `out`: call again with resume=True to go on. Returns a
+    FitResult, or None when a resumed fit was already finished."""
+    def run(folder):
+        done = _fit(os.fspath(dataset), folder, model, optimizer, resume, overwrite, progress, max_iterations,
+                    tolerance, list(fix), nu_range, starts, ogden_terms, element, mesh_level, steps, depth_from,
+                    smoothing, None if initial is None else os.fspath(initial))
+        if not done:
+            return None
+        with open(os.path.join(folder, "report.json")) as f:
+            report = json.load(f)
+        best = next(g for g in report["guesses"] if g["layer_depth_m"] == report["layer_depth_m"])
+        history = {k: np.array([h[k] for h in best["history"]], dtype=float)
+                   for k in ("iteration", "objective", "evaluations", "seconds")}
+        return FitResult(Material.load(os.path.join(folder, "material.json")), report, history,
+                         None if out is None else os.fspath(folder))
+    if out is not None:
+        return run(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix="palpa-fit-") as folder:
+        return run(os.path.join(folder, "fit"))
+
 __all__ = [
+    "FitResult",
     "InputError",
     "Material",
     "PokeResult",
     "SolverError",
     "__version__",
+    "fit",
     "models",
     "poke",
     "quantity",
+    "read_mesh",
+    "set_log_level",
     "set_threads",
     "threads",
+    "write_mesh",
 ]

@@ -20,6 +20,17 @@ def quantity(text: str, dimension: str = "") -> float:
 def set_threads(n: int) -> None:
     """Threads palpa's own loops may use (0: every core)."""
 
+def set_log_level(level: str) -> None:
+    """How much palpa logs: debug, info (default), warning, error or off."""
+
+def read_mesh(path: str, unit: Quantity = "1 m") -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """(V, F) of a surface or (V, T) of a tet mesh; V in metres (`unit`: one file unit)."""
+
+def write_mesh(path: str, V: ArrayLike, cells: ArrayLike) -> None:
+    """Writes triangles (m, 3) or tetrahedra (m, 4) by the file's extension; V in metres."""
+
+def _fit(*args: Any) -> bool: ...
+
 def threads() -> int:
     """Threads palpa's own loops may use now."""
 

@@ -2,6 +2,7 @@
 // palpa._palpa: the compiled part of the Python module.
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
 #include <memory>
@@ -85,6 +86,21 @@ PYBIND11_MODULE(_palpa, m) {
       "threads", [] { return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism); },
       "Threads palpa's own loops may use now.");
 
+  m.def(
+      "set_log_level",
+      [](const std::string& level) {
+        for (const auto l : {spdlog::level::debug, spdlog::level::info, spdlog::level::warn, spdlog::level::err,
+                             spdlog::level::off}) {
+          const auto name = spdlog::level::to_string_view(l);
+          if (level == std::string_view(name.data(), name.size())) return spdlog::set_level(l);
+        }
+        throw_input_error(fmt::format("unknown log level '{}'", level), ErrorContext{"", 0, 0, "level"},
+                          "debug, info, warning, error or off");
+      },
+      py::arg("level"), "How much palpa logs to stdout: debug, info (the default), warning, error or off.");
+
   bind_material(m);
   bind_poke(m);
+  bind_fit(m);
+  bind_mesh(m);
 }

@@ -118,3 +118,16 @@ def test_bad_arrays_are_refused_never_misread(stretches, error, message):
     m = palpa.Material("neo-hookean", E="12 kPa", nu=0.45)
     with pytest.raises(error, match=message):
         m.energy(stretches)
+
+
+def test_threads_and_log_level_settings():
+    palpa.set_threads(1)
+    assert palpa.threads() == 1
+    palpa.set_threads(0)
+    assert palpa.threads() >= 1
+    palpa.set_log_level("warning")
+    palpa.set_log_level("info")
+    with pytest.raises(palpa.InputError, match="unknown log level 'loud'"):
+        palpa.set_log_level("loud")
+    with pytest.raises(palpa.InputError, match="threads"):
+        palpa.set_threads(-1)

@@ -25,7 +25,7 @@ FitOptions fit_options_from(const std::string& model, const std::string& optimiz
 }
 
 FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
-                   const FitOptions& o, bool resume, const std::string& command) {
+                   const FitOptions& o, bool resume, const std::string& command, const IterationCallback& on_iteration) {
   const Dataset d = read_dataset(dataset_file);
   // An input inside the output folder is refused now, not after the fit.
   for (const auto& f : fit_output_files(out, d)) refuse_overwriting_an_input(f);
@@ -50,6 +50,7 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
       seen[g] = n;
     }
     progress.set_note(fmt::format("D = {:.3g} mm: eps {:.4g}", r.layer_depth * 1e3, r.objective_final));
+    if (on_iteration) on_iteration(g, r);
   };
   const FitResult result = fit_dataset(d, o, control);
   progress.finish();
@@ -85,7 +86,8 @@ FitSummary run_fit(const std::filesystem::path& dataset_file, const std::filesys
 }
 
 std::optional<FitSummary> run_fit_in_folder(const std::filesystem::path& dataset_file, const std::filesystem::path& out,
-                                            const FitOptions& o, bool resume, bool overwrite, const std::string& command) {
+                                            const FitOptions& o, bool resume, bool overwrite, const std::string& command,
+                                            const IterationCallback& on_iteration) {
   const std::filesystem::path checkpoint = out / "checkpoint.json";
   // --resume where there is nothing to resume starts afresh, so that a
   // workflow can always pass it.
@@ -102,7 +104,7 @@ std::optional<FitSummary> run_fit_in_folder(const std::filesystem::path& dataset
   }
   if (!resume && !overwrite) require_empty_output(out, "fit");
   try {
-    return run_fit(dataset_file, out, o, resume, command);
+    return run_fit(dataset_file, out, o, resume, command, on_iteration);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::Interrupted && std::filesystem::exists(checkpoint)) {
       spdlog::warn("fit: interrupted; the last iteration is in {}: continue with the same command and --resume",

@@ -1,0 +1,107 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
+"""palpa.fit and the mesh round trips: the same results as `palpa fit`, a
+progress callback, Ctrl-C leaving a checkpoint to resume from, and meshes
+that come back exactly."""
+import json
+import os
+import signal
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import palpa
+
+SOURCE = os.environ.get("PALPA_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+PALPA = os.environ.get("PALPA_BINARY", "palpa")
+ECOFLEX = os.path.join(SOURCE, "examples", "fit", "ecoflex30", "dataset-homogeneous.json")
+FOAM = os.path.join(SOURCE, "examples", "fit", "foam", "dataset.json")
+
+
+def test_fit_matches_the_command_line(tmp_path):
+    seen = []
+    r = palpa.fit(ECOFLEX, model="yeoh", out=str(tmp_path / "py"), progress=seen.append)
+    subprocess.run([PALPA, "fit", ECOFLEX, "--model", "yeoh", "-o", str(tmp_path / "cli")], check=True,
+                   capture_output=True)
+    cli = palpa.Material.load(str(tmp_path / "cli" / "material.json"))
+    assert r.material.model == "yeoh"
+    for k, v in cli.parameters.items():
+        assert r.material.parameters[k] == pytest.approx(v, rel=1e-12, abs=0)
+    with open(tmp_path / "cli" / "report.json") as f:
+        report = json.load(f)
+    assert r.report["rms_error"] == report["rms_error"]
+    assert [c["name"] for c in r.curves] == [c["name"] for c in report["curves"]]
+    assert r.history["objective"][-1] <= r.history["objective"][0]
+    assert seen and {"guess", "iteration", "objective", "layer_depth"} <= set(seen[-1])
+    # Without a folder: a temporary one, the same material.
+    again = palpa.fit(ECOFLEX, model="yeoh")
+    assert again.out is None and again.material.parameters == r.material.parameters
+    # Resuming the finished fit does nothing.
+    assert palpa.fit(ECOFLEX, model="yeoh", out=str(tmp_path / "py"), resume=True) is None
+
+
+def test_fit_bad_input_and_a_failing_callback(tmp_path):
+    with pytest.raises(palpa.InputError, match="unknown model 'rubber'"):
+        palpa.fit(ECOFLEX, model="rubber")
+    with pytest.raises(palpa.InputError, match="cannot be fitted"):
+        palpa.fit(ECOFLEX, model="stvk")
+    with pytest.raises(palpa.InputError, match="missing.json"):
+        palpa.fit(str(tmp_path / "missing.json"))
+    with pytest.raises(palpa.InputError, match="nu_range"):
+        palpa.fit(ECOFLEX, model="yeoh", nu_range=(0.4, 0.6))
+    (tmp_path / "used").mkdir()
+    (tmp_path / "used" / "x.txt").write_text("x")
+    with pytest.raises(palpa.InputError, match="not empty"):
+        palpa.fit(ECOFLEX, model="yeoh", out=str(tmp_path / "used"))
+
+    def boom(info):
+        raise ZeroDivisionError("stop here")
+
+    with pytest.raises(ZeroDivisionError, match="stop here"):
+        palpa.fit(ECOFLEX, model="ogden", out=str(tmp_path / "boom"), progress=boom)
+
+
+def test_ctrl_c_during_a_fit_keeps_a_checkpoint_to_resume(tmp_path):
+    out = str(tmp_path / "foam")
+    main = threading.get_ident()
+    sent = threading.Event()
+
+    def interrupt(info):
+        if info["iteration"] >= 1 and not sent.is_set():
+            sent.set()
+            threading.Thread(target=lambda: signal.pthread_kill(main, signal.SIGINT)).start()
+
+    with pytest.raises(KeyboardInterrupt):
+        palpa.fit(FOAM, model="neo-hookean", out=out, progress=interrupt, mesh_level=1, steps=8)
+    with open(os.path.join(out, "checkpoint.json")) as f:
+        checkpoint = json.load(f)
+    assert checkpoint["kind"] == "fit"
+    assert not os.path.exists(os.path.join(out, "report.json"))
+    r = palpa.fit(FOAM, model="neo-hookean", out=out, resume=True, mesh_level=1, steps=8)
+    assert r is not None and r.material.small_strain()["E"] > 0
+
+
+def test_meshes_round_trip(tmp_path):
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64)
+    F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], dtype=np.int32)  # int32 faces are fine
+    for name in ("t.obj", "t.ply", "t.off", "t.stl"):
+        palpa.write_mesh(str(tmp_path / name), V, F)
+        V2, F2 = palpa.read_mesh(str(tmp_path / name))
+        assert V2.dtype == np.float64 and F2.dtype == np.int64
+        assert V2.shape == (4, 3) and F2.shape == (4, 3)
+    V2, F2 = palpa.read_mesh(str(tmp_path / "t.obj"))
+    np.testing.assert_array_equal(V2, V)
+    np.testing.assert_array_equal(F2, F)
+    T = np.array([[0, 1, 2, 3]])
+    palpa.write_mesh(str(tmp_path / "t.vtu"), V.astype(np.float32), T)
+    V3, T3 = palpa.read_mesh(str(tmp_path / "t.vtu"), unit="1 mm")
+    np.testing.assert_array_equal(V3, V * 1e-3)
+    np.testing.assert_array_equal(T3, T)
+    for cells, message in [(np.array([[0, 1, 9]]), "indices from 0 to 3"), (np.array([[0, 1]]), "triangles"),
+                           (np.array([[0.0, 1.0, 2.0]]), "integer")]:
+        with pytest.raises((palpa.InputError, TypeError), match=message):
+            palpa.write_mesh(str(tmp_path / "bad.obj"), V, cells)
+    assert not os.path.exists(tmp_path / "bad.obj")
+    with pytest.raises(palpa.InputError, match="nope.xyz"):
+        palpa.read_mesh(str(tmp_path / "nope.xyz"))
