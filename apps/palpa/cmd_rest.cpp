@@ -26,16 +26,8 @@ struct RestArgs {
 
 void run_rest_command(const RestArgs& a) {
   const std::filesystem::path out = a.output;
-  if (!a.overwrite) require_empty_output(out, "run");
-  const rest::RestScene scene = rest::read_rest_scene(a.scene);
-  spdlog::info("rest: {}: body from {} ({} vertices, {} tetrahedra, {} attached), support {}", a.scene,
-               scene.body_source, scene.body.mesh.V.rows(), scene.body.mesh.T.rows(), scene.body.attached.size(),
-               scene.support_source);
-  OutputFolder folder(out);  // only now: bad input leaves nothing behind
-  rest::RestSimulation sim(scene.body, scene.support, scene.options);
-  const rest::RestResult r = sim.solve();
-  rest::write_rest_outputs(out, scene, sim, r);
-  folder.keep();
+  const rest::RestRun run = rest::run_rest(rest::read_rest_scene(a.scene), out, a.overwrite);
+  const rest::RestResult& r = run.result;
   spdlog::info("rest: contact force {:.4g} N against a load of {:.4g} N (balance {:.2g}%), peak pressure {:.3g} kPa "
                "(body) / {:.3g} kPa (support), max penetration {:.3g} mm, core moved ({:.3g}, {:.3g}, {:.3g}) mm; "
                "{} Newton iterations in {} solve(s), {:.1f} s; wrote {}",

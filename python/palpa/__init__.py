@@ -30,6 +30,7 @@ from ._palpa import (  # noqa: F401
     SolverError,
     __version__,
     _fit,
+    _rest,
     models,
     poke,
     quantity,
@@ -108,6 +109,7 @@ def fit(
 
 __all__ = [
     "FitResult",
+    "RestResult",
     "InputError",
     "Material",
     "PokeResult",
@@ -118,8 +120,47 @@ __all__ = [
     "poke",
     "quantity",
     "read_mesh",
+    "rest",
     "set_log_level",
     "set_threads",
     "threads",
     "write_mesh",
 ]
+
+
+@dataclasses.dataclass
+class RestResult:
+    """A body at rest on its support: pressures per vertex [Pa] on the body's skin
+    and on the support, the deformed skin and the support where it is [m],
+    summary.json as a dict (forces, balance, peaks, the pressure-map figures of
+    each side), and the output folder (None when it ran in a temporary one)."""
+
+    body_pressure: np.ndarray
+    support_pressure: np.ndarray
+    skin_vertices: np.ndarray
+    skin_faces: np.ndarray
+    support_vertices: np.ndarray
+    support_faces: np.ndarray
+    summary: dict
+    out: Optional[str]
+
+
+def rest(scene, *, out: Optional[str] = None, overwrite: bool = False, base: Optional[str] = None) -> RestResult:
+    """Rests a body on a support, exactly as `palpa rest SCENE -o OUT`. `scene` is a
+    scene file or the same JSON as a dict (its relative paths then relative to
+    `base`, the working folder by default). Writes the outputs to `out` (a
+    temporary folder when None). Releases the GIL; Ctrl-C raises KeyboardInterrupt."""
+    if isinstance(scene, dict):
+        text, is_file = json.dumps(scene), False
+    else:
+        text, is_file = os.fspath(scene), True
+    where = os.path.abspath(base if base is not None else os.getcwd())
+
+    def run(folder):
+        r = _rest(text, is_file, where, folder, overwrite)
+        r["summary"] = json.loads(r["summary"])
+        return RestResult(out=None if out is None else folder, **r)
+    if out is not None:
+        return run(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix="palpa-rest-") as folder:
+        return run(os.path.join(folder, "rest"))

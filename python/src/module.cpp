@@ -103,4 +103,5 @@ PYBIND11_MODULE(_palpa, m) {
   bind_poke(m);
   bind_fit(m);
   bind_mesh(m);
+  bind_rest(m);
 }

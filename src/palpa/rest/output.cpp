@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
@@ -256,6 +257,22 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
   if (!r.message.empty()) s["note"] = r.message;
   write_json_file(out / "summary.json", s);
   return s;
+}
+
+RestRun run_rest(const RestScene& scene, const std::filesystem::path& out, bool overwrite) {
+  if (!overwrite) require_empty_output(out, "run");
+  spdlog::info("rest: {}: body from {} ({} vertices, {} tetrahedra, {} attached), support {}", scene.file.string(),
+               scene.body_source, scene.body.mesh.V.rows(), scene.body.mesh.T.rows(), scene.body.attached.size(),
+               scene.support_source);
+  OutputFolder folder(out);  // only now: bad input leaves nothing behind
+  RestSimulation sim(scene.body, scene.support, scene.options);
+  RestRun run;
+  run.result = sim.solve();
+  run.summary = write_rest_outputs(out, scene, sim, run.result);
+  folder.keep();
+  run.skin = deformed_skin(sim);
+  run.support = world_support(sim);
+  return run;
 }
 
 }  // namespace palpa::rest

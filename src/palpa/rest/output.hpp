@@ -65,4 +65,14 @@ report::PressureMapOptions support_pressure_view(const Eigen::Vector3d& support_
 Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene, const RestSimulation& sim,
                         const RestResult& r);
 
+// A whole `palpa rest` run: the scene solved and its folder written (refused
+// when it holds files, unless `overwrite`; nothing written on bad input).
+struct RestRun {
+  RestResult result;
+  Json summary;         // summary.json
+  SurfaceMesh skin;     // the deformed skin [m]
+  SurfaceMesh support;  // the support where it is now [m]
+};
+RestRun run_rest(const RestScene& scene, const std::filesystem::path& out, bool overwrite);
+
 }  // namespace palpa::rest

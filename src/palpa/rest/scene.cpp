@@ -349,8 +349,13 @@ void read_scene_support(const JsonView& sp, const fs::path& file, RestScene& s) 
 
 RestScene read_rest_scene(const fs::path& path, const std::string& version_key,
                           const std::vector<std::string>& extra_keys) {
-  const Json doc = read_json_file(path);
+  return read_rest_scene(read_json_file(path), path, version_key, extra_keys);
+}
+
+RestScene read_rest_scene(const Json& doc, const fs::path& path, const std::string& version_key,
+                          const std::vector<std::string>& extra_keys) {
   const JsonView root(doc, path.string());
+  if (!doc.is_object()) root.fail("is not a JSON object", "a scene object");
   std::vector<std::string> keys{version_key, "body", "core", "support", "gravity", "contact", "solver", "template"};
   keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
   root.expect_only(keys);

@@ -79,6 +79,10 @@ struct RestScene {
 // top-level members the caller reads itself.
 RestScene read_rest_scene(const std::filesystem::path& path, const std::string& version_key = "palpa_rest",
                           const std::vector<std::string>& extra_keys = {});
+// The same from a scene already parsed; `path` names it in messages and is
+// what relative paths in it are relative to (its folder).
+RestScene read_rest_scene(const Json& doc, const std::filesystem::path& path,
+                          const std::string& version_key = "palpa_rest", const std::vector<std::string>& extra_keys = {});
 
 // Builds s.support (and s.support_source) from a "support" object for the
 // body of s as it stands; a negative image moves s.body into its hollow
