@@ -29,6 +29,7 @@ from ._palpa import (  # noqa: F401
     PokeResult,
     SolverError,
     __version__,
+    _design,
     _fit,
     _rest,
     models,
@@ -108,6 +109,7 @@ def fit(
         return run(os.path.join(folder, "fit"))
 
 __all__ = [
+    "DesignResult",
     "FitResult",
     "RestResult",
     "InputError",
@@ -115,6 +117,7 @@ __all__ = [
     "PokeResult",
     "SolverError",
     "__version__",
+    "design",
     "fit",
     "models",
     "poke",
@@ -145,15 +148,18 @@ class RestResult:
     out: Optional[str]
 
 
+def _scene_text(scene):
+    if isinstance(scene, dict):
+        return json.dumps(scene), False
+    return os.fspath(scene), True
+
+
 def rest(scene, *, out: Optional[str] = None, overwrite: bool = False, base: Optional[str] = None) -> RestResult:
     """Rests a body on a support, exactly as `palpa rest SCENE -o OUT`. `scene` is a
     scene file or the same JSON as a dict (its relative paths then relative to
     `base`, the working folder by default). Writes the outputs to `out` (a
     temporary folder when None). Releases the GIL; Ctrl-C raises KeyboardInterrupt."""
-    if isinstance(scene, dict):
-        text, is_file = json.dumps(scene), False
-    else:
-        text, is_file = os.fspath(scene), True
+    text, is_file = _scene_text(scene)
     where = os.path.abspath(base if base is not None else os.getcwd())
 
     def run(folder):
@@ -164,3 +170,40 @@ def rest(scene, *, out: Optional[str] = None, overwrite: bool = False, base: Opt
         return run(os.fspath(out))
     with tempfile.TemporaryDirectory(prefix="palpa-rest-") as folder:
         return run(os.path.join(folder, "rest"))
+
+
+@dataclasses.dataclass
+class DesignResult:
+    """A designed support: its shape [m], summary.json as a dict (ζ, ζ_body and the
+    peak pressures before and after, both solved from scratch; the optimizer's own
+    figures; history; baselines), and the output folder (None when it ran in a
+    temporary one)."""
+
+    support_vertices: np.ndarray
+    support_faces: np.ndarray
+    summary: dict
+    out: Optional[str]
+
+
+def design(scene, *, out: Optional[str] = None, resume: bool = False, overwrite: bool = False,
+           baselines: bool = True, iterations: Optional[int] = None, threads: Optional[int] = None,
+           method: Optional[str] = None, base: Optional[str] = None) -> Optional[DesignResult]:
+    """Optimizes a support's shape, exactly as `palpa design SCENE -o OUT`: `scene` is a
+    design scene file or the same JSON as a dict (relative paths relative to `base`,
+    the working folder by default); `iterations`, `threads` and `method` ('lbfgs' or
+    'cg') override the scene's. Ctrl-C raises KeyboardInterrupt with the checkpoint
+    kept in `out`; resume=True goes on from it. Returns None when a resumed run was
+    already finished."""
+    text, is_file = _scene_text(scene)
+    where = os.path.abspath(base if base is not None else os.getcwd())
+
+    def run(folder):
+        r = _design(text, is_file, where, folder, resume, overwrite, baselines, iterations, threads, method)
+        if r is None:
+            return None
+        r["summary"] = json.loads(r["summary"])
+        return DesignResult(out=None if out is None else folder, **r)
+    if out is not None:
+        return run(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix="palpa-design-") as folder:
+        return run(os.path.join(folder, "design"))

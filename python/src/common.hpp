@@ -59,5 +59,6 @@ void bind_poke(py::module_& m);
 void bind_fit(py::module_& m);
 void bind_mesh(py::module_& m);
 void bind_rest(py::module_& m);
+void bind_design(py::module_& m);
 
 }  // namespace palpa::python

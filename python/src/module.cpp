@@ -104,4 +104,5 @@ PYBIND11_MODULE(_palpa, m) {
   bind_fit(m);
   bind_mesh(m);
   bind_rest(m);
+  bind_design(m);
 }

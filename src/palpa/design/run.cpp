@@ -35,7 +35,7 @@ bool can_go_on(const std::filesystem::path& summary, const std::filesystem::path
 
 }  // namespace
 
-std::optional<Json> run_design(const DesignRun& run) {
+std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
   const std::filesystem::path& out = run.out;
   const std::filesystem::path checkpoint = out / "checkpoint.json";
   const std::filesystem::path finished = out / "summary.json";
@@ -47,7 +47,8 @@ std::optional<Json> run_design(const DesignRun& run) {
     resume = false;
   }
   if (!resume && !run.overwrite) require_empty_output(out, "design run");
-  DesignScene scene = read_design_scene(run.scene, run.baselines);
+  DesignScene scene = run.scene_json ? read_design_scene(*run.scene_json, run.scene, run.baselines)
+                                     : read_design_scene(run.scene, run.baselines);
   if (run.iterations) scene.options.max_iterations = *run.iterations;
   if (run.threads) scene.options.threads = *run.threads;
   if (run.method) scene.options.method = *run.method;
@@ -112,6 +113,7 @@ std::optional<Json> run_design(const DesignRun& run) {
     std::filesystem::remove(out / f, ec);  // an interruption's shape is not this run's result
   }
   folder.keep();
+  if (optimized != nullptr) *optimized = SurfaceMesh{r.final.support, optimizer.simulation().support().triangles()};
   return s;
 }
 

@@ -14,7 +14,9 @@
 namespace palpa::design {
 
 struct DesignRun {
-  std::filesystem::path scene;
+  std::filesystem::path scene;     // the scene file (with `scene_json`: its nominal path, for messages and
+                                   // relative paths)
+  std::optional<Json> scene_json;  // the scene itself, when it is not read from `scene`
   std::filesystem::path out;
   bool resume = false;     // go on from out/checkpoint.json (afresh when there is none)
   bool overwrite = false;  // write into a folder that holds files
@@ -25,10 +27,11 @@ struct DesignRun {
 };
 
 // Runs it. Returns the summary (summary.json), or nothing when a resumed run
-// was already finished (it is left exactly as it is). Interrupted: the last
+// was already finished (it is left exactly as it is). `optimized`, if given,
+// receives the optimized support [m]. Interrupted: the last
 // finished iteration's support is written as support_interrupted.obj and the
 // error is rethrown. A failure while writing takes back what was written.
-std::optional<Json> run_design(const DesignRun& run);
+std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized = nullptr);
 
 // One line: both shapes solved from scratch, the optimizer's own view, the
 // baselines it is worse than, iterations and time.

@@ -45,9 +45,12 @@ std::string baseline_slug(const std::string& name) {
 }
 
 DesignScene read_design_scene(const std::filesystem::path& path, bool baselines) {
+  return read_design_scene(read_json_file(path), path, baselines);
+}
+
+DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path, bool baselines) {
   DesignScene s;
-  s.rest = rest::read_rest_scene(path, "palpa_design", {"design", "baselines"});
-  const Json doc = read_json_file(path);
+  s.rest = rest::read_rest_scene(doc, path, "palpa_design", {"design", "baselines"});
   const JsonView root(doc, path.string());
   if (const auto t = root.find("template")) t->fail("a template is compared by palpa rest", "no \"template\" in a design");
   // The baseline the design starts from is built even without the others.

@@ -80,6 +80,9 @@ std::string baseline_slug(const std::string& name);
 // generation of its own) and none is returned, but the one named by
 // `design.start` is built (it is where the design begins).
 DesignScene read_design_scene(const std::filesystem::path& path, bool baselines = true);
+// The same from a scene already parsed; `path` names it in messages and is
+// what relative paths in it are relative to (its folder).
+DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path, bool baselines = true);
 
 // The support vertices facing `up` (outward normal within `angle` [rad] of
 // it) and inside the box [lo, hi] [m]. Normals: area-weighted, outward (an

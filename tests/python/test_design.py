@@ -1,0 +1,67 @@
+# SPDX-License-Identifier: AGPL-3.0-or-later
+"""palpa.design: the numbers of `palpa design`, the designed shape as arrays,
+resume of a finished run, bad options refused."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import palpa
+
+PALPA = os.environ.get("PALPA_BINARY", "palpa")
+
+SCENE = {
+    "palpa_design": 1,
+    "body": {
+        "generate": {"shape": "sphere", "length": "60 mm"},
+        "edge": "7 mm", "depth": "8 mm",
+        "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
+        "position": ["0 mm", "0 mm", "31 mm"],
+    },
+    "core": {"mass": "0.5 kg", "free": ["z"]},
+    "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}},
+    "design": {"method": "cg",
+               "region": {"min": ["-60 mm", "-60 mm", "-5 mm"], "max": ["60 mm", "60 mm", "5 mm"]},
+               "iterations": 2},
+}
+
+
+def without_timings(d):
+    if isinstance(d, dict):
+        return {k: without_timings(v) for k, v in d.items()
+                if "seconds" not in k and k not in ("scene", "iteration_per_equilibrium")}
+    if isinstance(d, list):
+        return [without_timings(v) for v in d]
+    return d
+
+
+def test_design_matches_the_command_line(tmp_path):
+    (tmp_path / "scene.json").write_text(json.dumps(SCENE))
+    subprocess.run([PALPA, "design", "scene.json", "-o", "cli"], cwd=tmp_path, check=True, capture_output=True)
+    with open(tmp_path / "cli" / "summary.json") as f:
+        cli = json.load(f)
+    palpa.set_log_level("warning")
+    try:
+        r = palpa.design(SCENE, out=str(tmp_path / "py"))
+    finally:
+        palpa.set_log_level("info")
+    assert without_timings(r.summary) == without_timings(cli)
+    assert r.summary["termination"] == "iteration_limit"
+    assert r.support_vertices.shape[1] == 3 and r.support_faces.shape[1] == 3
+    V, F = palpa.read_mesh(str(tmp_path / "py" / "support.obj"))
+    np.testing.assert_allclose(r.support_vertices, V, rtol=0, atol=1e-12)
+    # A finished run is left as it is.
+    assert palpa.design(SCENE, out=str(tmp_path / "py"), resume=True) is None
+
+
+def test_bad_design_options_are_refused():
+    for kwargs, message in [(dict(method="newton"), "unknown method 'newton'"), (dict(iterations=-1), "iterations"),
+                            (dict(threads=-2), "threads")]:
+        with pytest.raises(palpa.InputError, match=message):
+            palpa.design(SCENE, **kwargs)
+    scene = json.loads(json.dumps(SCENE))
+    scene["design"]["method"] = "simplex"
+    with pytest.raises(palpa.InputError, match="simplex"):
+        palpa.design(scene)
