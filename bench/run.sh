@@ -9,6 +9,10 @@ for b in "$build"/bench/palpa_bench_*; do
   found=1
   "$b"
 done
+# The Python module's call overhead, when the module was built.
+if [[ -d "$build/python/palpa" ]]; then
+  PYTHONPATH="$build/python" /usr/bin/python3 "$(dirname "$0")/python_overhead.py"
+fi
 if (( found == 0 )); then
   echo "bench: no benchmark binaries in $build/bench" >&2
   exit 1

@@ -3,6 +3,8 @@
 // plates), the axisymmetric simulation of `palpa poke`.
 
 #include <fmt/format.h>
+
+#include <chrono>
 #include <pybind11/stl.h>
 
 #include "common.hpp"
@@ -74,9 +76,35 @@ PokeResult run_poke(const material::Material& material, double thickness, double
   return r;
 }
 
+// Wall times [s] of the C++ part alone of `repeats` pokes (simulator built,
+// curve run; one mesh, no extrapolation), for the call-overhead benchmark.
+std::vector<double> cpp_seconds(const material::Material& material, double thickness, double radius, double depth,
+                                int steps, int mesh_level, int repeats) {
+  axisym::PokeSetup setup;
+  setup.geometry.punch_radius = radius;
+  setup.geometry.thickness = thickness;
+  setup.mesh_level = mesh_level;
+  setup.extrapolate = false;
+  axisym::PokeOptions options;
+  options.max_depth = depth;
+  options.steps = steps;
+  std::vector<double> out;
+  py::gil_scoped_release release;
+  for (int k = 0; k < repeats; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    axisym::PokeSimulator sim(material, setup);
+    const axisym::PokeCurve curve = sim.run(options);
+    out.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return out;
+}
+
 }  // namespace
 
 void bind_poke(py::module_& m) {
+  m.def("_poke_cpp_seconds", &cpp_seconds, py::arg("material"), py::arg("thickness"), py::arg("radius"),
+        py::arg("depth"), py::arg("steps"), py::arg("mesh_level"), py::arg("repeats"),
+        "Wall times of the C++ part alone of `repeats` pokes (lengths in m), for benchmarks.");
   py::class_<PokeResult>(m, "PokeResult", "The curve of palpa.poke, one entry per depth (depth 0 first).")
       .def_property_readonly("indentation", [](const PokeResult& r) { return to_numpy(r.indentation); },
                              "Indentation (compression: plate travel) [m].")
