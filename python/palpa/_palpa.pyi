@@ -29,6 +29,21 @@ def read_mesh(path: str, unit: Quantity = "1 m") -> tuple[npt.NDArray[np.float64
 def write_mesh(path: str, V: ArrayLike, cells: ArrayLike) -> None:
     """Writes triangles (m, 3) or tetrahedra (m, 4) by the file's extension; V in metres."""
 
+def mesh_layer(
+    V: ArrayLike,
+    F: ArrayLike,
+    *,
+    depth: Union[Quantity, None] = None,
+    depth_points: Union[ArrayLike, None] = None,
+    depth_values: Union[ArrayLike, None] = None,
+    stiffness_points: Union[ArrayLike, None] = None,
+    stiffness_values: Union[ArrayLike, None] = None,
+    edge: Quantity = "5 mm",
+    clamp_depth: bool = False,
+) -> dict[str, Any]:
+    """The soft tet layer on a rigid core under a closed scan (V [m], F): V, T, attached, youngs_modulus [Pa],
+    outer and core surfaces, depth per outer vertex [m]."""
+
 def _fit(*args: Any) -> bool: ...
 def _rest(*args: Any) -> dict[str, Any]: ...
 def _design(*args: Any) -> Union[dict[str, Any], None]: ...

@@ -60,5 +60,6 @@ void bind_fit(py::module_& m);
 void bind_mesh(py::module_& m);
 void bind_rest(py::module_& m);
 void bind_design(py::module_& m);
+void bind_layer(py::module_& m);
 
 }  // namespace palpa::python

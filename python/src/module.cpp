@@ -105,4 +105,5 @@ PYBIND11_MODULE(_palpa, m) {
   bind_mesh(m);
   bind_rest(m);
   bind_design(m);
+  bind_layer(m);
 }

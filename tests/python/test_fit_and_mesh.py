@@ -105,3 +105,37 @@ def test_meshes_round_trip(tmp_path):
     assert not os.path.exists(tmp_path / "bad.obj")
     with pytest.raises(palpa.InputError, match="nope.xyz"):
         palpa.read_mesh(str(tmp_path / "nope.xyz"))
+
+
+def test_mesh_layer_from_arrays():
+    # An icosphere-like closed surface: a generated one from the rest example is simplest.
+    t = np.linspace(0, np.pi, 13)[1:-1]
+    p = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    r = 0.05
+    rings = [np.column_stack([r * np.sin(a) * np.cos(p), r * np.sin(a) * np.sin(p), np.full(24, r * np.cos(a))])
+             for a in t]
+    V = np.vstack([[0, 0, r]] + rings + [[0, 0, -r]])
+    F = []
+    for j in range(24):
+        F.append([0, 1 + j, 1 + (j + 1) % 24])
+    for i in range(len(t) - 1):
+        for j in range(24):
+            a, b = 1 + i * 24 + j, 1 + i * 24 + (j + 1) % 24
+            F += [[a, a + 24, b], [b, a + 24, b + 24]]
+    last = len(V) - 1
+    for j in range(24):
+        a, b = 1 + (len(t) - 1) * 24 + j, 1 + (len(t) - 1) * 24 + (j + 1) % 24
+        F.append([a, last, b])
+    F = np.array(F)
+    layer = palpa.mesh_layer(V, F, depth="10 mm", edge="8 mm")
+    assert layer["T"].shape[1] == 4 and layer["T"].max() < layer["V"].shape[0]
+    assert layer["attached"].size > 0 and layer["youngs_modulus"] is None
+    core_radius = np.linalg.norm(layer["core_vertices"], axis=1)
+    assert core_radius.mean() == pytest.approx(0.04, rel=0.1)
+    far = V[[0, len(V) - 1, 1 + 5 * 24, 1 + 5 * 24 + 12]]  # poles and two opposite equator points
+    stiff = palpa.mesh_layer(V, F, depth="10 mm", edge="8 mm", stiffness_points=far, stiffness_values=[2e4] * 4)
+    np.testing.assert_allclose(stiff["youngs_modulus"], 2e4)
+    with pytest.raises(palpa.InputError, match="no layer depth"):
+        palpa.mesh_layer(V, F)
+    with pytest.raises(palpa.InputError, match="one value per point"):
+        palpa.mesh_layer(V, F, depth_points=V[:3], depth_values=[0.01, 0.01])
