@@ -42,6 +42,15 @@ from ._palpa import (  # noqa: F401
     threads,
     write_mesh,
 )
+from . import mesh  # noqa: E402  (palpa.mesh.layer)
+
+
+def _in_folder(out, name, run):
+    """run(folder) in `out`, or in a temporary folder removed afterwards."""
+    if out is not None:
+        return run(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix=f"palpa-{name}-") as folder:
+        return run(os.path.join(folder, name))
 
 
 @dataclasses.dataclass
@@ -104,33 +113,8 @@ def fit(
                    for k in ("iteration", "objective", "evaluations", "seconds")}
         return FitResult(Material.load(os.path.join(folder, "material.json")), report, history,
                          None if out is None else os.fspath(folder))
-    if out is not None:
-        return run(os.fspath(out))
-    with tempfile.TemporaryDirectory(prefix="palpa-fit-") as folder:
-        return run(os.path.join(folder, "fit"))
+    return _in_folder(out, "fit", run)
 
-__all__ = [
-    "DesignResult",
-    "FitResult",
-    "RestResult",
-    "InputError",
-    "Material",
-    "PokeResult",
-    "SolverError",
-    "__version__",
-    "design",
-    "fit",
-    "mesh_layer",
-    "models",
-    "poke",
-    "quantity",
-    "read_mesh",
-    "rest",
-    "set_log_level",
-    "set_threads",
-    "threads",
-    "write_mesh",
-]
 
 
 @dataclasses.dataclass
@@ -168,10 +152,7 @@ def rest(scene, *, out: Optional[str] = None, overwrite: bool = False, base: Opt
         r = _rest(text, is_file, where, folder, overwrite)
         r["summary"] = json.loads(r["summary"])
         return RestResult(out=None if out is None else folder, **r)
-    if out is not None:
-        return run(os.fspath(out))
-    with tempfile.TemporaryDirectory(prefix="palpa-rest-") as folder:
-        return run(os.path.join(folder, "rest"))
+    return _in_folder(out, "rest", run)
 
 
 @dataclasses.dataclass
@@ -205,7 +186,29 @@ def design(scene, *, out: Optional[str] = None, resume: bool = False, overwrite:
             return None
         r["summary"] = json.loads(r["summary"])
         return DesignResult(out=None if out is None else folder, **r)
-    if out is not None:
-        return run(os.fspath(out))
-    with tempfile.TemporaryDirectory(prefix="palpa-design-") as folder:
-        return run(os.path.join(folder, "design"))
+    return _in_folder(out, "design", run)
+
+
+__all__ = [
+    "DesignResult",
+    "FitResult",
+    "InputError",
+    "Material",
+    "PokeResult",
+    "RestResult",
+    "SolverError",
+    "__version__",
+    "design",
+    "fit",
+    "mesh",
+    "mesh_layer",
+    "models",
+    "poke",
+    "quantity",
+    "read_mesh",
+    "rest",
+    "set_log_level",
+    "set_threads",
+    "threads",
+    "write_mesh",
+]

@@ -109,6 +109,9 @@ class PokeResult:
     @property
     def sensitivities(self) -> Union[npt.NDArray[np.float64], None]:
         """dF/dtheta, (n_depths, n_params) [N per SI unit]."""
+    @property
+    def fields(self) -> Union[list[dict[str, npt.NDArray[Any]]], None]:
+        """With fields=True: per depth the deformed mesh (points, quads) and its fields."""
     parameter_names: list[str]
     newton_iterations: int
 
@@ -127,5 +130,6 @@ def poke(
     fillet: Quantity = 0.0,
     outer_radius: Quantity = 0.0,
     sensitivities: bool = False,
+    fields: bool = False,
 ) -> PokeResult:
     """A flat punch pressed into a layer (lengths in m or with units); releases the GIL."""

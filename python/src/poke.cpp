@@ -9,6 +9,7 @@
 
 #include "common.hpp"
 #include "palpa/axisym/element.hpp"
+#include "palpa/axisym/output.hpp"
 #include "palpa/axisym/poke.hpp"
 #include "palpa/core/error.hpp"
 
@@ -22,11 +23,29 @@ struct PokeResult {
   Eigen::MatrixXd sensitivities;  // (n_depths, n_params), empty without
   std::vector<std::string> parameter_names;
   int newton_iterations = 0;
+  std::vector<UnstructuredGrid> grids;  // the deformed mesh per depth, when asked
 };
+
+// A deformed mesh as arrays: points (P, 3) as (r, z, 0) [m], quads (C, 4) and
+// every point and cell field of palpa poke's VTU frames by name (SI).
+py::dict grid_dict(const UnstructuredGrid& g) {
+  py::dict d;
+  d["points"] = to_numpy(Eigen::MatrixXd(g.points));
+  for (const CellBlock& b : g.cells) d["quads"] = to_numpy(b.nodes);
+  for (const DataArray& a : g.point_data) {
+    d[py::str(a.name)] = a.values.cols() == 1 ? py::object(to_numpy(Eigen::VectorXd(a.values.col(0))))
+                                              : py::object(to_numpy(a.values));
+  }
+  for (const DataArray& a : g.cell_data) {
+    d[py::str(a.name)] = a.values.cols() == 1 ? py::object(to_numpy(Eigen::VectorXd(a.values.col(0))))
+                                              : py::object(to_numpy(a.values));
+  }
+  return d;
+}
 
 PokeResult run_poke(const material::Material& material, double thickness, double radius, double depth, int steps,
                     const std::string& test, const std::string& contact, int mesh_level, bool extrapolate,
-                    const std::string& element, double fillet, double outer_radius, bool sensitivities) {
+                    const std::string& element, double fillet, double outer_radius, bool sensitivities, bool fields) {
   axisym::PokeSetup setup;
   setup.test = axisym::parse_poke_test(test);
   if (setup.test == axisym::PokeTest::Indentation) {
@@ -50,7 +69,13 @@ PokeResult run_poke(const material::Material& material, double thickness, double
   {
     LongCall call;
     axisym::PokeSimulator sim(material, setup);
-    curve = sim.run(options);
+    axisym::PokeSimulator::DepthCallback on_depth;
+    if (fields) {
+      on_depth = [&r](const axisym::PokeModel& model, const Eigen::VectorXd& x, const axisym::PokeSample&) {
+        r.grids.push_back(axisym::deformed_grid(model, x));
+      };
+    }
+    curve = sim.run(options, on_depth);
   }
   const auto n = static_cast<Eigen::Index>(curve.samples.size());
   for (Eigen::VectorXd* v : {&r.indentation, &r.force, &r.iterations, &r.substeps, &r.residual, &r.penetration,
@@ -131,6 +156,17 @@ void bind_poke(py::module_& m) {
           },
           "dF/dθ per depth and material parameter, (n_depths, n_params) [N per SI unit], or None.")
       .def_readonly("parameter_names", &PokeResult::parameter_names, "The columns of `sensitivities`.")
+      .def_property_readonly(
+          "fields",
+          [](const PokeResult& r) -> py::object {
+            if (r.grids.empty()) return py::none();
+            py::list out;
+            for (const UnstructuredGrid& g : r.grids) out.append(grid_dict(g));
+            return out;
+          },
+          "With fields=True: per converged depth a dict of the deformed mesh: points (P, 3) as (r, z, 0) [m], "
+          "quads (C, 4), point fields (displacement_m, pressure_Pa, ...) and cell fields (det_F, "
+          "principal_stretches, von_mises_stress_Pa, ...); else None.")
       .def_readonly("newton_iterations", &PokeResult::newton_iterations, "Newton iterations in all.");
 
   m.def(
@@ -138,7 +174,7 @@ void bind_poke(py::module_& m) {
       [](const std::shared_ptr<material::Material>& material, const py::handle& thickness, const py::handle& radius,
          const py::handle& depth, int steps, const std::string& test, const std::string& contact, int mesh_level,
          bool extrapolate, const std::string& element, const py::handle& fillet, const py::handle& outer_radius,
-         bool sensitivities) {
+         bool sensitivities, bool fields) {
         if (!material) throw py::type_error("material: expected a palpa.Material, got None");
         const auto positive = [](const py::handle& v, const char* name) {
           const double x = quantity_arg(v, Dimension::Length, name);
@@ -150,18 +186,19 @@ void bind_poke(py::module_& m) {
         return run_poke(*material, positive(thickness, "thickness"), positive(radius, "radius"),
                         positive(depth, "depth"), steps, test, contact, mesh_level, extrapolate,
                         element, quantity_arg(fillet, Dimension::Length, "fillet"),
-                        quantity_arg(outer_radius, Dimension::Length, "outer_radius"), sensitivities);
+                        quantity_arg(outer_radius, Dimension::Length, "outer_radius"), sensitivities, fields);
       },
       py::arg("material"), py::kw_only(), py::arg("thickness"), py::arg("radius"), py::arg("depth"),
       py::arg("steps") = 20, py::arg("test") = "indentation", py::arg("contact") = "", py::arg("mesh_level") = 2,
       py::arg("extrapolate") = true, py::arg("element") = "fbar", py::arg("fillet") = 0.0,
-      py::arg("outer_radius") = 0.0, py::arg("sensitivities") = false,
+      py::arg("outer_radius") = 0.0, py::arg("sensitivities") = false, py::arg("fields") = false,
       R"doc(Presses a rigid flat cylindrical punch of `radius` into a layer of `thickness` on a
 rigid base, to `depth` in `steps` equal increments (test='compression': a cylindrical
 sample of radius `radius` and height `thickness` between two plates). Lengths in metres
 or as strings with units ("3 mm"). contact: 'stick' (default) or 'frictionless' for a
-punch, 'bonded' (default) or 'frictionless' for plates. Releases the GIL; Ctrl-C raises
-KeyboardInterrupt. Returns a PokeResult.)doc");
+punch, 'bonded' (default) or 'frictionless' for plates. sensitivities=True: dF/dθ per
+depth; fields=True: the deformed mesh and its fields per depth. Releases the GIL; Ctrl-C
+raises KeyboardInterrupt. Returns a PokeResult.)doc");
 }
 
 }  // namespace palpa::python

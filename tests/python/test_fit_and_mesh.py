@@ -127,7 +127,7 @@ def test_mesh_layer_from_arrays():
         a, b = 1 + (len(t) - 1) * 24 + j, 1 + (len(t) - 1) * 24 + (j + 1) % 24
         F.append([a, last, b])
     F = np.array(F)
-    layer = palpa.mesh_layer(V, F, depth="10 mm", edge="8 mm")
+    layer = palpa.mesh.layer(V, F, depth="10 mm", edge="8 mm")
     assert layer["T"].shape[1] == 4 and layer["T"].max() < layer["V"].shape[0]
     assert layer["attached"].size > 0 and layer["youngs_modulus"] is None
     core_radius = np.linalg.norm(layer["core_vertices"], axis=1)

@@ -42,6 +42,20 @@ def test_poke_matches_the_command_line_exactly(tmp_path):
                                atol=0)
 
 
+def test_deformed_mesh_fields_on_request():
+    m = tissue()
+    r = palpa.poke(m, thickness="10 mm", radius="3 mm", depth="1 mm", steps=2, mesh_level=0, fields=True)
+    assert palpa.poke(m, thickness="10 mm", radius="3 mm", depth="1 mm", steps=2, mesh_level=0).fields is None
+    last = r.fields[-1]
+    assert last["points"].shape[1] == 3 and last["quads"].shape[1] == 4
+    assert last["quads"].max() < last["points"].shape[0]
+    # The punch pushed the surface under it down by the indentation.
+    under = (last["points"][:, 0] < 1e-3) & (last["points"][:, 1] > 10e-3 - 1e-9)
+    np.testing.assert_allclose(last["displacement_m"][under, 1], -1e-3, rtol=1e-3)
+    assert last["det_F"].shape == (last["quads"].shape[0],)
+    assert np.all(last["det_F"] > 0)
+
+
 def test_compression_and_bad_geometry():
     m = tissue()
     c = palpa.poke(m, test="compression", thickness="30 mm", radius="15 mm", depth="3 mm", steps=3, mesh_level=0)
