@@ -18,6 +18,7 @@ Ctrl-C during a long call raises KeyboardInterrupt.
 import dataclasses
 import json
 import os
+import pathlib
 import tempfile
 from typing import Any, Callable, Optional, Sequence
 
@@ -71,8 +72,60 @@ class FitResult:
         return self.report["curves"]
 
 
+# The columns of an in-memory curve, by test: (x key, x CSV column, y key, y CSV column).
+_CURVE_COLUMNS = {
+    "indentation": ("indentation", "indentation_m", "force", "force_N"),
+    "compression": ("indentation", "indentation_m", "force", "force_N"),
+}
+
+
+def _curve_csv(path, x_name, x, y_name, y):
+    x = np.asarray(x, dtype=np.float64)
+    y = np.asarray(y, dtype=np.float64)
+    if x.ndim != 1 or y.shape != x.shape:
+        raise InputError(f"{path.name}: the curve's arrays are not two 1-D arrays of one length "
+                         f"(got shapes {x.shape} and {y.shape})")
+    with open(path, "w") as f:
+        f.write(f"{x_name},{y_name}\n")
+        for a, b in zip(x, y):
+            f.write(f"{a!r},{b!r}\n")
+
+
+def _dataset_folder(dataset: dict, folder: str, base: str) -> str:
+    """Writes a dataset given as a dict into `folder`: the same JSON as a dataset file,
+    where a curve may hold its arrays instead of a "file" — indentation [m] and force [N]
+    for indentation and compression, stretch (or shear) and stress [Pa] for homogeneous
+    tests. Files it names are relative to `base`."""
+    d = json.loads(json.dumps(dataset, default=lambda o: np.asarray(o).tolist()))
+    test = d.get("test", "indentation")
+    for k, c in enumerate(d.get("curves", [])):
+        if not isinstance(c, dict):
+            continue
+        if "file" in c:
+            c["file"] = os.path.join(base, c["file"])
+            continue
+        name = c.get("name", f"curve{k}")
+        path = os.path.join(folder, f"{k:03d}.csv")
+        if test == "homogeneous":
+            x_key = "shear" if "shear" in c else "stretch"
+            x_col = x_key
+            y_key, y_col = "stress", "stress_Pa"
+        else:
+            x_key, x_col, y_key, y_col = _CURVE_COLUMNS.get(test, _CURVE_COLUMNS["indentation"])
+        if x_key not in c or y_key not in c:
+            raise InputError(f"dataset curve {k} ('{name}'): neither a \"file\" nor arrays "
+                             f"\"{x_key}\" and \"{y_key}\"")
+        _curve_csv(pathlib.Path(path), x_col, c.pop(x_key), y_col, c.pop(y_key))
+        c["file"] = os.path.basename(path)
+        c.setdefault("name", name)
+    path = os.path.join(folder, "dataset.json")
+    with open(path, "w") as f:
+        json.dump(d, f, indent=2)
+    return path
+
+
 def fit(
-    dataset: str,
+    dataset,
     *,
     model: str = "spline",
     optimizer: str = "lm",
@@ -95,11 +148,22 @@ def fit(
 ) -> Optional[FitResult]:
     """Fits `model` to the curves of a dataset file, exactly as `palpa fit DATASET -o OUT`
     (same options, same outputs and checkpoint in `out`; a temporary folder when
-    `out` is None). `progress(info)` is called after every iteration with a dict
+    `out` is None). `dataset` may also be the same JSON as a dict whose curves hold
+    their arrays instead of files: {"indentation": [...] (m), "force": [...] (N)}, or
+    for homogeneous tests {"stretch" or "shear": [...], "stress": [...] (Pa)}; files
+    it names are relative to the working folder. `progress(info)` is called after every iteration with a dict
     (guess, layer_depth [m], iteration, objective, evaluations, seconds); an
     exception it raises stops the fit. Ctrl-C raises KeyboardInterrupt with the
     checkpoint kept in `out`: call again with resume=True to go on. Returns a
     FitResult, or None when a resumed fit was already finished."""
+    if isinstance(dataset, dict):
+        with tempfile.TemporaryDirectory(prefix="palpa-dataset-") as scratch:
+            return fit(_dataset_folder(dataset, scratch, os.getcwd()), model=model, optimizer=optimizer, out=out,
+                       resume=resume, overwrite=overwrite, progress=progress, max_iterations=max_iterations,
+                       tolerance=tolerance, fix=fix, nu_range=nu_range, starts=starts, ogden_terms=ogden_terms,
+                       element=element, mesh_level=mesh_level, steps=steps, depth_from=depth_from,
+                       smoothing=smoothing, initial=initial)
+
     def run(folder):
         done = _fit(os.fspath(dataset), folder, model, optimizer, resume, overwrite, progress, max_iterations,
                     tolerance, list(fix), nu_range, starts, ogden_terms, element, mesh_level, steps, depth_from,

@@ -139,3 +139,32 @@ def test_mesh_layer_from_arrays():
         palpa.mesh_layer(V, F)
     with pytest.raises(palpa.InputError, match="one value per point"):
         palpa.mesh_layer(V, F, depth_points=V[:3], depth_values=[0.01, 0.01])
+
+
+def read_curve(path):
+    with open(path) as f:
+        rows = [line.strip().split(",") for line in f if not line.startswith("#")]
+    head, data = rows[0], np.array([[float(x) for x in row] for row in rows[1:]])
+    scale = {"stress_Pa": 1.0, "stress_kPa": 1e3, "stress_MPa": 1e6}[head[1]]
+    return data[:, 0], data[:, 1] * scale
+
+
+def test_fit_in_memory_curves_matches_the_files():
+    folder = os.path.dirname(ECOFLEX)
+    curves = []
+    for name, role in (("EF30_0T_A1_stress", "train"), ("EF30_0T_A2_stress", "train"),
+                       ("EF30_0T_B1_stress", "validate")):
+        stretch, stress = read_curve(os.path.join(folder, name + ".csv"))
+        curves.append({"name": name, "stretch": stretch, "stress": stress, "load_case": "uniaxial", "role": role})
+    dataset = {"palpa_dataset": 1, "test": "homogeneous", "poisson": 0.49, "curves": curves}
+    memory = palpa.fit(dataset, model="yeoh")
+    files = palpa.fit(ECOFLEX, model="yeoh")
+    for k, v in files.material.parameters.items():
+        assert memory.material.parameters[k] == pytest.approx(v, rel=1e-9), k
+    assert [c["name"] for c in memory.curves] == [c["name"] for c in files.curves]
+    bad = {"palpa_dataset": 1, "test": "homogeneous", "curves": [{"stretch": [1.0, 1.1], "role": "train"}]}
+    with pytest.raises(palpa.InputError, match="neither a \"file\" nor arrays"):
+        palpa.fit(bad, model="yeoh")
+    bad["curves"][0]["stress"] = [0.0, 1.0, 2.0]
+    with pytest.raises(palpa.InputError, match="one length"):
+        palpa.fit(bad, model="yeoh")
