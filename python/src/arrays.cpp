@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <exception>
+#include <mutex>
 
 #include "common.hpp"
 #include "palpa/core/error.hpp"
@@ -123,21 +124,33 @@ double quantity_arg(const py::handle& value, Dimension d, const char* name) {
 }
 
 namespace {
+
 void on_sigint(int) { request_interrupt(); }
+
+// Long calls running now (from any Python threads): the first one in installs
+// the handler, the last one out restores Python's.
+std::mutex g_calls_mutex;
+int g_calls = 0;
+struct sigaction g_python_handler {};
+bool g_installed = false;
+
 }  // namespace
 
 LongCall::LongCall() {
+  std::lock_guard lock(g_calls_mutex);
+  if (g_calls++ > 0) return;
   clear_interrupt();
-  // Only the main thread sees Python's own SIGINT handling; elsewhere the
-  // signal is left alone.
   struct sigaction action {};
   action.sa_handler = on_sigint;
   sigemptyset(&action.sa_mask);
-  installed_ = sigaction(SIGINT, &action, &previous_) == 0;
+  g_installed = sigaction(SIGINT, &action, &g_python_handler) == 0;
 }
 
 LongCall::~LongCall() {
-  if (installed_) sigaction(SIGINT, &previous_, nullptr);
+  std::lock_guard lock(g_calls_mutex);
+  if (--g_calls > 0) return;
+  if (g_installed) sigaction(SIGINT, &g_python_handler, nullptr);
+  g_installed = false;
   // A Ctrl-C that came after the last check: Python's handler gets it now.
   // (One that stopped the call comes back as the call's KeyboardInterrupt.)
   if (interrupt_requested() && std::uncaught_exceptions() == 0) PyErr_SetInterrupt();

@@ -41,6 +41,8 @@ double quantity_arg(const py::handle& value, Dimension d, const char* name);
 // For the length of a long call: the GIL released, and SIGINT asks palpa's
 // loops to stop (they throw, and the error becomes KeyboardInterrupt) instead
 // of waiting for Python's handler, which runs only when the call returns.
+// Calls from several Python threads at once share the handler: Python's comes
+// back when the last of them ends, and a Ctrl-C stops all of them.
 class LongCall {
  public:
   LongCall();
@@ -49,8 +51,6 @@ class LongCall {
   LongCall& operator=(const LongCall&) = delete;
 
  private:
-  struct sigaction previous_ {};
-  bool installed_ = false;
   py::gil_scoped_release release_;
 };
 

@@ -122,3 +122,23 @@ def test_many_small_pokes_keep_memory_flat():
     run(1000)
     after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     assert after - before < 20_000, (before, after)  # kB
+
+
+def test_pokes_from_several_threads_at_once_leave_ctrl_c_to_python():
+    m = tissue()
+    results = []
+
+    def run():
+        results.append(palpa.poke(m, thickness="10 mm", radius="3 mm", depth="1 mm", steps=3, mesh_level=1).force[-1])
+
+    threads = [threading.Thread(target=run) for _ in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(results) == 3 and len(set(results)) == 1
+    # Python's own handler is back: Ctrl-C between calls raises KeyboardInterrupt at once.
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    with pytest.raises(KeyboardInterrupt):
+        signal.raise_signal(signal.SIGINT)
+        time.sleep(1)
