@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: AGPL-3.0-or-later
 """palpa.design: the numbers of `palpa design`, the designed shape as arrays,
 resume of a finished run, bad options refused."""
+import copy
+import importlib.util
 import json
 import os
 import subprocess
@@ -12,20 +14,21 @@ import palpa
 
 PALPA = os.environ.get("PALPA_BINARY", "palpa")
 
-SCENE = {
-    "palpa_design": 1,
-    "body": {
-        "generate": {"shape": "sphere", "length": "60 mm"},
-        "edge": "7 mm", "depth": "8 mm",
-        "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
-        "position": ["0 mm", "0 mm", "31 mm"],
-    },
-    "core": {"mass": "0.5 kg", "free": ["z"]},
-    "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}},
-    "design": {"method": "cg",
-               "region": {"min": ["-60 mm", "-60 mm", "-5 mm"], "max": ["60 mm", "60 mm", "5 mm"]},
-               "iterations": 2},
-}
+SOURCE = os.environ.get("PALPA_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+
+
+def example_scene():
+    """The scene of examples/python/design_short.py, shortened: 2 CG iterations."""
+    spec = importlib.util.spec_from_file_location(
+        "design_short", os.path.join(SOURCE, "examples", "python", "design_short.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    scene = copy.deepcopy(module.SCENE)
+    scene["design"].update({"method": "cg", "iterations": 2})
+    return scene
+
+
+SCENE = example_scene()
 
 
 def without_timings(d):
