@@ -6,7 +6,6 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
-#include <mutex>
 #include <optional>
 
 #include "common.hpp"
@@ -53,12 +52,10 @@ bool run(const FitArgs& a, const py::object& progress) {
   // fit as Ctrl-C would (the checkpoint keeps the last iteration) and is
   // raised again here.
   std::optional<py::error_already_set> raised;
-  std::mutex m;
   fit::IterationCallback on_iteration;
   if (!progress.is_none()) {
     on_iteration = [&](std::size_t g, const fit::GuessResult& r) {
-      py::gil_scoped_acquire gil;
-      std::lock_guard lock(m);
+      py::gil_scoped_acquire gil;  // (the calls are serialized: `raised` needs no other lock)
       if (raised) return;
       try {
         py::dict info;

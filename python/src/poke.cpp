@@ -32,13 +32,11 @@ py::dict grid_dict(const UnstructuredGrid& g) {
   py::dict d;
   d["points"] = to_numpy(Eigen::MatrixXd(g.points));
   for (const CellBlock& b : g.cells) d["quads"] = to_numpy(b.nodes);
-  for (const DataArray& a : g.point_data) {
-    d[py::str(a.name)] = a.values.cols() == 1 ? py::object(to_numpy(Eigen::VectorXd(a.values.col(0))))
-                                              : py::object(to_numpy(a.values));
-  }
-  for (const DataArray& a : g.cell_data) {
-    d[py::str(a.name)] = a.values.cols() == 1 ? py::object(to_numpy(Eigen::VectorXd(a.values.col(0))))
-                                              : py::object(to_numpy(a.values));
+  for (const auto* fields : {&g.point_data, &g.cell_data}) {
+    for (const DataArray& a : *fields) {
+      d[py::str(a.name)] = a.values.cols() == 1 ? py::object(to_numpy(Eigen::VectorXd(a.values.col(0))))
+                                                : py::object(to_numpy(a.values));
+    }
   }
   return d;
 }
