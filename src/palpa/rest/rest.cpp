@@ -287,9 +287,10 @@ RestResult RestSimulation::solve() {
     }
     ratio = term_->potential().max_depth() / options_.target_penetration;
     spdlog::log(options_.log_solves ? spdlog::level::info : spdlog::level::debug,
-                "rest: solve {}: {} Newton iterations, {} contacts, k = {:.4g} N/m, deepest penetration {} ({:.2f}× the "
+                "rest: solve {}: {} Newton iterations, {} contacts, k = {:.4g} {}, deepest penetration {} ({:.2f}× the "
                 "target)",
                 r.solves, res.iterations, term_->potential().size(), contact_stiffness(),
+                options_.sampling == body::ContactSampling::Surface ? "Pa/m" : "N/m",
                 format_quantity(term_->potential().max_depth(), Dimension::Length), ratio);
   };
   // The last solve always runs with the spring areas it ends with.
