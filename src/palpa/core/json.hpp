@@ -52,6 +52,7 @@ class JsonView {
 
   bool is_object() const noexcept { return j_->is_object(); }
   bool is_array() const noexcept { return j_->is_array(); }
+  bool is_string() const noexcept { return j_->is_string(); }
   bool has(const std::string& key) const;
 
   // The member `key` of this object (error if missing or not an object).

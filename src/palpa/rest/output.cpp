@@ -15,6 +15,7 @@
 #include "palpa/sim3d/scene_json.hpp"
 #include "palpa/report/pressure_template.hpp"
 #include "palpa/rest/measurements.hpp"
+#include "palpa/tet/material_field.hpp"
 
 namespace palpa::rest {
 
@@ -40,6 +41,7 @@ UnstructuredGrid body_grid(const RestSimulation& sim, const RestResult& r) {
   for (int v : sim.body().attached) attached[v] = 1.0;
   grid.point_data.push_back(DataArray{"attached", attached});
   grid.cell_data.push_back(DataArray{"von_mises_stress_Pa", tet::ElasticModel::von_mises(sim.model().cauchy_stress(u))});
+  grid.cell_data.push_back(DataArray{"youngs_modulus_Pa", tet::element_young(sim.model())});
   return grid;
 }
 
@@ -195,6 +197,7 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
   const double deg = 180.0 / 3.14159265358979323846;
   const Eigen::AngleAxisd aa(r.core_rotation);
   const bool surface = sim.contact_term().sampling() == body::ContactSampling::Surface;
+  const Eigen::VectorXd young = tet::element_young(sim.model());
   Json s = {{"palpa_rest", 1},
             {"scene", scene.file.string()},
             {"body", {{"source", scene.body_source},
@@ -205,7 +208,9 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
                       {"attached_vertices", scene.body.attached.size()},
                       {"self_intersections_removed", scene.body_repaired_pairs},
                       {"depth_clamped_vertices", scene.body_depth_clamped},
-                      {"mass_kg", sim.model().total_mass()}}},
+                      {"mass_kg", sim.model().total_mass()},
+                      {"youngs_modulus_Pa", {{"min", young.minCoeff()}, {"max", young.maxCoeff()}}},
+                      {"materials", sim.model().materials().size()}}},
             {"support", {{"source", scene.support_source}, {"vertices", sim.support().vertices().rows()}}},
             {"core", {{"translation_m", vec(r.core_translation)},
                       {"rotation_axis", vec(aa.axis())},

@@ -17,6 +17,7 @@
 #include "palpa/mesh/layer.hpp"
 #include "palpa/sim3d/scene_json.hpp"
 #include "palpa/sim3d/shapes.hpp"
+#include "palpa/tet/material_field.hpp"
 
 namespace palpa::rest {
 
@@ -45,9 +46,10 @@ double unit_of(const JsonView& parent) {
 
 void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   b.expect_only({"surface", "layer", "generate", "unit", "scale", "remove_self_intersections", "clip", "cut", "depth",
-                 "clamp_depth", "core_offset",
+                 "clamp_depth", "core_offset", "stiffness",
                  "edge", "material", "density", "position", "rotation", "element", "stabilization"});
   const int sources = int(b.has("surface")) + int(b.has("layer")) + int(b.has("generate"));
+  Eigen::VectorXd young;  // per tet [Pa]: the material's shape scaled to it
   if (sources != 1) b.fail("give exactly one of \"surface\", \"layer\", \"generate\"");
   if (const auto layer = b.find("layer")) {
     for (const char* k : {"scale", "remove_self_intersections", "clip", "cut", "depth", "clamp_depth", "core_offset", "edge"}) {
@@ -65,6 +67,23 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     }
     if (m.T.rows() == 0) layer->fail("the mesh has no tetrahedra", "a tet layer");
     s.body.mesh = m;
+    if (const auto st = b.find("stiffness")) {
+      if (!st->is_string() || st->as_string() != "layer") {
+        st->fail("with a ready layer, the moduli are the layer's own", "\"layer\" (its cell data youngs_modulus_Pa)");
+      }
+      const DataArray* E = g.find_cell_data("youngs_modulus_Pa");
+      if (E == nullptr || E->values.rows() != m.T.rows()) {
+        st->fail(fmt::format("{} has no cell data youngs_modulus_Pa for its tets", p.string()),
+                 "a layer written by palpa mesh layer with --stiffness-samples");
+      }
+      young = E->values.col(0);
+      for (Eigen::Index t = 0; t < young.size(); ++t) {
+        if (!(std::isfinite(young[t]) && young[t] > 0.0)) {
+          st->fail(fmt::format("tet {} of {} has a youngs_modulus_Pa of {}", t, p.string(), young[t]),
+                   "a finite modulus > 0 in every tet");
+        }
+      }
+    }
     for (Eigen::Index v = 0; v < att->values.rows(); ++v) {
       if (att->values(v, 0) > 0.5) s.body.attached.push_back(static_cast<int>(v));
     }
@@ -160,8 +179,17 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
         c->fail(fmt::format("unknown core offset '{}'", c->as_string()), "normals or distance");
       }
     }
-    const mesh::LayerMesh made = mesh::make_layer(scan, depth, std::nullopt, lo);
+    std::optional<mesh::Samples> stiffness;
+    if (const auto st = b.find("stiffness")) {
+      if (!st->is_object()) st->fail("not an object", "{\"samples\": \"moduli.csv\", \"column\": \"youngs_modulus\"}");
+      st->expect_only({"samples", "column"});
+      const std::string column = st->has("column") ? st->at("column").as_string() : "youngs_modulus";
+      stiffness = mesh::read_samples(resolve_scene_path(file, st->at("samples").as_string()), column,
+                                     Dimension::Pressure);
+    }
+    const mesh::LayerMesh made = mesh::make_layer(scan, depth, stiffness, lo);
     s.body.mesh = made.tets;
+    young = made.youngs_modulus;
     for (Eigen::Index v : made.attached) s.body.attached.push_back(static_cast<int>(v));
     s.body_depth_clamped = made.depth_clamped;
   }
@@ -177,7 +205,13 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   bm.material = read_scene_material(b.at("material"), file);
   bm.density = b.has("density") ? b.at("density").as_quantity(Dimension::Density) : 1000.0;
   if (!(bm.density >= 0.0)) b.at("density").fail("must be ≥ 0", "a density such as \"1000 kg/m^3\"");
-  s.body.materials = {bm};
+  if (young.size() > 0) {
+    tet::MaterialField field = tet::scaled_per_element(bm, young);
+    s.body.materials = std::move(field.materials);
+    s.body.element_material = std::move(field.element_material);
+  } else {
+    s.body.materials = {bm};
+  }
   s.body.element = sim3d::read_element(b);
 }
 

@@ -13,6 +13,12 @@
 //        // or "layer": "foot.vtu" (from palpa mesh layer: point data "attached")
 //        // or "generate": {"shape": "foot", "length": "260 mm"}, "depth", "edge"
 //     "material": "tissue.json",          // or an inline material object
+//     "stiffness": {"samples": "moduli.csv", "column": "youngs_modulus"},
+//        // optional: Young's moduli measured on the skin (mesh/samples.hpp),
+//        // interpolated over it as the depth is; each tet takes the
+//        // material's shape scaled to its modulus (tet/material_field.hpp).
+//        // With "layer": "stiffness": "layer" takes the layer's own cell data
+//        // youngs_modulus_Pa (palpa mesh layer --stiffness-samples).
 //     "density": "1000 kg/m^3",
 //     "element": "linear",                // or "nodal-pressure" for ν near 0.5
 //                                         // (tet/model.hpp), with an optional
