@@ -21,7 +21,6 @@ struct DesignArgs {
   bool resume = false;
   bool no_baselines = false;
   int iterations = -1;
-  int threads = -1;
   std::string method;
 };
 
@@ -33,7 +32,6 @@ void run_design_command(const DesignArgs& a) {
   run.overwrite = a.overwrite;
   run.baselines = !a.no_baselines;
   if (a.iterations >= 0) run.iterations = a.iterations;
-  if (a.threads >= 0) run.threads = a.threads;
   if (a.method == "cg") run.method = design::DesignMethod::ConjugateGradient;
   if (a.method == "lbfgs") run.method = design::DesignMethod::Lbfgs;
   if (const auto summary = design::run_design(run)) {
@@ -61,8 +59,6 @@ void add_design_command(CLI::App& app) {
   cmd->add_flag("--resume", a->resume, "Continue an interrupted run from the output folder's checkpoint.json");
   cmd->add_option("--iterations", a->iterations, "Iteration limit (overrides the scene's design.iterations)")
       ->check(CLI::Range(0, 100000));
-  cmd->add_option("--threads", a->threads, "Equilibria solved at once (0: min(step lengths, cores))")
-      ->check(CLI::Range(0, 1024));
   cmd->add_flag("--no-baselines", a->no_baselines, "Skip the scene's baselines (a quicker look at the design alone)");
   cmd->add_option("--method", a->method, "Optimizer (overrides the scene's design.method): lbfgs (the default) or cg")
       ->check(CLI::IsMember({"cg", "lbfgs"}));

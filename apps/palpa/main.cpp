@@ -8,6 +8,8 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <memory>
+#include <tbb/global_control.h>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -64,6 +66,12 @@ int main(int argc, char** argv) {
 
   int verbose = 0;
   bool quiet = false;
+  // At most this many cores for palpa's parallel loops and a design's
+  // simultaneous equilibria (TBB's limit): one job of many on a shared node.
+  int threads = 0;
+  std::unique_ptr<tbb::global_control> thread_limit;
+  app.add_option("--threads", threads, "Cores to use at most (default 0: all of this machine's)")
+      ->check(CLI::Range(0, 4096));
   app.add_flag("-v,--verbose", verbose, "More output (repeat for more: -vv)");
   app.add_flag("-q,--quiet", quiet, "Only warnings and errors; no progress bars");
 
@@ -88,7 +96,13 @@ int main(int argc, char** argv) {
       if (verbose == 1) v = palpa::Verbosity::Verbose;
       if (verbose >= 2) v = palpa::Verbosity::Trace;
       palpa::configure_logging(v);
-      spdlog::debug("palpa {}; {}", palpa::kVersion, palpa::describe_blas());
+      if (threads > 0) {
+        thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                             static_cast<std::size_t>(threads));
+      }
+      spdlog::debug("palpa {}; {}; cores: {}", palpa::kVersion, palpa::describe_blas(),
+                    tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+
       palpa::cli::check_distinct_paths(app);
     });
     app.parse(argc, argv);

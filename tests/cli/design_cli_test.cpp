@@ -47,12 +47,21 @@ void with_negative_image(std::string& scene) {
                       "press": "10 mm", "edge": "6 mm", "smoothing": 5, "band": "10 mm"}}}]})");
 }
 
+// --threads is palpa's, before or after the command: the cores it uses.
+TEST(Cli, ThreadsCapsTheCores) {
+  for (const char* args : {"-v --threads 1 units", "-v units --threads 1"}) {
+    const auto r = run_palpa(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("; cores: 1"), std::string::npos) << args << ": " << r.err;
+  }
+}
+
 // Checked before the scene is read: a range a person can read.
 TEST(DesignCli, OptionsOutOfRangeAreNamedWithTheirRange) {
   ScratchDir dir;
   const auto threads = run_palpa("design scene.json -o out --threads -1", dir.path());
   EXPECT_EQ(threads.exit_code, 2);
-  EXPECT_NE(threads.err.find("--threads: Value -1 not in range 0 to 1024"), std::string::npos) << threads.err;
+  EXPECT_NE(threads.err.find("--threads: Value -1 not in range 0 to 4096"), std::string::npos) << threads.err;
   const auto iterations = run_palpa("design scene.json -o out --iterations -1", dir.path());
   EXPECT_EQ(iterations.exit_code, 2);
   EXPECT_NE(iterations.err.find("--iterations: Value -1 not in range 0 to 100000"), std::string::npos)

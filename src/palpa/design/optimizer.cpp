@@ -4,6 +4,7 @@
 #include <ceres/gradient_problem.h>
 #include <ceres/gradient_problem_solver.h>
 #include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <random>
-#include <thread>
 
 #include "palpa/contact/contact.hpp"
 #include "palpa/contact/detail/cgal_checks.hpp"
@@ -191,8 +191,9 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
   unit_move_ = 0.5 * rest.target_penetration;
   int threads = options_.threads;
   if (threads <= 0) {
-    threads = static_cast<int>(std::min<std::size_t>(options_.moves.size(),
-                                                     std::max(1u, std::thread::hardware_concurrency())));
+    // Cores: this machine's, or fewer when palpa was told so (--threads).
+    const std::size_t cores = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+    threads = static_cast<int>(std::min<std::size_t>(options_.moves.size(), std::max<std::size_t>(1, cores)));
   }
   threads = std::min(threads, static_cast<int>(options_.moves.size()));
 
