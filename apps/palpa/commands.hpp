@@ -21,5 +21,6 @@ void add_design_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_mesh_command(CLI::App& app);
 void add_acquire_command(CLI::App& app);
+void add_subject_command(CLI::App& app);
 
 }  // namespace palpa::cli

@@ -85,6 +85,7 @@ int main(int argc, char** argv) {
   palpa::cli::add_compare_command(app);
   palpa::cli::add_mesh_command(app);
   palpa::cli::add_acquire_command(app);
+  palpa::cli::add_subject_command(app);
   palpa::cli::add_convert_command(app);
   palpa::cli::add_units_command(app);
 

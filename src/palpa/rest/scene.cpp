@@ -44,6 +44,85 @@ double unit_of(const JsonView& parent) {
   return 1.0;
 }
 
+}  // namespace
+
+SurfaceMesh read_body_surface(const JsonView& b, const fs::path& file, std::string& source,
+                              Eigen::Index* repaired_pairs) {
+  SurfaceMesh scan;
+  if (const auto surf = b.find("surface")) {
+    MeshReadOptions o;
+    o.unit_to_si = unit_of(b);
+    // A scan in normalized units: a dimensionless factor on top of the unit.
+    if (const auto sc = b.find("scale")) {
+      const double f = sc->as_number();
+      if (!(f >= 1e-6 && f <= 1e6)) sc->fail(fmt::format("a factor of {}", f), "a factor from 1e-6 to 1e6");
+      o.unit_to_si *= f;
+    }
+    scan = read_surface_mesh(resolve_scene_path(file, surf->as_string()), o);
+    source = resolve_scene_path(file, surf->as_string()).string();
+  } else {
+    const JsonView gen = b.at("generate");
+    gen.expect_only({"shape", "length", "width", "height"});
+    for (const char* k : {"scale", "unit"}) {
+      if (b.has(k)) {
+        b.at(k).fail("applies to a surface file, not to a generated body",
+                     "the generated body's sizes: \"length\", \"width\", \"height\" with their units");
+      }
+    }
+    mesh::BodyOptions o;
+    o.shape = mesh::parse_body_shape(gen.at("shape").as_string());
+    if (const auto v = gen.find("length")) o.size.x() = read_positive(*v, Dimension::Length);
+    if (const auto v = gen.find("width")) o.size.y() = read_positive(*v, Dimension::Length);
+    if (const auto v = gen.find("height")) o.size.z() = read_positive(*v, Dimension::Length);
+    o.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
+    if (const double smallest = mesh::body_smallest_feature(o); !(o.edge_length <= smallest / 4.0)) {
+      const JsonView where = b.has("edge") ? b.at("edge") : gen;
+      where.fail(fmt::format("an edge of {} for a {} whose smallest feature is {}",
+                             format_quantity(o.edge_length, Dimension::Length), mesh::body_shape_name(o.shape),
+                             format_quantity(smallest, Dimension::Length)),
+                 "at most a quarter of the smallest feature");
+    }
+    scan = mesh::make_body(o);
+    source = fmt::format("generated {}", gen.at("shape").as_string());
+  }
+  if (const auto fix = b.find("remove_self_intersections"); fix && fix->as_bool()) {
+    scan = mesh::remove_self_intersections(mesh::repair_surface(scan), source,
+                                           repaired_pairs);
+  }
+  if (const auto clip = b.find("clip")) {
+    clip->expect_only({"min", "max"});
+    const Eigen::AlignedBox3d box(read_quantity3(clip->at("min"), Dimension::Length),
+                                  read_quantity3(clip->at("max"), Dimension::Length));
+    if (!(box.min().array() < box.max().array()).all()) clip->fail("min is not below max in every coordinate");
+    scan = mesh::clip_to_box(mesh::repair_surface(scan), box, source);
+  }
+  // Boxes cut away (CSG difference): folds and webs outside the region
+  // of interest, such as the groin between seated thighs.
+  if (const auto cuts = b.find("cut")) {
+    for (std::size_t i = 0; i < cuts->size(); ++i) {
+      const JsonView c = cuts->at(i);
+      c.expect_only({"min", "max"});
+      const Eigen::Vector3d lo = read_quantity3(c.at("min"), Dimension::Length);
+      const Eigen::Vector3d hi = read_quantity3(c.at("max"), Dimension::Length);
+      if (!(lo.array() < hi.array()).all()) c.fail("min is not below max in every coordinate");
+      const Eigen::Vector3d body_lo = scan.V.colwise().minCoeff().transpose();
+      const Eigen::Vector3d body_hi = scan.V.colwise().maxCoeff().transpose();
+      if (!(lo.cwiseMax(body_lo).array() < hi.cwiseMin(body_hi).array()).all()) {
+        c.fail(fmt::format("the box does not overlap the body, which spans {} – {}",
+                           geometry::format_point(body_lo), geometry::format_point(body_hi)),
+               "a box that cuts part of the body away (same unit as the scene)");
+      }
+      SurfaceMesh cutter = sim3d::make_box_surface(hi - lo, 1);
+      cutter.V.rowwise() += Eigen::RowVector3d(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
+      scan = mesh::boolean(mesh::repair_surface(scan), cutter, mesh::BooleanOp::Difference,
+                           source + " (" + c.path() + ")");
+    }
+  }
+  return scan;
+}
+
+namespace {
+
 void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   b.expect_only({"surface", "layer", "generate", "unit", "scale", "remove_self_intersections", "clip", "cut", "depth",
                  "clamp_depth", "core_offset", "stiffness",
@@ -89,76 +168,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     }
     s.body_source = p.string();
   } else {
-    SurfaceMesh scan;
-    if (const auto surf = b.find("surface")) {
-      MeshReadOptions o;
-      o.unit_to_si = unit_of(b);
-      // A scan in normalized units: a dimensionless factor on top of the unit.
-      if (const auto sc = b.find("scale")) {
-        const double f = sc->as_number();
-        if (!(f >= 1e-6 && f <= 1e6)) sc->fail(fmt::format("a factor of {}", f), "a factor from 1e-6 to 1e6");
-        o.unit_to_si *= f;
-      }
-      scan = read_surface_mesh(resolve_scene_path(file, surf->as_string()), o);
-      s.body_source = resolve_scene_path(file, surf->as_string()).string();
-    } else {
-      const JsonView gen = b.at("generate");
-      gen.expect_only({"shape", "length", "width", "height"});
-      for (const char* k : {"scale", "unit"}) {
-        if (b.has(k)) {
-          b.at(k).fail("applies to a surface file, not to a generated body",
-                       "the generated body's sizes: \"length\", \"width\", \"height\" with their units");
-        }
-      }
-      mesh::BodyOptions o;
-      o.shape = mesh::parse_body_shape(gen.at("shape").as_string());
-      if (const auto v = gen.find("length")) o.size.x() = read_positive(*v, Dimension::Length);
-      if (const auto v = gen.find("width")) o.size.y() = read_positive(*v, Dimension::Length);
-      if (const auto v = gen.find("height")) o.size.z() = read_positive(*v, Dimension::Length);
-      o.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
-      if (const double smallest = mesh::body_smallest_feature(o); !(o.edge_length <= smallest / 4.0)) {
-        const JsonView where = b.has("edge") ? b.at("edge") : gen;
-        where.fail(fmt::format("an edge of {} for a {} whose smallest feature is {}",
-                               format_quantity(o.edge_length, Dimension::Length), mesh::body_shape_name(o.shape),
-                               format_quantity(smallest, Dimension::Length)),
-                   "at most a quarter of the smallest feature");
-      }
-      scan = mesh::make_body(o);
-      s.body_source = fmt::format("generated {}", gen.at("shape").as_string());
-    }
-    if (const auto fix = b.find("remove_self_intersections"); fix && fix->as_bool()) {
-      scan = mesh::remove_self_intersections(mesh::repair_surface(scan), s.body_source,
-                                             &s.body_repaired_pairs);
-    }
-    if (const auto clip = b.find("clip")) {
-      clip->expect_only({"min", "max"});
-      const Eigen::AlignedBox3d box(read_quantity3(clip->at("min"), Dimension::Length),
-                                    read_quantity3(clip->at("max"), Dimension::Length));
-      if (!(box.min().array() < box.max().array()).all()) clip->fail("min is not below max in every coordinate");
-      scan = mesh::clip_to_box(mesh::repair_surface(scan), box, s.body_source);
-    }
-    // Boxes cut away (CSG difference): folds and webs outside the region
-    // of interest, such as the groin between seated thighs.
-    if (const auto cuts = b.find("cut")) {
-      for (std::size_t i = 0; i < cuts->size(); ++i) {
-        const JsonView c = cuts->at(i);
-        c.expect_only({"min", "max"});
-        const Eigen::Vector3d lo = read_quantity3(c.at("min"), Dimension::Length);
-        const Eigen::Vector3d hi = read_quantity3(c.at("max"), Dimension::Length);
-        if (!(lo.array() < hi.array()).all()) c.fail("min is not below max in every coordinate");
-        const Eigen::Vector3d body_lo = scan.V.colwise().minCoeff().transpose();
-        const Eigen::Vector3d body_hi = scan.V.colwise().maxCoeff().transpose();
-        if (!(lo.cwiseMax(body_lo).array() < hi.cwiseMin(body_hi).array()).all()) {
-          c.fail(fmt::format("the box does not overlap the body, which spans {} – {}",
-                             geometry::format_point(body_lo), geometry::format_point(body_hi)),
-                 "a box that cuts part of the body away (same unit as the scene)");
-        }
-        SurfaceMesh cutter = sim3d::make_box_surface(hi - lo, 1);
-        cutter.V.rowwise() += Eigen::RowVector3d(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
-        scan = mesh::boolean(mesh::repair_surface(scan), cutter, mesh::BooleanOp::Difference,
-                             s.body_source + " (" + c.path() + ")");
-      }
-    }
+    SurfaceMesh scan = read_body_surface(b, file, s.body_source, &s.body_repaired_pairs);
     mesh::DepthSpec depth;
     if (const JsonView dv = b.at("depth"); dv.is_object()) {
       dv.expect_only({"samples", "column"});

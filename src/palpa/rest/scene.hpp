@@ -90,6 +90,14 @@ RestScene read_rest_scene(const std::filesystem::path& path, const std::string& 
 RestScene read_rest_scene(const Json& doc, const std::filesystem::path& path,
                           const std::string& version_key = "palpa_rest", const std::vector<std::string>& extra_keys = {});
 
+// The closed skin surface a "body" object describes with "surface" or
+// "generate" (read, scaled, repaired, clipped and cut as the keys say; in the
+// scan's frame, before "rotation" and "position") [m]. source is set to what
+// it was made from; repaired_pairs (may be null) to the crossing triangle
+// pairs removed. Throws palpa::Error (Input) naming the field.
+SurfaceMesh read_body_surface(const JsonView& body, const std::filesystem::path& file, std::string& source,
+                              Eigen::Index* repaired_pairs = nullptr);
+
 // Builds s.support (and s.support_source) from a "support" object for the
 // body of s as it stands; a negative image moves s.body into its hollow
 // (adding to s.body_shift). file: the scene, for relative paths and messages.

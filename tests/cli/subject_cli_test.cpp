@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+// `palpa subject`: a subject file checked (every bad input named by subject,
+// location and file), its plan, a location's dataset, and the body carrying
+// the fits (depth and modulus samples, the common shape, the scenes, which
+// `palpa rest` then solves with per-tet moduli).
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "common/test_support.hpp"
+
+namespace palpa {
+namespace {
+
+using test::run_palpa;
+using test::ScratchDir;
+
+// A generated thigh (its underside at z = −61 mm in the scan's frame), two
+// locations with ready curves, one with an ultrasound summary's depth.
+constexpr const char* kSubject = R"({
+  "palpa_subject": 1,
+  "name": "t01",
+  "body": {"generate": {"shape": "thigh", "length": "400 mm", "width": "160 mm", "height": "140 mm"},
+           "edge": "15 mm", "position": ["0 mm", "0 mm", "72 mm"]},
+  "locations": [
+    {"name": "back", "position": ["-100 mm", "0 mm", "-61 mm"],
+     "pokes": [{"radius": "2 mm", "curve": "r2.csv"}, {"radius": "6 mm", "curve": "r6.csv"}],
+     "depth_search": {"from": "15 mm", "to": "25 mm", "count": 3}},
+    {"name": "front", "position": ["100 mm", "0 mm", "-61 mm"],
+     "pokes": [{"radius": "6 mm", "force": "force.csv", "laser": "laser.csv", "calibration": "cal.csv",
+                "options": {"cutoff": "4 Hz", "no_tare": true}}],
+     "ultrasound": {"force": "us-force.csv", "interfaces": [{"name": "fat", "picks": "fat.csv"},
+                                                          {"name": "bone", "picks": "bone.csv"}]}}
+  ],
+  "fit": {"model": "neo-hookean", "poisson": 0.45, "lateral_size": "100 mm", "mesh_level": 1, "steps": 8},
+  "design": "design.json"
+})";
+
+constexpr const char* kDesign = R"({
+  "palpa_design": 1,
+  "core": {"mass": "5 kg", "free": ["z"]},
+  "support": {"box": {"size": ["600 mm", "300 mm", "50 mm"], "divisions": 30}},
+  "design": {"region": {"min": ["-280 mm", "-130 mm", "-10 mm"], "max": ["280 mm", "130 mm", "10 mm"]},
+             "iterations": 2}
+})";
+
+void write_inputs(const ScratchDir& dir, const std::string& subject = kSubject) {
+  dir.write("subject.json", subject);
+  dir.write("design.json", kDesign);
+  for (const char* f : {"r2.csv", "r6.csv", "force.csv", "laser.csv", "cal.csv", "us-force.csv", "fat.csv", "bone.csv"}) {
+    dir.write(f, "# a log\n");
+  }
+}
+
+// A location's fit as palpa fit leaves it: the material and the report.
+void write_fit(const ScratchDir& dir, const std::string& location, double young_kpa, double depth_m,
+               double rms) {
+  dir.write(fmt::format("fits/{}/material.json", location),
+            fmt::format(R"({{"palpa_material": 1, "model": "neo-hookean",
+                            "parameters": {{"E": "{} kPa", "nu": 0.45}},
+                            "provenance": {{"created_by": "test", "method": "test", "objective": null}}}})",
+                        young_kpa));
+  dir.write(fmt::format("fits/{}/report.json", location),
+            fmt::format(R"({{"layer_depth_m": {}, "depth_search": true, "termination": "converged",
+                            "curves": [{{"role": "train", "rms_error_fitted": {}, "largest_measured": 1.0}}]}})",
+                        depth_m, rms));
+}
+
+TEST(SubjectCli, PlansWritesDatasetsAndMakesTheBodyCarryTheFits) {
+  ScratchDir dir;
+  write_inputs(dir);
+  const auto check = run_palpa("subject check subject.json", dir.path());
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  EXPECT_NE(check.out.find("subject t01: 2 locations on the body, 3 pokes, 1 with ultrasound depths, 1 searched"),
+            std::string::npos)
+      << check.out;
+
+  const auto plan = run_palpa("subject plan subject.json -o plan.json", dir.path());
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  const auto p = nlohmann::json::parse(test::read_text(dir / "plan.json"));
+  EXPECT_EQ(p["subject"], "t01");
+  ASSERT_EQ(p["locations"].size(), 2u);
+  EXPECT_EQ(p["locations"][0]["pokes"][0]["tag"], "r2mm");
+  EXPECT_EQ(p["locations"][0]["pokes"][0]["curve"], (dir / "r2.csv").string());
+  const auto acquire = p["locations"][1]["pokes"][0]["acquire"].get<std::vector<std::string>>();
+  const std::vector<std::string> expected = {"--force", (dir / "force.csv").string(), "--laser",
+                                             (dir / "laser.csv").string(), "--calibration", (dir / "cal.csv").string(),
+                                             "--cutoff", "4 Hz", "--no-tare"};
+  EXPECT_EQ(acquire, expected);
+  const auto us = p["locations"][1]["ultrasound"]["acquire"].get<std::vector<std::string>>();
+  EXPECT_EQ(us.back(), "bone");  // the deepest interface gives the depth by default
+  EXPECT_EQ(p["fit"], nlohmann::json({"--model", "neo-hookean", "--mesh-level", "1", "--steps", "8"}));
+
+  // Datasets: the searched depths; the ultrasound's rest depth of the bone.
+  dir.write("curves/back/r2mm.csv", "x\n");
+  dir.write("curves/back/r6mm.csv", "x\n");
+  dir.write("curves/front/r6mm.csv", "x\n");
+  dir.write("depths/front.json", R"({"rest_depth": {"fat_m": 0.008, "bone_m": 0.021}})");
+  auto r = run_palpa("subject dataset subject.json --location back --curves curves/back -o fits/back.json", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto back = nlohmann::json::parse(test::read_text(dir / "fits/back.json"));
+  EXPECT_EQ(back["layer_depth"]["count"], 3);
+  EXPECT_EQ(back["curves"][1]["file"], "../curves/back/r6mm.csv");
+  EXPECT_EQ(back["poisson"], 0.45);
+  r = run_palpa("subject dataset subject.json --location front --curves curves/front --ultrasound depths/front.json "
+                "-o fits/front.json",
+                dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(test::read_text(dir / "fits/front.json"))["layer_depth"], "0.021 m");
+
+  // The body: the shape from the better fit (front), each location's E and depth.
+  write_fit(dir, "back", 20.0, 0.015, 0.05);
+  write_fit(dir, "front", 60.0, 0.021, 0.01);
+  r = run_palpa("subject body subject.json --fits fits -o body", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto fields = nlohmann::json::parse(test::read_text(dir / "body/fields.json"));
+  EXPECT_EQ(fields["shape_from"], "front");
+  EXPECT_NEAR(fields["locations"][0]["youngs_modulus_Pa"].get<double>(), 20e3, 1e-6);
+  EXPECT_NE(test::read_text(dir / "body/moduli.csv").find("x_m,y_m,z_m,youngs_modulus_Pa\n-0.1,0,-0.061,"),
+            std::string::npos);
+  EXPECT_NE(test::read_text(dir / "body/depths.csv").find("0.1,0,-0.061,0.021"), std::string::npos);
+  EXPECT_NE(test::read_text(dir / "body/material.json").find("60 kPa"), std::string::npos);
+  const auto design = nlohmann::json::parse(test::read_text(dir / "body/design.json"));
+  EXPECT_EQ(design["body"]["material"], "material.json");
+  EXPECT_EQ(design["design"]["iterations"], 2);
+  const auto rest = nlohmann::json::parse(test::read_text(dir / "body/rest.json"));
+  EXPECT_EQ(rest["palpa_rest"], 1);
+  EXPECT_FALSE(rest.contains("design"));
+
+  // The body rests with the moduli over its skin: 20 to 60 kPa.
+  r = run_palpa("rest body/rest.json -o rest", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto summary = nlohmann::json::parse(test::read_text(dir / "rest/summary.json"));
+  EXPECT_NEAR(summary["body"]["youngs_modulus_Pa"]["min"].get<double>(), 20e3, 0.01 * 20e3);
+  EXPECT_NEAR(summary["body"]["youngs_modulus_Pa"]["max"].get<double>(), 60e3, 0.01 * 60e3);
+  EXPECT_GT(summary["body"]["materials"].get<int>(), 100);
+}
+
+void expect_subject_refused(const std::string& subject, const std::vector<std::string>& words, const std::string& command = "check") {
+  ScratchDir dir;
+  write_inputs(dir, subject);
+  const auto r = run_palpa(fmt::format("subject {} subject.json", command), dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  for (const std::string& w : words) EXPECT_NE(r.err.find(w), std::string::npos) << w << "\n" << r.err;
+}
+
+std::string subject_with(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+TEST(SubjectCli, BadSubjectsAreNamedBySubjectLocationAndFile) {
+  // A location off the body.
+  expect_subject_refused(subject_with(kSubject, R"(["100 mm", "0 mm", "-61 mm"])", R"(["100 mm", "0 mm", "-80 mm"])"),
+                 {"locations[1].position", "subject 't01', location 'front'", "from the skin of generated thigh",
+                  "within 5 mm"});
+  // A location without pokes.
+  expect_subject_refused(subject_with(kSubject, R"("pokes": [{"radius": "2 mm", "curve": "r2.csv"}, {"radius": "6 mm", "curve": "r6.csv"}])",
+                          R"("pokes": [])"),
+                 {"locations[0].pokes", "subject 't01', location 'back': no pokes"});
+  // A radius's file missing.
+  expect_subject_refused(subject_with(kSubject, R"("curve": "r6.csv")", R"("curve": "r6mm.csv")"),
+                 {"locations[0].pokes[1].curve", "location 'back', 6 mm poke: no file", "r6mm.csv"});
+  // Two locations of one name.
+  expect_subject_refused(subject_with(kSubject, R"("name": "front")", R"("name": "back")"),
+                 {"locations[1].name", "a second location 'back'"});
+  // Two pokes of one radius.
+  expect_subject_refused(subject_with(kSubject, R"({"radius": "2 mm", "curve": "r2.csv"})", R"({"radius": "6 mm", "curve": "r2.csv"})"),
+                 {"locations[0].pokes[1].radius", "a second poke of radius 6 mm"});
+  // No depth: neither ultrasound nor a search.
+  expect_subject_refused(subject_with(kSubject, R"(,
+     "depth_search": {"from": "15 mm", "to": "25 mm", "count": 3})", ""),
+                 {"locations[0]", "location 'back': no layer depth", "\"depth_search\""});
+  // The body's material is the fits'.
+  expect_subject_refused(subject_with(kSubject, R"("edge": "15 mm",)", R"("edge": "15 mm", "material": "m.json",)"),
+                 {"body.material", "the body's material comes from the fits"});
+  // An option acquire poke does not have.
+  expect_subject_refused(subject_with(kSubject, R"("no_tare": true)", R"("no_tear": true)"), {"no_tear"});
+}
+
+TEST(SubjectCli, AFailedFitIsNamedAndNothingIsWritten) {
+  ScratchDir dir;
+  write_inputs(dir);
+  write_fit(dir, "back", 20.0, 0.015, 0.05);
+  const auto r = run_palpa("subject body subject.json --fits fits -o body", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("subject 't01', location 'front': its fit has no material.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "body/moduli.csv"));
+}
+
+}  // namespace
+}  // namespace palpa
