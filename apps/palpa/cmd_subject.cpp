@@ -3,9 +3,10 @@
 // pipeline that are the subject's own (the others are palpa acquire, fit,
 // rest and design), called by the workflow (workflow/Snakefile).
 
-#include <array>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <array>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -28,15 +29,15 @@ void check(const std::string& file) {
     pokes += l.pokes.size();
     ultrasound += l.ultrasound ? 1 : 0;
   }
-  fmt::print("subject {}: {} locations on the body, {} pokes, {} with ultrasound depths, {} searched; design {}{}\n",
-             s.name, s.locations.size(), pokes, ultrasound, s.locations.size() - ultrasound, s.design.string(),
-             s.pressure ? "; measured pressure map to compare" : "");
+  fmt::print(
+      "subject {}: {} locations on the body, {} pokes, {} with ultrasound depths, {} searched; "
+      "design {}{}\n",
+      s.name, s.locations.size(), pokes, ultrasound, s.locations.size() - ultrasound,
+      s.design.string(), s.pressure ? "; measured pressure map to compare" : "");
 }
 
 void plan(const std::string& file, const std::string& output) {
-  const pipeline::Subject s = pipeline::read_subject(file);
-  pipeline::check_locations_on_body(s);
-  const Json p = pipeline::subject_plan(s);
+  const Json p = pipeline::cohort_plan(pipeline::read_subjects(file));
   if (output.empty()) {
     fmt::print("{}\n", p.dump(2));
   } else {
@@ -53,12 +54,12 @@ void dataset(const DatasetArgs& a) {
   const fs::path out(a.output);
   const fs::path folder = out.has_parent_path() ? out.parent_path() : fs::path(".");
   fs::create_directories(folder);
-  const Json d = pipeline::location_dataset(s, a.location, a.curves,
-                                            a.ultrasound.empty() ? std::nullopt : std::optional<fs::path>(a.ultrasound),
-                                            folder);
+  const Json d = pipeline::location_dataset(
+      s, a.location, a.curves,
+      a.ultrasound.empty() ? std::nullopt : std::optional<fs::path>(a.ultrasound), folder);
   write_file_atomic(out, [&](std::ostream& o) { o << format_json(d, out); });
-  spdlog::info("subject {}, location {}: dataset of {} curves, layer depth {}; wrote {}", s.name, a.location,
-               d.at("curves").size(), d.at("layer_depth").dump(), a.output);
+  spdlog::info("subject {}, location {}: dataset of {} curves, layer depth {}; wrote {}", s.name,
+               a.location, d.at("curves").size(), d.at("layer_depth").dump(), a.output);
 }
 
 void body(const std::string& subject, const std::string& fits, const std::string& output) {
@@ -67,63 +68,86 @@ void body(const std::string& subject, const std::string& fits, const std::string
   pipeline::write_body_fields(s, f, output);
   for (const pipeline::LocationFit& l : f.fits) {
     spdlog::info("{}: E {}, ν {:.3f}, depth {} ({}), relative error {:.3g}", l.name,
-                 format_quantity(l.young, Dimension::Pressure), l.poisson, format_quantity(l.depth, Dimension::Length),
+                 format_quantity(l.young, Dimension::Pressure), l.poisson,
+                 format_quantity(l.depth, Dimension::Length),
                  l.depth_searched ? "searched" : "measured", l.relative_error);
   }
-  spdlog::info("subject {}: the body carries {} fits, the shape of {}; wrote {}", s.name, f.fits.size(),
-               f.fits[f.shape].name, output);
+  spdlog::info("subject {}: the body carries {} fits, the shape of {}; wrote {}", s.name,
+               f.fits.size(), f.fits[f.shape].name, output);
 }
 
 }  // namespace
 
 void add_subject_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("subject",
-                                 "A subject's own pipeline steps (the workflow in workflow/Snakefile calls them): check "
-                                 "a subject file, plan its jobs, write a location's fit dataset, make the body "
-                                 "carry the fits.");
+  auto* cmd = app.add_subcommand(
+      "subject",
+      "A subject's own pipeline steps (the workflow in workflow/Snakefile calls them): check "
+      "a subject file, plan its jobs, write a location's fit dataset, make the body "
+      "carry the fits.");
   cmd->require_subcommand(1);
 
-  auto* check_cmd = cmd->add_subcommand("check", "Check a subject file: every key, file and name, and that every "
-                                                 "location lies on the body.\n  palpa subject check subject.json");
+  auto* check_cmd =
+      cmd->add_subcommand("check",
+                          "Check a subject file: every key, file and name, and that every "
+                          "location lies on the body.\n  palpa subject check subject.json");
   auto check_file = std::make_shared<std::string>();
   check_cmd->add_option("subject", *check_file, "Subject file (JSON)")->required();
   declare_paths(*check_cmd, {"subject"}, {});
   check_cmd->callback([check_file] { check(*check_file); });
 
-  auto* plan_cmd = cmd->add_subcommand("plan", "The jobs of a subject's pipeline as JSON (per location its pokes' and "
-                                               "ultrasound's inputs and acquisition arguments; the fit's arguments), "
-                                               "after checking it.\n  palpa subject plan subject.json -o plan.json");
+  auto* plan_cmd = cmd->add_subcommand("plan",
+                                       "The jobs of a subject's or a cohort's pipelines as JSON "
+                                       "(per location its pokes' and ultrasound's "
+                                       "inputs and acquisition arguments; the fit's arguments), "
+                                       "after checking the files (palpa subject check "
+                                       "also checks that the locations lie on the body).\n  palpa "
+                                       "subject plan cohort.json -o plan.json");
   auto plan_args = std::make_shared<std::pair<std::string, std::string>>();
-  plan_cmd->add_option("subject", plan_args->first, "Subject file (JSON)")->required();
+  plan_cmd
+      ->add_option(
+          "subject", plan_args->first,
+          "Subject file, or cohort file {\"palpa_cohort\": 1, \"subjects\": [subject files]}")
+      ->required();
   plan_cmd->add_option("-o,--output", plan_args->second, "Plan file (default: print it)");
   declare_paths(*plan_cmd, {"subject"}, {"-o"});
   plan_cmd->callback([plan_args] { plan(plan_args->first, plan_args->second); });
 
   auto* ds_cmd = cmd->add_subcommand(
-      "dataset", "A location's fit dataset: its acquired curves, its layer depth (measured by ultrasound) or the "
-                 "depths to search.\n  palpa subject dataset subject.json --location thigh-left --curves "
-                 "out/curves/thigh-left --ultrasound out/depths/thigh-left.json -o out/fits/thigh-left.json");
+      "dataset",
+      "A location's fit dataset: its acquired curves, its layer depth (measured by ultrasound) or "
+      "the "
+      "depths to search.\n  palpa subject dataset subject.json --location thigh-left --curves "
+      "out/curves/thigh-left --ultrasound out/depths/thigh-left.json -o out/fits/thigh-left.json");
   auto ds = std::make_shared<DatasetArgs>();
   ds_cmd->add_option("subject", ds->subject, "Subject file (JSON)")->required();
   ds_cmd->add_option("--location", ds->location, "The location's name")->required();
-  ds_cmd->add_option("--curves", ds->curves, "Folder of the location's curves, <tag>.csv per poke (r4mm.csv)")
+  ds_cmd
+      ->add_option("--curves", ds->curves,
+                   "Folder of the location's curves, <tag>.csv per poke (r4mm.csv)")
       ->required();
-  ds_cmd->add_option("--ultrasound", ds->ultrasound,
-                     "The location's ultrasound summary (palpa acquire ultrasound --summary), when it has one");
+  ds_cmd->add_option(
+      "--ultrasound", ds->ultrasound,
+      "The location's ultrasound summary (palpa acquire ultrasound --summary), when it has one");
   ds_cmd->add_option("-o,--output", ds->output, "Dataset file (JSON) to write")->required();
   declare_paths(*ds_cmd, {"subject", "--ultrasound"}, {"-o"});
   ds_cmd->callback([ds] { dataset(*ds); });
 
-  auto* body_cmd = cmd->add_subcommand(
-      "body", "Make the body carry the fits: depth and modulus samples at the locations, the material's common "
-              "shape, and the rest and design scenes of the subject's body.\n"
-              "  palpa subject body subject.json --fits out/fits -o out/body");
+  auto* body_cmd =
+      cmd->add_subcommand("body",
+                          "Make the body carry the fits: depth and modulus samples at the "
+                          "locations, the material's common "
+                          "shape, and the rest and design scenes of the subject's body.\n"
+                          "  palpa subject body subject.json --fits out/fits -o out/body");
   auto ba = std::make_shared<std::array<std::string, 3>>();
   body_cmd->add_option("subject", (*ba)[0], "Subject file (JSON)")->required();
-  body_cmd->add_option("--fits", (*ba)[1], "Folder of the fits, one folder per location (palpa fit's output)")
+  body_cmd
+      ->add_option("--fits", (*ba)[1],
+                   "Folder of the fits, one folder per location (palpa fit's output)")
       ->required();
-  body_cmd->add_option("-o,--output", (*ba)[2],
-                       "Output folder (depths.csv, moduli.csv, material.json, fields.json, rest.json, design.json)")
+  body_cmd
+      ->add_option("-o,--output", (*ba)[2],
+                   "Output folder (depths.csv, moduli.csv, material.json, fields.json, rest.json, "
+                   "design.json)")
       ->required();
   declare_paths(*body_cmd, {"subject"}, {"-o"});
   body_cmd->callback([ba] { body((*ba)[0], (*ba)[1], (*ba)[2]); });

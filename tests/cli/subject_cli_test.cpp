@@ -3,9 +3,9 @@
 // location and file), its plan, a location's dataset, and the body carrying
 // the fits (depth and modulus samples, the common shape, the scenes, which
 // `palpa rest` then solves with per-tet moduli).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "common/test_support.hpp"
@@ -48,7 +48,8 @@ constexpr const char* kDesign = R"({
 void write_inputs(const ScratchDir& dir, const std::string& subject = kSubject) {
   dir.write("subject.json", subject);
   dir.write("design.json", kDesign);
-  for (const char* f : {"r2.csv", "r6.csv", "force.csv", "laser.csv", "cal.csv", "us-force.csv", "fat.csv", "bone.csv"}) {
+  for (const char* f : {"r2.csv", "r6.csv", "force.csv", "laser.csv", "cal.csv", "us-force.csv",
+                        "fat.csv", "bone.csv"}) {
     dir.write(f, "# a log\n");
   }
 }
@@ -72,42 +73,51 @@ TEST(SubjectCli, PlansWritesDatasetsAndMakesTheBodyCarryTheFits) {
   write_inputs(dir);
   const auto check = run_palpa("subject check subject.json", dir.path());
   ASSERT_EQ(check.exit_code, 0) << check.err;
-  EXPECT_NE(check.out.find("subject t01: 2 locations on the body, 3 pokes, 1 with ultrasound depths, 1 searched"),
-            std::string::npos)
+  EXPECT_NE(
+      check.out.find(
+          "subject t01: 2 locations on the body, 3 pokes, 1 with ultrasound depths, 1 searched"),
+      std::string::npos)
       << check.out;
 
   const auto plan = run_palpa("subject plan subject.json -o plan.json", dir.path());
   ASSERT_EQ(plan.exit_code, 0) << plan.err;
-  const auto p = nlohmann::json::parse(test::read_text(dir / "plan.json"));
+  const auto p = nlohmann::json::parse(test::read_text(dir / "plan.json"))["subjects"][0];
   EXPECT_EQ(p["subject"], "t01");
   ASSERT_EQ(p["locations"].size(), 2u);
   EXPECT_EQ(p["locations"][0]["pokes"][0]["tag"], "r2mm");
   EXPECT_EQ(p["locations"][0]["pokes"][0]["curve"], (dir / "r2.csv").string());
   const auto acquire = p["locations"][1]["pokes"][0]["acquire"].get<std::vector<std::string>>();
-  const std::vector<std::string> expected = {"--force", (dir / "force.csv").string(), "--laser",
-                                             (dir / "laser.csv").string(), "--calibration", (dir / "cal.csv").string(),
-                                             "--cutoff", "4 Hz", "--no-tare"};
+  const std::vector<std::string> expected = {
+      "--force",       (dir / "force.csv").string(), "--laser",  (dir / "laser.csv").string(),
+      "--calibration", (dir / "cal.csv").string(),   "--cutoff", "4 Hz",
+      "--no-tare"};
   EXPECT_EQ(acquire, expected);
   const auto us = p["locations"][1]["ultrasound"]["acquire"].get<std::vector<std::string>>();
   EXPECT_EQ(us.back(), "bone");  // the deepest interface gives the depth by default
-  EXPECT_EQ(p["fit"], nlohmann::json({"--model", "neo-hookean", "--mesh-level", "1", "--steps", "8"}));
+  EXPECT_EQ(p["fit"],
+            nlohmann::json({"--model", "neo-hookean", "--mesh-level", "1", "--steps", "8"}));
 
   // Datasets: the searched depths; the ultrasound's rest depth of the bone.
   dir.write("curves/back/r2mm.csv", "x\n");
   dir.write("curves/back/r6mm.csv", "x\n");
   dir.write("curves/front/r6mm.csv", "x\n");
   dir.write("depths/front.json", R"({"rest_depth": {"fat_m": 0.008, "bone_m": 0.021}})");
-  auto r = run_palpa("subject dataset subject.json --location back --curves curves/back -o fits/back.json", dir.path());
+  auto r = run_palpa(
+      "subject dataset subject.json --location back --curves curves/back -o fits/back.json",
+      dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto back = nlohmann::json::parse(test::read_text(dir / "fits/back.json"));
   EXPECT_EQ(back["layer_depth"]["count"], 3);
   EXPECT_EQ(back["curves"][1]["file"], "../curves/back/r6mm.csv");
   EXPECT_EQ(back["poisson"], 0.45);
-  r = run_palpa("subject dataset subject.json --location front --curves curves/front --ultrasound depths/front.json "
-                "-o fits/front.json",
-                dir.path());
+  r = run_palpa(
+      "subject dataset subject.json --location front --curves curves/front --ultrasound "
+      "depths/front.json "
+      "-o fits/front.json",
+      dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(nlohmann::json::parse(test::read_text(dir / "fits/front.json"))["layer_depth"], "0.021 m");
+  EXPECT_EQ(nlohmann::json::parse(test::read_text(dir / "fits/front.json"))["layer_depth"],
+            "0.021 m");
 
   // The body: the shape from the better fit (front), each location's E and depth.
   write_fit(dir, "back", 20.0, 0.015, 0.05);
@@ -117,7 +127,8 @@ TEST(SubjectCli, PlansWritesDatasetsAndMakesTheBodyCarryTheFits) {
   const auto fields = nlohmann::json::parse(test::read_text(dir / "body/fields.json"));
   EXPECT_EQ(fields["shape_from"], "front");
   EXPECT_NEAR(fields["locations"][0]["youngs_modulus_Pa"].get<double>(), 20e3, 1e-6);
-  EXPECT_NE(test::read_text(dir / "body/moduli.csv").find("x_m,y_m,z_m,youngs_modulus_Pa\n-0.1,0,-0.061,"),
+  EXPECT_NE(test::read_text(dir / "body/moduli.csv")
+                .find("x_m,y_m,z_m,youngs_modulus_Pa\n-0.1,0,-0.061,"),
             std::string::npos);
   EXPECT_NE(test::read_text(dir / "body/depths.csv").find("0.1,0,-0.061,0.021"), std::string::npos);
   EXPECT_NE(test::read_text(dir / "body/material.json").find("60 kPa"), std::string::npos);
@@ -137,12 +148,14 @@ TEST(SubjectCli, PlansWritesDatasetsAndMakesTheBodyCarryTheFits) {
   EXPECT_GT(summary["body"]["materials"].get<int>(), 100);
 }
 
-void expect_subject_refused(const std::string& subject, const std::vector<std::string>& words, const std::string& command = "check") {
+void expect_subject_refused(const std::string& subject, const std::vector<std::string>& words,
+                            const std::string& command = "check") {
   ScratchDir dir;
   write_inputs(dir, subject);
   const auto r = run_palpa(fmt::format("subject {} subject.json", command), dir.path());
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  for (const std::string& w : words) EXPECT_NE(r.err.find(w), std::string::npos) << w << "\n" << r.err;
+  for (const std::string& w : words)
+    EXPECT_NE(r.err.find(w), std::string::npos) << w << "\n" << r.err;
 }
 
 std::string subject_with(std::string s, const std::string& from, const std::string& to) {
@@ -153,31 +166,40 @@ std::string subject_with(std::string s, const std::string& from, const std::stri
 
 TEST(SubjectCli, BadSubjectsAreNamedBySubjectLocationAndFile) {
   // A location off the body.
-  expect_subject_refused(subject_with(kSubject, R"(["100 mm", "0 mm", "-61 mm"])", R"(["100 mm", "0 mm", "-80 mm"])"),
-                 {"locations[1].position", "subject 't01', location 'front'", "from the skin of generated thigh",
-                  "within 5 mm"});
+  expect_subject_refused(
+      subject_with(kSubject, R"(["100 mm", "0 mm", "-61 mm"])", R"(["100 mm", "0 mm", "-80 mm"])"),
+      {"locations[1].position", "subject 't01', location 'front'",
+       "from the skin of generated thigh", "within 5 mm"});
   // A location without pokes.
-  expect_subject_refused(subject_with(kSubject, R"("pokes": [{"radius": "2 mm", "curve": "r2.csv"}, {"radius": "6 mm", "curve": "r6.csv"}])",
-                          R"("pokes": [])"),
-                 {"locations[0].pokes", "subject 't01', location 'back': no pokes"});
+  expect_subject_refused(
+      subject_with(
+          kSubject,
+          R"("pokes": [{"radius": "2 mm", "curve": "r2.csv"}, {"radius": "6 mm", "curve": "r6.csv"}])",
+          R"("pokes": [])"),
+      {"locations[0].pokes", "subject 't01', location 'back': no pokes"});
   // A radius's file missing.
-  expect_subject_refused(subject_with(kSubject, R"("curve": "r6.csv")", R"("curve": "r6mm.csv")"),
-                 {"locations[0].pokes[1].curve", "location 'back', 6 mm poke: no file", "r6mm.csv"});
+  expect_subject_refused(
+      subject_with(kSubject, R"("curve": "r6.csv")", R"("curve": "r6mm.csv")"),
+      {"locations[0].pokes[1].curve", "location 'back', 6 mm poke: no file", "r6mm.csv"});
   // Two locations of one name.
   expect_subject_refused(subject_with(kSubject, R"("name": "front")", R"("name": "back")"),
-                 {"locations[1].name", "a second location 'back'"});
+                         {"locations[1].name", "a second location 'back'"});
   // Two pokes of one radius.
-  expect_subject_refused(subject_with(kSubject, R"({"radius": "2 mm", "curve": "r2.csv"})", R"({"radius": "6 mm", "curve": "r2.csv"})"),
-                 {"locations[0].pokes[1].radius", "a second poke of radius 6 mm"});
+  expect_subject_refused(subject_with(kSubject, R"({"radius": "2 mm", "curve": "r2.csv"})",
+                                      R"({"radius": "6 mm", "curve": "r2.csv"})"),
+                         {"locations[0].pokes[1].radius", "a second poke of radius 6 mm"});
   // No depth: neither ultrasound nor a search.
   expect_subject_refused(subject_with(kSubject, R"(,
-     "depth_search": {"from": "15 mm", "to": "25 mm", "count": 3})", ""),
-                 {"locations[0]", "location 'back': no layer depth", "\"depth_search\""});
+     "depth_search": {"from": "15 mm", "to": "25 mm", "count": 3})",
+                                      ""),
+                         {"locations[0]", "location 'back': no layer depth", "\"depth_search\""});
   // The body's material is the fits'.
-  expect_subject_refused(subject_with(kSubject, R"("edge": "15 mm",)", R"("edge": "15 mm", "material": "m.json",)"),
-                 {"body.material", "the body's material comes from the fits"});
+  expect_subject_refused(
+      subject_with(kSubject, R"("edge": "15 mm",)", R"("edge": "15 mm", "material": "m.json",)"),
+      {"body.material", "the body's material comes from the fits"});
   // An option acquire poke does not have.
-  expect_subject_refused(subject_with(kSubject, R"("no_tare": true)", R"("no_tear": true)"), {"no_tear"});
+  expect_subject_refused(subject_with(kSubject, R"("no_tare": true)", R"("no_tear": true)"),
+                         {"no_tear"});
 }
 
 TEST(SubjectCli, AFailedFitIsNamedAndNothingIsWritten) {
@@ -186,8 +208,44 @@ TEST(SubjectCli, AFailedFitIsNamedAndNothingIsWritten) {
   write_fit(dir, "back", 20.0, 0.015, 0.05);
   const auto r = run_palpa("subject body subject.json --fits fits -o body", dir.path());
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_NE(r.err.find("subject 't01', location 'front': its fit has no material.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("subject 't01', location 'front': its fit has no material.json"),
+            std::string::npos)
+      << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "body/moduli.csv"));
+}
+
+}  // namespace
+}  // namespace palpa
+
+namespace palpa {
+namespace {
+
+TEST(SubjectCli, ACohortPlansEverySubjectAndRefusesADuplicateName) {
+  ScratchDir dir;
+  write_inputs(dir);
+  dir.write("b/subject.json", subject_with(kSubject, R"("name": "t01")", R"("name": "t02")"));
+  dir.write("b/design.json", kDesign);
+  for (const char* f : {"r2.csv", "r6.csv", "force.csv", "laser.csv", "cal.csv", "us-force.csv",
+                        "fat.csv", "bone.csv"}) {
+    dir.write(std::string("b/") + f, "# a log\n");
+  }
+  dir.write("cohort.json",
+            R"({"palpa_cohort": 1, "subjects": ["subject.json", "b/subject.json"]})");
+  const auto r = run_palpa("subject plan cohort.json", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto p = nlohmann::json::parse(r.out);
+  ASSERT_EQ(p["subjects"].size(), 2u);
+  EXPECT_EQ(p["subjects"][1]["subject"], "t02");
+  EXPECT_EQ(p["subjects"][1]["locations"][0]["pokes"][0]["curve"], (dir / "b/r2.csv").string());
+
+  dir.write("b/subject.json", kSubject);
+  const auto dup = run_palpa("subject plan cohort.json", dir.path());
+  EXPECT_EQ(dup.exit_code, 2);
+  EXPECT_NE(dup.err.find("subjects[1]"), std::string::npos) << dup.err;
+  EXPECT_NE(dup.err.find("subject 't01' of " + (dir / "b/subject.json").string() +
+                         " has the name of " + (dir / "subject.json").string()),
+            std::string::npos)
+      << dup.err;
 }
 
 }  // namespace

@@ -2,13 +2,14 @@
 // A scaled material is the same model with its energy times the factor, for
 // every model: energy, stress and tangent at random stretches (compressed,
 // stretched, inverted), the small-strain constants, and the refusals.
+#include "palpa/material/scaled.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "model_fixtures.hpp"
 #include "palpa/core/error.hpp"
-#include "palpa/material/scaled.hpp"
 
 namespace palpa::material {
 namespace {
@@ -58,7 +59,8 @@ TEST(Scaled, RefusesAFactorThatIsNotPositive) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::Input);
-    EXPECT_NE(std::string(e.what()).find("Young's modulus of -5 Pa"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("Young's modulus of -5 Pa"), std::string::npos)
+        << e.what();
   }
 }
 

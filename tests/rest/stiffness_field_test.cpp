@@ -7,10 +7,10 @@
 // independent springs in series with the contact's penalty: the core's sink
 // and pitch follow from force and moment balance over that bed, and the
 // softer half sinks more. The same block with one modulus does not pitch.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <fmt/format.h>
 
 #include "common/test_support.hpp"
 #include "palpa/io/vtu.hpp"
@@ -22,8 +22,8 @@
 namespace palpa::rest {
 namespace {
 
-constexpr double kLength = 0.08;  // along x: the halves x < 0 and x > 0
-constexpr double kGap = 5e-4;     // between the block and the support at the start
+constexpr double kLength = 0.08;               // along x: the halves x < 0 and x > 0
+constexpr double kGap = 5e-4;                  // between the block and the support at the start
 constexpr double kSoft = 20e3, kStiff = 60e3;  // [Pa]
 constexpr double kCoreForce = 0.3;             // [N], down, at the top face's centre
 
@@ -37,7 +37,8 @@ Layer two_region_block(double soft, double stiff) {
   using test::kH;
   using test::kW;
   Layer l;
-  l.box = tet::make_box_mesh(Eigen::Vector3d(-kLength / 2, -kW / 2, kGap), Eigen::Vector3d(kLength / 2, kW / 2, kH + kGap),
+  l.box = tet::make_box_mesh(Eigen::Vector3d(-kLength / 2, -kW / 2, kGap),
+                             Eigen::Vector3d(kLength / 2, kW / 2, kH + kGap),
                              Eigen::Vector3i(16, 8, 4));
   const TetMesh& m = l.box.mesh;
   l.young.resize(m.T.rows());
@@ -83,8 +84,8 @@ struct Bed {
 // for a sink s(x) = a + b x of the core (its own compression, its weight
 // compressing it by half as much as a load on top would, and the contact's
 // penetration p/k).
-Bed winkler_bed(const TetMesh& mesh, const std::vector<int>& bottom, const Eigen::VectorXd& young_per_vertex,
-                double k, double load) {
+Bed winkler_bed(const TetMesh& mesh, const std::vector<int>& bottom,
+                const Eigen::VectorXd& young_per_vertex, double k, double load) {
   using test::kG;
   using test::kH;
   using test::kRho;
@@ -95,7 +96,8 @@ Bed winkler_bed(const TetMesh& mesh, const std::vector<int>& bottom, const Eigen
   Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
   for (int v : bottom) {
     const double x = mesh.V(v, 0), y = mesh.V(v, 1);
-    const bool x_edge = std::abs(std::abs(x) - kLength / 2) < 1e-9, y_edge = std::abs(std::abs(y) - test::kW / 2) < 1e-9;
+    const bool x_edge = std::abs(std::abs(x) - kLength / 2) < 1e-9,
+               y_edge = std::abs(std::abs(y) - test::kW / 2) < 1e-9;
     const double area = dx * dy * (x_edge ? 0.5 : 1.0) * (y_edge ? 0.5 : 1.0);
     const double E = young_per_vertex[v];
     const double c = area / (kH / E + 1.0 / k);
@@ -132,7 +134,8 @@ Solved rest_two_region(double soft, double stiff) {
     const double x = l.box.mesh.V(v, 0);
     Ev[v] = std::abs(x) < 1e-9 ? 0.5 * (soft + stiff) : (x < 0.0 ? soft : stiff);
   }
-  out.bed = winkler_bed(l.box.mesh, l.box.vertex_sets.at("bottom"), Ev, r.stiffness, r.contact_force.z());
+  out.bed =
+      winkler_bed(l.box.mesh, l.box.vertex_sets.at("bottom"), Ev, r.stiffness, r.contact_force.z());
   // The core's sink at x (down positive) beyond the gap: −(t_z + R_zx x) − gap.
   out.observed = {-r.core_translation.z() - kGap, -r.core_rotation(2, 0)};
   return out;

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/pipeline/body_fields.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -34,8 +35,10 @@ LocationFit read_fit(const Subject& s, const Location& l, const fs::path& folder
   f.folder = folder;
   for (const char* name : {"material.json", "report.json"}) {
     if (!fs::is_regular_file(folder / name)) {
-      throw_input_error(fmt::format("{}: its fit has no {} (did the fit fail? see its log)", who, name),
-                        ErrorContext{(folder / name).string(), 0, 0, ""}, "the output of palpa fit for this location");
+      throw_input_error(
+          fmt::format("{}: its fit has no {} (did the fit fail? see its log)", who, name),
+          ErrorContext{(folder / name).string(), 0, 0, ""},
+          "the output of palpa fit for this location");
     }
   }
   const material::MaterialFile m = material::read_material_file(folder / "material.json");
@@ -46,12 +49,15 @@ LocationFit read_fit(const Subject& s, const Location& l, const fs::path& folder
   const Json report = read_json_file(report_file);
   const JsonView r(report, report_file.string());
   f.depth = r.at("layer_depth_m").as_number();
-  if (!(f.depth > 0.0)) r.at("layer_depth_m").fail(fmt::format("{}: a layer depth of {} m", who, f.depth), "a depth > 0");
+  if (!(f.depth > 0.0))
+    r.at("layer_depth_m")
+        .fail(fmt::format("{}: a layer depth of {} m", who, f.depth), "a depth > 0");
   f.depth_searched = r.at("depth_search").as_bool();
   f.termination = r.at("termination").as_string();
   if (f.termination == "failed" || f.termination == "not_run") {
-    r.at("termination").fail(fmt::format("{}: its fit ended '{}'", who, f.termination),
-                             "a fit that converged or stopped at its limits");
+    r.at("termination")
+        .fail(fmt::format("{}: its fit ended '{}'", who, f.termination),
+              "a fit that converged or stopped at its limits");
   }
   double sum = 0.0;
   int n = 0;
@@ -73,9 +79,12 @@ LocationFit read_fit(const Subject& s, const Location& l, const fs::path& folder
 void absolutize_paths(Json& j, const fs::path& template_file) {
   if (j.is_object()) {
     for (auto& [key, value] : j.items()) {
-      const bool path_key = key == "file" || key == "grid" || key == "surface" || key == "samples" || key == "layer";
+      const bool path_key =
+          key == "file" || key == "grid" || key == "surface" || key == "samples" || key == "layer";
       if (path_key && value.is_string()) {
-        value = sim3d::resolve_scene_path(template_file, value.get<std::string>()).lexically_normal().string();
+        value = sim3d::resolve_scene_path(template_file, value.get<std::string>())
+                    .lexically_normal()
+                    .string();
       } else {
         absolutize_paths(value, template_file);
       }
@@ -85,8 +94,8 @@ void absolutize_paths(Json& j, const fs::path& template_file) {
   }
 }
 
-CsvTable samples_table(const BodyFields& f, const std::string& value, const std::string& unit, Dimension d,
-                           const std::string& comment) {
+CsvTable samples_table(const BodyFields& f, const std::string& value, const std::string& unit,
+                       Dimension d, const std::string& comment) {
   CsvTable t;
   t.add_comment(comment);
   std::vector<double> x, y, z, v;
@@ -122,8 +131,9 @@ void write_body_fields(const Subject& s, const BodyFields& f, const fs::path& ou
   fs::create_directories(out);
   const LocationFit& shape = f.fits[f.shape];
   OutputBatch batch;
-  batch.add(out / "depths.csv") << format_csv(samples_table(
-      f, "depth", "m", Dimension::Length, fmt::format("subject {}: layer depth per poke location", s.name)));
+  batch.add(out / "depths.csv") << format_csv(
+      samples_table(f, "depth", "m", Dimension::Length,
+                    fmt::format("subject {}: layer depth per poke location", s.name)));
   batch.add(out / "moduli.csv") << format_csv(samples_table(
       f, "youngs_modulus", "Pa", Dimension::Pressure,
       fmt::format("subject {}: small-strain Young's modulus of each location's fit", s.name)));
@@ -131,28 +141,31 @@ void write_body_fields(const Subject& s, const BodyFields& f, const fs::path& ou
 
   Json locations = Json::array();
   for (const LocationFit& l : f.fits) {
-    locations.push_back({{"name", l.name},
-                         {"position_m", {l.position.x(), l.position.y(), l.position.z()}},
-                         {"youngs_modulus_Pa", l.young},
-                         {"poisson", l.poisson},
-                         {"depth_m", l.depth},
-                         {"depth", l.depth_searched ? "searched by the fit" : "measured (ultrasound)"},
-                         {"relative_error", l.relative_error},
-                         {"termination", l.termination},
-                         {"fit", l.folder.string()}});
+    locations.push_back(
+        {{"name", l.name},
+         {"position_m", {l.position.x(), l.position.y(), l.position.z()}},
+         {"youngs_modulus_Pa", l.young},
+         {"poisson", l.poisson},
+         {"depth_m", l.depth},
+         {"depth", l.depth_searched ? "searched by the fit" : "measured (ultrasound)"},
+         {"relative_error", l.relative_error},
+         {"termination", l.termination},
+         {"fit", l.folder.string()}});
   }
-  const Json fields = {{"palpa_body_fields", 1},
-                       {"subject", s.name},
-                       {"shape_from", shape.name},
-                       {"shape_rule", s.shape_from.empty() ? "the location with the lowest relative training error"
-                                                           : "named by the subject"},
-                       {"locations", locations}};
+  const Json fields = {
+      {"palpa_body_fields", 1},
+      {"subject", s.name},
+      {"shape_from", shape.name},
+      {"shape_rule", s.shape_from.empty() ? "the location with the lowest relative training error"
+                                          : "named by the subject"},
+      {"locations", locations}};
   batch.add(out / "fields.json") << format_json(fields, out / "fields.json");
 
   // The scenes: the design template's support and load, the subject's body.
   Json design = read_json_file(s.design);
   const JsonView dv(design, s.design.string());
-  if (!dv.is_object() || !dv.has("palpa_design")) dv.fail("not a design scene", "a palpa design scene (\"palpa_design\": 1)");
+  if (!dv.is_object() || !dv.has("palpa_design"))
+    dv.fail("not a design scene", "a palpa design scene (\"palpa_design\": 1)");
   absolutize_paths(design, s.design);
   Json body = s.doc.at("body");
   absolutize_paths(body, s.file);

@@ -127,6 +127,15 @@ Json location_dataset(const Subject& s, const std::string& location, const std::
                       const std::optional<std::filesystem::path>& ultrasound_summary,
                       const std::filesystem::path& dataset_dir);
 
+// The subjects of a cohort file, {"palpa_cohort": 1, "subjects": ["s01/subject.json", ...]}
+// (paths relative to it), or of a subject file alone. Throws palpa::Error
+// (Input) for a subject that does not read (its message) and for two subjects
+// of one name (naming both files).
+std::vector<Subject> read_subjects(const std::filesystem::path& cohort_or_subject);
+
+// The plans of several subjects: {"palpa_plan": 1, "subjects": [subject_plan, ...]}.
+Json cohort_plan(const std::vector<Subject>& subjects);
+
 // The location named `name`; throws palpa::Error (Input) listing the names.
 const Location& find_location(const Subject& s, const std::string& name);
 

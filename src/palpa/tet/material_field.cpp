@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/tet/material_field.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+
+#include <cmath>
 #include <map>
 
 #include "palpa/core/error.hpp"
@@ -10,7 +11,8 @@
 
 namespace palpa::tet {
 
-MaterialField scaled_per_element(const BodyMaterial& shape, const Eigen::VectorXd& young, double step) {
+MaterialField scaled_per_element(const BodyMaterial& shape, const Eigen::VectorXd& young,
+                                 double step) {
   if (!(step >= 0.0 && std::isfinite(step))) {
     throw Error(ErrorKind::Internal, fmt::format("a modulus step of {}", step));
   }
@@ -29,7 +31,8 @@ MaterialField scaled_per_element(const BodyMaterial& shape, const Eigen::VectorX
     auto [it, added] = groups.try_emplace(key, static_cast<int>(f.materials.size()));
     if (added) {
       const double group_young = step > 0.0 ? std::exp(key * log_step) : E;
-      f.materials.push_back(BodyMaterial{material::with_young(*shape.material, group_young), shape.density});
+      f.materials.push_back(
+          BodyMaterial{material::with_young(*shape.material, group_young), shape.density});
     }
     f.element_material[e] = it->second;
   }
