@@ -11,8 +11,8 @@
 # fresh clone or worktree reuses what an earlier build of the same sources
 # compiled.
 # pybind11, numpy and pytest: the Python module (`make python`) and its tests.
-# Snakemake runs the subject pipeline (workflow/Snakefile); Chromium opens the
-# HTML reports in the tests.
+# Snakemake runs the subject pipeline (workflow/Snakefile); Chromium (and PIL,
+# to look at its screenshots) opens the HTML reports in the tests.
 set -euo pipefail
 
 packages=(
@@ -27,7 +27,7 @@ packages=(
   python3 python3-meshio
   python3-dev pybind11-dev python3-numpy python3-pytest
   calculix-ccx
-  snakemake chromium
+  snakemake chromium python3-pil
 )
 
 missing=()

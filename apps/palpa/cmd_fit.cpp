@@ -84,7 +84,7 @@ void add_fit_command(CLI::App& app) {
       "  palpa fit examples/fit/foam/dataset.json -o fit-foam --resume    (continue an interrupted fit)");
   auto a = std::make_shared<FitArgs>();
   cmd->add_option("dataset", a->dataset, "Dataset file (JSON, see the README)")->required();
-  cmd->add_option("-o,--output", a->output, "Output folder (material.json, report.json, curves, plots)")
+  cmd->add_option("-o,--output", a->output, "Output folder (material.json, report.json, report.html, curves, plots)")
       ->required();
   cmd->add_option("--model", a->model,
                   fmt::format("Material model to fit: {} (default spline: Valanis-Landel natural cubic splines)",

@@ -137,6 +137,14 @@ TEST(FitCli, WritesTheMaterialReportCurvesAndPlots) {
   for (const char* svg : {"curves.svg", "objective.svg", "depth.svg"}) {
     EXPECT_NE(test::read_text(out / svg).find("<svg"), std::string::npos) << svg;
   }
+  // The report a person opens: the material, the curves and the search, in a browser.
+  const std::string html = test::read_text(out / "report.html");
+  for (const char* part : {"<h2>Material</h2>", "<td>E (small strain)</td>", "<td>a2mm</td><td>validate</td>",
+                           "layer-depth search", "data:image/svg+xml;base64,"}) {
+    EXPECT_NE(html.find(part), std::string::npos) << part;
+  }
+  const auto page = test::check_page_in_browser(out / "report.html");
+  EXPECT_EQ(page.exit_code, 0) << page.out << page.err;
   EXPECT_NE(r.err.find("fit: layer depth 10 mm"), std::string::npos) << r.err;
   // How sure: E's 95% interval around E, in the report and the summary; the
   // best depth is the deeper end of the two searched, and a warning says so.

@@ -86,19 +86,33 @@ std::string read_text(const std::filesystem::path& path) {
   return s.str();
 }
 
-CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd) {
+namespace {
+
+CommandResult run_shell(const std::string& command, const std::filesystem::path& cwd) {
   ScratchDir capture;
   const auto out = capture / "stdout";
   const auto err = capture / "stderr";
   std::string cmd;
   if (!cwd.empty()) cmd += fmt::format("cd '{}' && ", cwd.string());
-  cmd += fmt::format("'{}' {} >'{}' 2>'{}' </dev/null", palpa_binary(), args, out.string(), err.string());
+  cmd += fmt::format("{} >'{}' 2>'{}' </dev/null", command, out.string(), err.string());
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = read_text(out);
   r.err = read_text(err);
   return r;
+}
+
+}  // namespace
+
+CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd) {
+  return run_shell(fmt::format("'{}' {}", palpa_binary(), args), cwd);
+}
+
+CommandResult check_page_in_browser(const std::filesystem::path& page) {
+  return run_shell(fmt::format("/usr/bin/python3 {} {}", shell_quote(source_path("tests/browser/check_page.py")),
+                               shell_quote(page)),
+                   {});
 }
 
 bool run_palpa_killed_after(const std::string& args, const std::filesystem::path& cwd, double seconds) {

@@ -70,6 +70,11 @@ CommandResult run_palpa(const std::string& args, const std::filesystem::path& cw
 // Starts `palpa <args>` in `cwd` (output discarded) and kills it with SIGKILL
 // `seconds` after the start, as a crash or an out-of-memory killer would.
 // Returns true if it was killed, false if it had ended by then.
+// Opens an HTML page in headless Chromium (tests/browser/check_page.py):
+// exit 0 and "ok: ..." on stdout when it is one self-contained file that
+// loads with nothing on the browser's console and is not blank; else exit 1
+// and why.
+CommandResult check_page_in_browser(const std::filesystem::path& page);
 bool run_palpa_killed_after(const std::string& args, const std::filesystem::path& cwd, double seconds);
 // The same with `signal` (e.g. SIGINT, as Ctrl-C): the exit code palpa gave
 // (128 + signal if the signal killed it), or -1 if it had ended by then.

@@ -15,6 +15,7 @@
 #include "palpa/fit/simulate.hpp"
 #include "palpa/io/csv.hpp"
 #include "palpa/material/material_file.hpp"
+#include "palpa/report/html.hpp"
 #include "palpa/report/plot.hpp"
 
 namespace palpa::fit {
@@ -107,11 +108,57 @@ Json uncertainty_json(const Uncertainty& u) {
                          "neighbours"}};
 }
 
+// report.html: the material, the fit's figures, the curves and the search
+// (the report.json members a person reads first).
+report::HtmlReport fit_report_html(const Dataset& d, const Json& rep, const material::Material& m,
+                                   const std::string& curves_svg,
+                                   const std::vector<report::HtmlReport::Picture>& search) {
+  report::HtmlReport h(fmt::format("palpa fit: {}", d.sample),
+                       fmt::format("{} fitted to {} curve(s) of {}; {}", rep.at("model").get<std::string>(),
+                                   d.curves.size(), d.file.string(), rep.at("termination").get<std::string>()));
+  h.heading("Material");
+  std::vector<std::vector<std::string>> params;
+  const Eigen::VectorXd theta = m.params();
+  for (Eigen::Index k = 0; k < theta.size(); ++k) {
+    const material::ParamInfo info = m.param_info(k);
+    params.push_back({info.name, format_quantity(theta[k], info.dimension), info.meaning});
+  }
+  const material::ElasticConstants ec = material::small_strain_constants(m);
+  params.push_back({"E (small strain)", format_quantity(ec.young(), Dimension::Pressure), "Young's modulus at rest"});
+  params.push_back({"nu (small strain)", fmt::format("{:.4g}", ec.poisson()), "Poisson's ratio at rest"});
+  if (d.test != TestKind::Homogeneous) {
+    params.push_back({"layer depth", format_quantity(rep.at("layer_depth_m").get<double>(), Dimension::Length),
+                      d.depth_search() ? "found by the search" : "given"});
+  }
+  h.table({"parameter", "value", "meaning"}, params);
+  h.heading("Curves: measured and fitted");
+  h.pictures({{curves_svg, "measured curves with the stage-1 and fitted materials' predictions"}});
+  std::vector<std::vector<std::string>> rows;
+  const char* unit = d.test == TestKind::Homogeneous ? "Pa" : "N";
+  const auto figure = [](const Json& j) { return j.is_null() ? std::string("-") : fmt::format("{:.4g}", j.get<double>()); };
+  for (const Json& c : rep.at("curves")) {
+    rows.push_back({c.at("name").get<std::string>(), c.at("role").get<std::string>(),
+                    c.contains("radius_m") ? format_quantity(c.at("radius_m").get<double>(), Dimension::Length) : "-",
+                    std::to_string(c.at("points").get<int>()), figure(c.at("largest_measured")),
+                    figure(c.at("rms_error_stage1")), figure(c.at("rms_error_fitted"))});
+  }
+  h.table({"curve", "role", "punch radius", "points", fmt::format("largest [{}]", unit),
+           fmt::format("RMS error, stage 1 [{}]", unit), fmt::format("RMS error, fitted [{}]", unit)},
+          rows);
+  h.heading("The optimization");
+  h.table({"iterations", "seconds", "termination", "stop reason"},
+          {{std::to_string(rep.at("iterations").get<int>()), fmt::format("{:.1f}", rep.at("seconds").get<double>()),
+            rep.at("termination").get<std::string>(), rep.at("stop_reason").get<std::string>()}});
+  h.pictures(search);
+  return h;
+}
+
 }  // namespace
 
 std::vector<std::filesystem::path> fit_output_files(const std::filesystem::path& out, const Dataset& d) {
   std::vector<std::filesystem::path> files;
-  for (const char* name : {"checkpoint.json", "report.json", "material.json", "curves.svg", "objective.svg"}) {
+  for (const char* name :
+       {"checkpoint.json", "report.json", "material.json", "curves.svg", "objective.svg", "report.html"}) {
     files.push_back(out / name);
   }
   if (d.depth_search()) files.push_back(out / "depth.svg");
@@ -325,7 +372,8 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d,
   if (d.test != TestKind::Homogeneous) {
     for (auto& p : fc.plots) p.y.min = 0.0;
   }
-  batch.add(out / "curves.svg") << report::render_svg(fc);
+  const std::string curves_svg = report::render_svg(fc);
+  batch.add(out / "curves.svg") << curves_svg;
 
   report::Figure fo;
   fo.title = "objective per iteration";
@@ -345,7 +393,9 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d,
                                        it, e, report::Mark::LineDots, static_cast<int>(g), g != r.best});
   }
   fo.plots.push_back(po);
-  batch.add(out / "objective.svg") << report::render_svg(fo);
+  const std::string objective_svg = report::render_svg(fo);
+  batch.add(out / "objective.svg") << objective_svg;
+  std::vector<report::HtmlReport::Picture> search_pictures{{objective_svg, "objective per iteration"}};
 
   if (d.depth_search()) {
     report::Figure fd;
@@ -373,8 +423,11 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d,
           report::Series{fmt::format("fitted {}", o.model), dd, ef, report::Mark::LineDots, 0, false});
     }
     fd.plots.push_back(pd);
-    batch.add(out / "depth.svg") << report::render_svg(fd);
+    const std::string depth_svg = report::render_svg(fd);
+    batch.add(out / "depth.svg") << depth_svg;
+    search_pictures.push_back({depth_svg, "layer-depth search"});
   }
+  batch.add(out / "report.html") << fit_report_html(d, report, *best.material, curves_svg, search_pictures).html();
   batch.commit();
   material::write_material_file(material_path, *best.material, prov);
   return s;

@@ -11,6 +11,7 @@
 #include <zlib.h>
 
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/base64.hpp"
 #include "palpa/core/text.hpp"
 #include "palpa/io/detail/binary.hpp"
 #include "palpa/io/detail/mesh_build.hpp"
@@ -127,41 +128,6 @@ double load_value(std::string_view t, const char* p, ByteOrder o) {
   if (t == "UInt64") return static_cast<double>(io_detail::load<std::uint64_t>(p, o));
   if (t == "Float32") return static_cast<double>(io_detail::load<float>(p, o));
   return io_detail::load<double>(p, o);
-}
-
-int base64_value(char c) {
-  if (c >= 'A' && c <= 'Z') return c - 'A';
-  if (c >= 'a' && c <= 'z') return c - 'a' + 26;
-  if (c >= '0' && c <= '9') return c - '0' + 52;
-  if (c == '+') return 62;
-  if (c == '/') return 63;
-  return -1;
-}
-
-// Decodes base64; padding ends a chunk, so separately encoded header and data
-// (as VTK writes them) decode like one stream.
-std::optional<std::string> base64_decode(std::string_view s) {
-  std::string out;
-  out.reserve(s.size() * 3 / 4);
-  std::uint32_t acc = 0;
-  int bits = 0;
-  for (char c : s) {
-    if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
-    if (c == '=') {
-      acc = 0;
-      bits = 0;
-      continue;
-    }
-    const int v = base64_value(c);
-    if (v < 0) return std::nullopt;
-    acc = (acc << 6) | static_cast<std::uint32_t>(v);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back(static_cast<char>((acc >> bits) & 0xFFu));
-    }
-  }
-  return out;
 }
 
 class VtuReader {
