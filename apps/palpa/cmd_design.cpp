@@ -53,7 +53,8 @@ void add_design_command(CLI::App& app) {
       ->required();
   cmd->add_option("-o,--output", a->output,
                   "Output folder (support.obj, support_mm.stl, support/body/skin before and after, score.svg, "
-                  "pressure_histogram.svg, body_pressure.svg, support_pressure.svg, summary.json, checkpoint.json)")
+                  "pressure_histogram.svg, body_pressure.svg, support_pressure.svg, report.html, summary.json, "
+                  "checkpoint.json)")
       ->required();
   cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder (starts afresh)");
   cmd->add_flag("--resume", a->resume, "Continue an interrupted run from the output folder's checkpoint.json");

@@ -160,6 +160,15 @@ TEST(DesignCli, ScoresBaselinesAndComparesMaps) {
   const std::string plot = test::read_text(dir / "out" / "score.svg");
   EXPECT_NE(plot.find("baseline &apos;negative image&apos; (from scratch)"), std::string::npos);
   EXPECT_NE(plot.find("score [Pa^3 m^2]"), std::string::npos);
+  // The report a person opens: the maps, the scores with the baseline's row, in a browser.
+  const std::string html = test::read_text(dir / "out" / "report.html");
+  for (const char* part : {"<td>initial support</td>", "<td>designed support</td>", "<td>baseline: negative image</td>",
+                           "the body's side", "data:image/svg+xml;base64,"}) {
+    EXPECT_NE(html.find(part), std::string::npos) << part;
+  }
+  EXPECT_EQ(html.find("not made"), std::string::npos);
+  const auto page = test::check_page_in_browser(dir / "out" / "report.html");
+  EXPECT_EQ(page.exit_code, 0) << page.out << page.err;
   EXPECT_GT(s["pose_to_seat"]["before"]["contacts"].get<int>(), 0);
   const auto c = run_palpa("compare out/support_before.ply out/support_before.ply --reference-field pose_to_seat_Pa "
                            "--summary cmp.json",

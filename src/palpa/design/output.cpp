@@ -18,6 +18,7 @@
 #include "palpa/geometry/umbrella.hpp"
 #include "palpa/report/compare.hpp"
 #include "palpa/report/plot.hpp"
+#include "palpa/report/html.hpp"
 #include "palpa/report/pressure_map_svg.hpp"
 #include "palpa/rest/output.hpp"
 #include "palpa/sim3d/scene_json.hpp"
@@ -372,8 +373,49 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                   {"zeta_body_reduction_percent", 100.0 * (1.0 - checked_final.score.zeta_body / own->score.zeta_body)},
                   {"body_peak_ratio", own->score.body_pressure.maxCoeff() / checked_final.score.body_pressure.maxCoeff()}};
   }
+  // The report first: summary.json marks the run as finished.
+  design_report_html(out, s).write(out / "report.html");
   write_json_file(out / "summary.json", s);
   return s;
+}
+
+report::HtmlReport design_report_html(const std::filesystem::path& out, const Json& s) {
+  const auto kpa = [](double pa) { return fmt::format("{:.3g} kPa", pa * 1e-3); };
+  const auto sci = [](double v) { return fmt::format("{:.4g}", v); };
+  const Json& a = s.at("initial");
+  const Json& b = s.at("final");
+  report::HtmlReport h(
+      fmt::format("palpa design: {}", s.at("scene").get<std::string>()),
+      fmt::format("re-solved from scratch: score ζ {:.1f}% lower, the body's ζ {:.1f}% lower, body peak {} → {}; "
+                  "{} iterations ({})",
+                  s.at("zeta_reduction_percent").get<double>(), s.at("zeta_body_reduction_percent").get<double>(),
+                  kpa(a.at("peak_pressure_Pa").at("body").get<double>()),
+                  kpa(b.at("peak_pressure_Pa").at("body").get<double>()), s.at("iterations").get<int>(),
+                  s.at("termination").get<std::string>()));
+  h.heading("Pressures felt (body) and seen (support), before and after");
+  h.picture_files({{out / "body_pressure.svg", "the body's side: what the person feels"}});
+  h.picture_files({{out / "support_pressure.svg", "the support's side: what a pressure mat on it would read"}});
+  h.heading("Scores");
+  const auto row = [&](const std::string& name, const Json& e) {
+    const Json& body = e.at("pressure_map").at("body");
+    return std::vector<std::string>{name,
+                                    sci(e.at("zeta").get<double>()),
+                                    sci(e.at("zeta_body").get<double>()),
+                                    kpa(e.at("peak_pressure_Pa").at("body").get<double>()),
+                                    kpa(body.at("peak_pressure_index_Pa").get<double>()),
+                                    kpa(body.at("mean_Pa").get<double>()),
+                                    fmt::format("{:.1f} cm²", body.at("contact_area_m2").get<double>() * 1e4),
+                                    kpa(e.at("peak_pressure_Pa").at("support").get<double>())};
+  };
+  std::vector<std::vector<std::string>> rows{row("initial support", a), row("designed support", b)};
+  for (const Json& bl : s.at("baselines")) rows.push_back(row("baseline: " + bl.at("name").get<std::string>(), bl));
+  h.table({"support", "ζ", "ζ body", "body peak", "body PPI", "body mean", "body contact area", "support peak"}, rows);
+  h.paragraph("Every row is re-solved from scratch (the automatic contact stiffness, no warm start). ζ: the "
+              "ergonomic score of the pressures; PPI: the peak pressure index, the highest mean pressure over "
+              "9 cm² (a 3 × 3 block of a mat's 1 cm sensels).");
+  h.picture_files({{out / "score.svg", "the score per iteration"},
+                   {out / "pressure_histogram.svg", "pressures before and after"}});
+  return h;
 }
 
 }  // namespace palpa::design

@@ -26,6 +26,7 @@
 #include "palpa/core/json.hpp"
 #include "palpa/design/optimizer.hpp"
 #include "palpa/design/scene.hpp"
+#include "palpa/report/html.hpp"
 
 namespace palpa::design {
 
@@ -35,6 +36,11 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                           const DesignResult& result);
 
 // A support shape to make: out/<stem>.obj [m] and out/<stem>_mm.stl [mm].
+// report.html of a design folder: the pressure maps before and after, the
+// scores of the initial, designed and baseline supports, the score history
+// (from its summary.json figures and the pictures beside it).
+report::HtmlReport design_report_html(const std::filesystem::path& out, const Json& summary);
+
 void write_support_shape(const std::filesystem::path& out, const std::string& stem, const SurfaceMesh& shape);
 
 }  // namespace palpa::design
