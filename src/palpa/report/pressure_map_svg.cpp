@@ -191,14 +191,16 @@ struct MapPanelData {
   std::vector<double> x, y, depth;  // per vertex, in the view [m]
   MapBox whole, contact;
   double top = 0.0;            // largest pressure drawn [Pa]
+  double bottom = 0.0;         // smallest value (a field's; 0 for pressures)
   std::vector<int> triangles;  // drawn, farthest first
   std::size_t left_out = 0;    // zero-pressure triangles left out for size
 };
 
-MapPanelData prepare_map_panel(const PressureMapPanel& panel, const MapView& view) {
+MapPanelData prepare_map_panel(const PressureMapPanel& panel, const MapView& view, bool field) {
   MapPanelData p;
   p.panel = &panel;
-  p.metrics = panel.metrics ? *panel.metrics : pressure_metrics(panel.surface, panel.pressure);
+  if (!field) p.metrics = panel.metrics ? *panel.metrics : pressure_metrics(panel.surface, panel.pressure);
+  if (field) p.bottom = std::numeric_limits<double>::infinity();
   const SurfaceMesh& m = panel.surface;
   const auto n = static_cast<std::size_t>(m.V.rows());
   p.x.resize(n);
@@ -214,8 +216,9 @@ MapPanelData prepare_map_panel(const PressureMapPanel& panel, const MapView& vie
     bool touched = false;
     for (int c = 0; c < 3; ++c) {
       const double pc = panel.pressure[m.F(f, c)];
-      touched |= pc > 0.0;
+      touched |= pc > 0.0 || field;
       p.top = std::max(p.top, pc);
+      if (field) p.bottom = std::min(p.bottom, pc);
     }
     for (int c = 0; c < 3; ++c) {
       const auto v = static_cast<std::size_t>(m.F(f, c));
@@ -379,8 +382,10 @@ class MapPathWriter {
   std::string d_;
 };
 
+// Colours: a pressure from 0 to top (0: the surface's grey shade); a field
+// from bottom to top (field true).
 void draw_map_triangles(SvgWriter& svg, const MapPanelData& p, const MapView& view,
-                        const MapPlacement& at, double top) {
+                        const MapPlacement& at, double bottom, double top, bool field) {
   const SurfaceMesh& m = p.panel->surface;
   const Eigen::VectorXd& pr = p.panel->pressure;
   MapPathWriter out(svg);
@@ -398,7 +403,9 @@ void draw_map_triangles(SvgWriter& svg, const MapPanelData& p, const MapView& vi
       q[static_cast<std::size_t>(c)] = {at.px(p.x[static_cast<std::size_t>(v)]),
                                         at.py(p.y[static_cast<std::size_t>(v)])};
       fill[static_cast<std::size_t>(c)] =
-          pr[v] > 0.0 ? hex_color(viridis(pr[v] / top)) : kMapGreys[level];
+          field  ? hex_color(viridis(top > bottom ? std::min(1.0, (pr[v] - bottom) / (top - bottom)) : 0.5))
+          : pr[v] > 0.0 ? hex_color(viridis(pr[v] / top))
+                        : kMapGreys[level];
     }
     if (fill[0] == fill[1] && fill[1] == fill[2]) {
       out.polygon(fill[0], q.data(), 3);
@@ -435,7 +442,17 @@ std::vector<std::string> pack_map_caption(const std::vector<std::string>& items,
   return lines;
 }
 
-std::vector<std::string> map_caption(const MapPanelData& p, double width) {
+std::vector<std::string> map_caption(const MapPanelData& p, double width, const std::optional<MapField>& field) {
+  if (field) {
+    std::vector<std::string> items{fmt::format("{} {} to {} {}", field->name, map_sig3(p.bottom * field->scale),
+                                               map_sig3(p.top * field->scale), field->unit)};
+    if (field->cap && p.top > *field->cap) {
+      const Eigen::VectorXd& v = p.panel->pressure;
+      items.push_back(fmt::format("{} of {} vertices above {} {} in the top colour", (v.array() > *field->cap).count(),
+                                  v.size(), map_sig3(*field->cap * field->scale), field->unit));
+    }
+    return pack_map_caption(items, width);
+  }
   const PressureMetrics& m = p.metrics;
   std::vector<std::string> items;
   if (p.panel->load) items.push_back("load " + map_sig3(*p.panel->load) + " N");
@@ -500,16 +517,18 @@ struct MapBarTick {
   std::string label;
 };
 
-// The colour bar's labels: nice ticks inside [0, top], the top labelled by its value.
-std::vector<MapBarTick> map_bar_ticks(double top_kpa, double height) {
+// The colour bar's labels: nice ticks inside [low, top] (shown units), the
+// top labelled by its value (and a field's bottom by its own).
+std::vector<MapBarTick> map_bar_ticks(double low, double top, double height, bool label_low) {
   const int labels = std::clamp(static_cast<int>(height / kMapMaxTickSpacing) + 1, 2, 8);
-  const AxisTicks t = choose_ticks(0.0, top_kpa, false, 0.0, top_kpa, labels);
+  const AxisTicks t = choose_ticks(low, top, false, low, top, labels);
   std::vector<MapBarTick> out;
-  const double clearance = kMapTopClearance / height * top_kpa;
+  const double clearance = kMapTopClearance / height * (top - low);
+  if (label_low) out.push_back({low, map_sig3(low)});
   for (const Tick& tick : t.major)
-    if (tick.value >= 0.0 && tick.value < top_kpa - clearance)
+    if (tick.value >= low + (label_low ? clearance : 0.0) && tick.value < top - clearance)
       out.push_back({tick.value, tick.label});
-  out.push_back({top_kpa, map_sig3(top_kpa)});
+  out.push_back({top, map_sig3(top)});
   return out;
 }
 
@@ -528,11 +547,20 @@ std::string render_pressure_map_svg(const std::vector<PressureMapPanel>& panels,
   const MapView view = map_view(options);
   std::vector<MapPanelData> data;
   data.reserve(panels.size());
-  for (const auto& p : panels) data.push_back(prepare_map_panel(p, view));
-  const MapBox window = choose_map_window(data, options.crop);
+  const bool field = options.field.has_value();
+  for (const auto& p : panels) data.push_back(prepare_map_panel(p, view, field));
+  const MapBox window = choose_map_window(data, field ? PressureMapCrop::Whole : options.crop);
   select_map_triangles(data, window, view, options.hide_back_faces);
   double top = 0.0;
-  for (const auto& p : data) top = std::max(top, p.top);
+  double bottom = field ? std::numeric_limits<double>::infinity() : 0.0;
+  for (const auto& p : data) {
+    top = std::max(top, p.top);
+    bottom = std::min(bottom, p.bottom);
+  }
+  if (field && options.field->cap && *options.field->cap < top) top = std::max(*options.field->cap, bottom);
+  // Shown units: kPa for pressures, the field's own.
+  const double shown = field ? options.field->scale : 1e-3;
+  const std::string unit = field ? options.field->unit : "kPa";
 
   // Layout.
   const double scale = options.map_size / std::max(window.width(), window.height());
@@ -541,7 +569,7 @@ std::string render_pressure_map_svg(const std::vector<PressureMapPanel>& panels,
   std::vector<std::vector<std::string>> captions;
   std::size_t caption_lines = 0;
   for (const auto& p : data) {
-    captions.push_back(map_caption(p, panel_w));
+    captions.push_back(map_caption(p, panel_w, options.field));
     caption_lines = std::max(caption_lines, captions.back().size());
   }
   const auto n = static_cast<double>(panels.size());
@@ -550,14 +578,17 @@ std::string render_pressure_map_svg(const std::vector<PressureMapPanel>& panels,
   const double bar_h = std::max(map_h, kMapMinBarHeight);
   const double bar_x = kMapEdge + n * panel_w + (n - 1) * kMapPanelGap + kMapBarGap;
   std::vector<MapBarTick> ticks;
-  double label_w = estimated_text_width("no contact", kMapTextSize);
-  const double top_kpa = top * 1e-3;
-  if (top > 0.0) {
-    ticks = map_bar_ticks(top_kpa, bar_h);
+  double label_w = field ? 0.0 : estimated_text_width("no contact", kMapTextSize);
+  const double top_shown = top * shown, low_shown = bottom * shown;
+  const bool bar = field ? top > bottom : top > 0.0;
+  if (bar) {
+    ticks = map_bar_ticks(low_shown, top_shown, bar_h, field);
     for (const auto& t : ticks)
       label_w = std::max(label_w, estimated_text_width(t.label, kMapTextSize));
   } else {
-    label_w = estimated_text_width("no contact: every pressure is 0", kMapTextSize);
+    label_w = estimated_text_width(field ? "one value: " + map_sig3(top_shown) + " " + unit
+                                         : std::string("no contact: every pressure is 0"),
+                                   kMapTextSize);
   }
   const double width = bar_x + kMapBarWidth + kMapTickLength + kMapLabelGap + label_w + kMapEdge;
   const double below_map =
@@ -594,7 +625,7 @@ std::string render_pressure_map_svg(const std::vector<PressureMapPanel>& panels,
         << "\" width=\"" << map_w << "\" height=\"" << map_h << "\"/></clipPath></defs>\n";
     svg << "<g class=\"map\" clip-path=\"url(#" << clip << ")\" stroke-width=\"" << kMapSeam
         << "\" stroke-linejoin=\"round\">\n";
-    draw_map_triangles(svg, p, view, at, top);
+    draw_map_triangles(svg, p, view, at, bottom, top, field);
     svg << "</g>\n<rect class=\"map-frame\" x=\"" << at.x0 << "\" y=\"" << at.y0 << "\" width=\""
         << map_w << "\" height=\"" << map_h << "\" fill=\"none\" stroke=\"" << kMapFrameColor
         << "\"/>\n";
@@ -614,33 +645,38 @@ std::string render_pressure_map_svg(const std::vector<PressureMapPanel>& panels,
   const double bar_y0 = map_top, bar_y1 = map_top + bar_h;
   const double label_x = bar_x + kMapBarWidth + kMapTickLength + kMapLabelGap;
   double swatch_y = bar_y0;
-  if (top > 0.0) {
+  if (bar) {
     svg << "<defs><linearGradient id=\"map-scale\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\">";
     for (int i = 0; i < kViridisStops; ++i)
       svg << "<stop offset=\"" << fmt::format("{:g}", i / double(kViridisStops - 1))
           << "\" stop-color=\"" << hex_color(viridis_stop(i)) << "\"/>";
     svg << "</linearGradient></defs>\n";
-    svg.text(bar_x, bar_y0 - 0.6 * kMapTextSize, "kPa", kMapTextSize, "start", text_fill);
+    svg.text(bar_x, bar_y0 - 0.6 * kMapTextSize, unit, kMapTextSize, "start", text_fill);
     svg << "<rect class=\"colorbar\" x=\"" << bar_x << "\" y=\"" << bar_y0 << "\" width=\""
         << kMapBarWidth << "\" height=\"" << bar_h << "\" fill=\"url(#map-scale)\" stroke=\""
         << kMapBarFrameColor << "\"/>\n";
     svg << "<path stroke=\"" << kMapBarFrameColor << "\" d=\"";
     for (const auto& t : ticks)
-      svg << "M" << (bar_x + kMapBarWidth) << " " << (bar_y1 - t.value / top_kpa * bar_h) << "h"
+      svg << "M" << (bar_x + kMapBarWidth) << " " << (bar_y1 - (t.value - low_shown) / (top_shown - low_shown) * bar_h) << "h"
           << kMapTickLength;
     svg << "\"/>\n<g class=\"colorbar-ticks\" font-size=\"" << kMapTextSize << "\" " << text_fill
         << ">\n";
     for (const auto& t : ticks)
-      svg.text(label_x, bar_y1 - t.value / top_kpa * bar_h + 0.35 * kMapTextSize, t.label, 0, "");
+      svg.text(label_x, bar_y1 - (t.value - low_shown) / (top_shown - low_shown) * bar_h + 0.35 * kMapTextSize, t.label,
+               0, "");
     svg << "</g>\n";
     swatch_y = bar_y1 + kMapCaptionRow;
   }
-  svg << "<rect class=\"swatch\" x=\"" << bar_x << "\" y=\"" << swatch_y << "\" width=\""
-      << kMapBarWidth << "\" height=\"" << kMapSwatchHeight << "\" fill=\"" << kMapSwatchGrey
-      << "\" stroke=\"" << kMapBarFrameColor << "\"/>\n";
-  svg.text(label_x, swatch_y + 0.5 * kMapSwatchHeight + 0.35 * kMapTextSize,
-           top > 0.0 ? "no contact" : "no contact: every pressure is 0", kMapTextSize, "start",
-           text_fill);
+  if (field) {
+    if (!bar) svg.text(bar_x, bar_y0, "one value: " + map_sig3(top_shown) + " " + unit, kMapTextSize, "start", text_fill);
+  } else {
+    svg << "<rect class=\"swatch\" x=\"" << bar_x << "\" y=\"" << swatch_y << "\" width=\""
+        << kMapBarWidth << "\" height=\"" << kMapSwatchHeight << "\" fill=\"" << kMapSwatchGrey
+        << "\" stroke=\"" << kMapBarFrameColor << "\"/>\n";
+    svg.text(label_x, swatch_y + 0.5 * kMapSwatchHeight + 0.35 * kMapTextSize,
+             top > 0.0 ? "no contact" : "no contact: every pressure is 0", kMapTextSize, "start",
+             text_fill);
+  }
   svg.end();
   return std::move(svg.str());
 }

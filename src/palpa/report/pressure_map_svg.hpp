@@ -77,6 +77,19 @@ enum class PressureMapCrop {
   Whole,    // every triangle
 };
 
+// A field over the surface other than a contact pressure (a layer's depth,
+// its Young's modulus): every vertex coloured from the smallest value to the
+// largest (none is "no contact"), the caption giving the range.
+struct MapField {
+  std::string name;   // "depth"
+  std::string unit;   // as shown, "mm"
+  double scale = 1.0;  // SI value × scale = the value shown (1e3 for mm)
+  // Set: values above it (SI) take the top colour, and the caption says how
+  // many (a few outliers, such as a layer's depth at a clipped body's cut,
+  // would otherwise flatten the colours of the rest).
+  std::optional<double> cap = std::nullopt;
+};
+
 struct PressureMapOptions {
   // The direction the viewer looks along (eye into the scene); any finite,
   // non-zero length.
@@ -94,6 +107,9 @@ struct PressureMapOptions {
   bool hide_back_faces = false;
   std::string title;      // above the panels; "" for none
   double map_size = 420;  // the longer side of each panel's map [px], >= 160
+  // Set: the panels' "pressure" is this field instead (values >= 0, SI), the
+  // whole surface drawn.
+  std::optional<MapField> field = std::nullopt;
 };
 
 // The panels as one SVG document (UTF-8).

@@ -6,9 +6,11 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <tuple>
 
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/closest_point.hpp"
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
 #include "palpa/report/plot.hpp"
@@ -168,13 +170,49 @@ report::PressureMapOptions support_pressure_view(const Eigen::Vector3d& support_
   return o;
 }
 
+Eigen::VectorXd vertex_young(const RestSimulation& sim) {
+  const TetMesh& mesh = sim.model().mesh();
+  const Eigen::VectorXd young = tet::element_young(sim.model());
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(mesh.V.rows()), count = Eigen::VectorXd::Zero(mesh.V.rows());
+  for (Eigen::Index t = 0; t < mesh.T.rows(); ++t) {
+    for (int a = 0; a < 4; ++a) {
+      sum[mesh.T(t, a)] += young[t];
+      count[mesh.T(t, a)] += 1.0;
+    }
+  }
+  return sum.cwiseQuotient(count.cwiseMax(1.0));
+}
+
+Eigen::VectorXd skin_layer_depth(const RestSimulation& sim) {
+  const TetMesh& mesh = sim.model().mesh();
+  std::vector<char> attached(static_cast<std::size_t>(mesh.V.rows()), 0);
+  for (int v : sim.body().attached) attached[static_cast<std::size_t>(v)] = 1;
+  SurfaceMesh core;
+  core.V = mesh.V;
+  std::vector<Eigen::Index> rows;
+  const Eigen::MatrixX3i& faces = sim.boundary_faces();
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    if (attached[faces(f, 0)] && attached[faces(f, 1)] && attached[faces(f, 2)]) rows.push_back(f);
+  }
+  core.F.resize(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t i = 0; i < rows.size(); ++i) core.F.row(static_cast<Eigen::Index>(i)) = faces.row(rows[i]);
+  Eigen::VectorXd depth = Eigen::VectorXd::Zero(mesh.V.rows());
+  if (core.F.rows() == 0) return depth;
+  const geometry::TriangleTree tree(core.V, core.F);
+  for (int v : sim.surface_vertices()) depth[v] = geometry::closest_point(core, tree, mesh.V.row(v).transpose()).distance;
+  return depth;
+}
+
 Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene, const RestSimulation& sim,
                         const RestResult& r) {
   ensure_directory(out);
   write_vtu(out / "body.vtu", body_grid(sim, r));
   write_vtu(out / "support.vtu", support_grid(sim, r));
   if (sim.deformable_support()) write_vtu(out / "support_volume.vtu", support_volume_grid(sim));
-  write_skin_ply(out / "skin.ply", sim, {{"pressure_Pa", r.body_pressure}});
+  const Eigen::VectorXd young = vertex_young(sim);
+  const Eigen::VectorXd depth = skin_layer_depth(sim);
+  write_skin_ply(out / "skin.ply", sim,
+                 {{"pressure_Pa", r.body_pressure}, {"youngs_modulus_Pa", young}, {"layer_depth_m", depth}});
   const SurfaceMesh support = world_support(sim);
   write_ply(out / "support.ply", support, {.vertex_scalars = {{"pressure_Pa", r.support_pressure}}});
 
@@ -193,11 +231,27 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
                                  body_pressure_view(toward_body));
   report::write_pressure_map_svg(out / "support_pressure.svg", {support_pressure_panel(sim, r, "support side")},
                                  support_pressure_view(toward_body));
+  // The body's own fields, seen as its pressures are.
+  for (const auto& [file, field, values] :
+       {std::tuple{"body_depth.svg", report::MapField{"layer depth", "mm", 1e3}, &depth},
+        std::tuple{"body_stiffness.svg", report::MapField{"Young's modulus", "kPa", 1e-3}, &young}}) {
+    report::PressureMapOptions view = body_pressure_view(toward_body);
+    view.field = field;
+    // Colours up to the 90th percentile of the skin's values when the largest
+    // are outliers (a clipped body's cut is far from any core).
+    std::vector<double> skin_values;
+    for (int v : sim.surface_vertices()) skin_values.push_back((*values)[v]);
+    std::sort(skin_values.begin(), skin_values.end());
+    const double p90 = skin_values.empty() ? 0.0 : skin_values[skin_values.size() * 9 / 10];
+    if (!skin_values.empty() && skin_values.back() > 2.0 * p90) view.field->cap = p90;
+    report::PressureMapPanel panel{deformed_skin(sim), *values, field.name + " of the soft layer"};
+    report::write_pressure_map_svg(out / file, {panel}, view);
+  }
 
   const double deg = 180.0 / 3.14159265358979323846;
   const Eigen::AngleAxisd aa(r.core_rotation);
   const bool surface = sim.contact_term().sampling() == body::ContactSampling::Surface;
-  const Eigen::VectorXd young = tet::element_young(sim.model());
+  const Eigen::VectorXd tet_young = tet::element_young(sim.model());
   Json s = {{"palpa_rest", 1},
             {"scene", scene.file.string()},
             {"body", {{"source", scene.body_source},
@@ -209,7 +263,7 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
                       {"self_intersections_removed", scene.body_repaired_pairs},
                       {"depth_clamped_vertices", scene.body_depth_clamped},
                       {"mass_kg", sim.model().total_mass()},
-                      {"youngs_modulus_Pa", {{"min", young.minCoeff()}, {"max", young.maxCoeff()}}},
+                      {"youngs_modulus_Pa", {{"min", tet_young.minCoeff()}, {"max", tet_young.maxCoeff()}}},
                       {"materials", sim.model().materials().size()}}},
             {"support", {{"source", scene.support_source}, {"vertices", sim.support().vertices().rows()}}},
             {"core", {{"translation_m", vec(r.core_translation)},

@@ -2,11 +2,13 @@
 #pragma once
 // Writing the results of `palpa rest` into a folder: body.vtu (deformed layer
 // with displacement_m, contact_force_N, pressure_Pa, attached; von Mises stress
-// per tet), skin.ply (deformed skin with pressure_Pa), support.vtu and
-// support.ply (pressure_Pa from the reverse query), pressure_histogram.svg
-// (contact pressures on body and support), body_pressure.svg and
-// support_pressure.svg (each side's map as a picture,
-// report/pressure_map_svg.hpp), summary.json. Each file is atomic.
+// and youngs_modulus_Pa per tet), skin.ply (deformed skin with pressure_Pa,
+// youngs_modulus_Pa and layer_depth_m), support.vtu and support.ply
+// (pressure_Pa from the reverse query), pressure_histogram.svg (contact
+// pressures on body and support), body_pressure.svg and support_pressure.svg
+// (each side's map as a picture, report/pressure_map_svg.hpp),
+// body_depth.svg and body_stiffness.svg (the layer's depth and modulus over
+// the skin, seen as the body's pressures), summary.json. Each file is atomic.
 
 #include <filesystem>
 #include <string>
@@ -44,6 +46,12 @@ SurfaceMesh world_support(const RestSimulation& sim);
 // A histogram of the positive values [Pa] as a step line over [0, top] in
 // `bins` bins, x in kPa.
 report::Series pressure_histogram(const std::string& label, const Eigen::VectorXd& v, double top, int bins);
+
+// Per body vertex: the mean small-strain Young's modulus of its tets [Pa].
+Eigen::VectorXd vertex_young(const RestSimulation& sim);
+// Per body vertex: on the skin, the soft layer's depth there (the distance
+// at rest to the core's surface) [m]; 0 elsewhere.
+Eigen::VectorXd skin_layer_depth(const RestSimulation& sim);
 
 // The direction from the support toward the body (unit): against the load
 // that presses the body onto the support (its weight and the external
