@@ -1,7 +1,10 @@
 # SPDX-License-Identifier: AGPL-3.0-or-later
 # palpa — the two commands of the README, plus a few conveniences.
 #   make demo    install Debian packages if missing, build the command line (Release),
-#                run `palpa demo`
+#                run the subject pipeline (workflow/Snakefile) on the bundled synthetic
+#                subject (examples/subject): poke logs -> fits -> body -> rest -> design
+#                -> report; prints where the report is. Rerun after an interruption:
+#                it goes on where it stopped.
 #   make test    install, build, run the whole suite, every test once: the unit tests
 #                in the sanitizer build, then the physics and command-line tests in the
 #                Release build (ends with ctest's summary)
@@ -15,6 +18,7 @@
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_SECONDS ?= 60
 DEMO_OUT ?= demo-out
+DEMO_SUBJECT ?= examples/subject/subject.json
 
 .PHONY: all setup build python demo test test-release test-asan bench fuzz clean
 
@@ -33,7 +37,10 @@ python: setup
 	cmake --build --preset release -j $(JOBS) --target python
 
 demo: build
-	./build/release/apps/palpa/palpa demo -o $(DEMO_OUT)
+	@snakemake -s workflow/Snakefile --cores $(JOBS) --unlock --config subjects=$(DEMO_SUBJECT) \
+	    out=$(DEMO_OUT) palpa=$(CURDIR)/build/release/apps/palpa/palpa >/dev/null 2>&1 || true
+	snakemake -s workflow/Snakefile --cores $(JOBS) --rerun-incomplete --config subjects=$(DEMO_SUBJECT) \
+	    out=$(DEMO_OUT) palpa=$(CURDIR)/build/release/apps/palpa/palpa
 
 test-asan: setup
 	cmake --preset asan >/dev/null

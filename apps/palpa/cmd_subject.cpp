@@ -13,6 +13,7 @@
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/units.hpp"
 #include "palpa/pipeline/body_fields.hpp"
+#include "palpa/pipeline/report.hpp"
 #include "palpa/pipeline/subject.hpp"
 
 namespace palpa::cli {
@@ -74,6 +75,12 @@ void body(const std::string& subject, const std::string& fits, const std::string
   }
   spdlog::info("subject {}: the body carries {} fits, the shape of {}; wrote {}", s.name,
                f.fits.size(), f.fits[f.shape].name, output);
+}
+
+void report_command(const std::string& subject, const std::string& results, const std::string& output) {
+  const pipeline::Subject s = pipeline::read_subject(subject);
+  pipeline::subject_report(s, results).write(output);
+  spdlog::info("subject {}: report written to {}", s.name, output);
 }
 
 }  // namespace
@@ -151,6 +158,18 @@ void add_subject_command(CLI::App& app) {
       ->required();
   declare_paths(*body_cmd, {"subject"}, {"-o"});
   body_cmd->callback([ba] { body((*ba)[0], (*ba)[1], (*ba)[2]); });
+
+  auto* report_cmd = cmd->add_subcommand(
+      "report", "The subject's report: one self-contained HTML file of the fits, the body's fields, the body at rest, "
+                "the designed support and the measured map, from the results folder.\n"
+                "  palpa subject report subject.json --results out/s01 -o out/s01/report.html");
+  auto ra = std::make_shared<std::array<std::string, 3>>();
+  report_cmd->add_option("subject", (*ra)[0], "Subject file (JSON)")->required();
+  report_cmd->add_option("--results", (*ra)[1], "The subject's results folder (fits/, body/, rest/, design/)")
+      ->required();
+  report_cmd->add_option("-o,--output", (*ra)[2], "Report file (HTML)")->required();
+  declare_paths(*report_cmd, {"subject"}, {"-o"});
+  report_cmd->callback([ra] { report_command((*ra)[0], (*ra)[1], (*ra)[2]); });
 }
 
 }  // namespace palpa::cli

@@ -379,23 +379,13 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   return s;
 }
 
-report::HtmlReport design_report_html(const std::filesystem::path& out, const Json& s) {
+void add_design_sections(report::HtmlReport& h, const std::filesystem::path& out, const Json& s) {
   const auto kpa = [](double pa) { return fmt::format("{:.3g} kPa", pa * 1e-3); };
   const auto sci = [](double v) { return fmt::format("{:.4g}", v); };
-  const Json& a = s.at("initial");
-  const Json& b = s.at("final");
-  report::HtmlReport h(
-      fmt::format("palpa design: {}", s.at("scene").get<std::string>()),
-      fmt::format("re-solved from scratch: score ζ {:.1f}% lower, the body's ζ {:.1f}% lower, body peak {} → {}; "
-                  "{} iterations ({})",
-                  s.at("zeta_reduction_percent").get<double>(), s.at("zeta_body_reduction_percent").get<double>(),
-                  kpa(a.at("peak_pressure_Pa").at("body").get<double>()),
-                  kpa(b.at("peak_pressure_Pa").at("body").get<double>()), s.at("iterations").get<int>(),
-                  s.at("termination").get<std::string>()));
-  h.heading("Pressures felt (body) and seen (support), before and after");
+  h.subheading("Pressures felt (body) and seen (support), before and after");
   h.picture_files({{out / "body_pressure.svg", "the body's side: what the person feels"}});
   h.picture_files({{out / "support_pressure.svg", "the support's side: what a pressure mat on it would read"}});
-  h.heading("Scores");
+  h.subheading("Scores");
   const auto row = [&](const std::string& name, const Json& e) {
     const Json& body = e.at("pressure_map").at("body");
     return std::vector<std::string>{name,
@@ -407,7 +397,8 @@ report::HtmlReport design_report_html(const std::filesystem::path& out, const Js
                                     fmt::format("{:.1f} cm²", body.at("contact_area_m2").get<double>() * 1e4),
                                     kpa(e.at("peak_pressure_Pa").at("support").get<double>())};
   };
-  std::vector<std::vector<std::string>> rows{row("initial support", a), row("designed support", b)};
+  std::vector<std::vector<std::string>> rows{row("initial support", s.at("initial")),
+                                             row("designed support", s.at("final"))};
   for (const Json& bl : s.at("baselines")) rows.push_back(row("baseline: " + bl.at("name").get<std::string>(), bl));
   h.table({"support", "ζ", "ζ body", "body peak", "body PPI", "body mean", "body contact area", "support peak"}, rows);
   h.paragraph("Every row is re-solved from scratch (the automatic contact stiffness, no warm start). ζ: the "
@@ -415,6 +406,21 @@ report::HtmlReport design_report_html(const std::filesystem::path& out, const Js
               "9 cm² (a 3 × 3 block of a mat's 1 cm sensels).");
   h.picture_files({{out / "score.svg", "the score per iteration"},
                    {out / "pressure_histogram.svg", "pressures before and after"}});
+}
+
+std::string design_headline_text(const Json& s) {
+  const auto kpa = [](double pa) { return fmt::format("{:.3g} kPa", pa * 1e-3); };
+  return fmt::format("re-solved from scratch: score ζ {:.1f}% lower, the body's ζ {:.1f}% lower, body peak {} → {}; "
+                     "{} iterations ({})",
+                     s.at("zeta_reduction_percent").get<double>(), s.at("zeta_body_reduction_percent").get<double>(),
+                     kpa(s.at("initial").at("peak_pressure_Pa").at("body").get<double>()),
+                     kpa(s.at("final").at("peak_pressure_Pa").at("body").get<double>()), s.at("iterations").get<int>(),
+                     s.at("termination").get<std::string>());
+}
+
+report::HtmlReport design_report_html(const std::filesystem::path& out, const Json& s) {
+  report::HtmlReport h(fmt::format("palpa design: {}", s.at("scene").get<std::string>()), design_headline_text(s));
+  add_design_sections(h, out, s);
   return h;
 }
 

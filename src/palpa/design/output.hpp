@@ -40,6 +40,10 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
 // scores of the initial, designed and baseline supports, the score history
 // (from its summary.json figures and the pictures beside it).
 report::HtmlReport design_report_html(const std::filesystem::path& out, const Json& summary);
+// Its sections, for a report that holds a design among other things.
+void add_design_sections(report::HtmlReport& h, const std::filesystem::path& out, const Json& summary);
+// One line of a design's summary: ζ and the body's peak before and after.
+std::string design_headline_text(const Json& summary);
 
 void write_support_shape(const std::filesystem::path& out, const std::string& stem, const SurfaceMesh& shape);
 

@@ -58,7 +58,7 @@ std::string read_name(const JsonView& v, const std::string& what) {
 
 // A file the subject names, resolved and checked to exist.
 fs::path existing_file(const JsonView& v, const fs::path& subject_file, const std::string& who) {
-  const fs::path p = sim3d::resolve_scene_path(subject_file, v.as_string());
+  const fs::path p = sim3d::resolve_scene_path(subject_file, v.as_string()).lexically_normal();
   if (!fs::is_regular_file(p))
     v.fail(fmt::format("{}: no file {}", who, p.string()), "an existing file");
   return p;
@@ -212,7 +212,7 @@ Location read_location(const JsonView& l, const fs::path& file, const std::strin
 
 void read_fit(const JsonView& f, Subject& s) {
   f.expect_only({"model", "poisson", "lateral_size", "contact", "mesh_level", "steps",
-                 "max_iterations", "starts", "depth_from"});
+                 "max_iterations", "starts", "depth_from", "fix"});
   s.dataset = Json::object();
   if (const auto v = f.find("poisson")) {
     const double nu = v->as_number();
@@ -232,6 +232,11 @@ void read_fit(const JsonView& f, Subject& s) {
     s.fit_args.insert(s.fit_args.end(), {"--model", v->as_string()});
   if (const auto v = f.find("depth_from"))
     s.fit_args.insert(s.fit_args.end(), {"--depth-from", v->as_string()});
+  if (const auto v = f.find("fix")) {
+    if (!v->is_array() || v->size() == 0) v->fail("not a list of parameter names", "[\"nu\"]");
+    s.fit_args.push_back("--fix");
+    for (std::size_t i = 0; i < v->size(); ++i) s.fit_args.push_back(v->at(i).as_string());
+  }
   for (const auto& [key, flag] :
        {std::pair{"mesh_level", "--mesh-level"}, std::pair{"steps", "--steps"},
         std::pair{"max_iterations", "--max-iterations"}, std::pair{"starts", "--starts"}}) {

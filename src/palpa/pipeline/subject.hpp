@@ -30,7 +30,9 @@
 //     }
 //   ],
 //   "fit": {"model": "neo-hookean", "poisson": 0.45, "lateral_size": "100 mm",
-//           "contact": "frictionless", "mesh_level": 1, "steps": 10, "max_iterations": 50},
+//           "contact": "frictionless", "mesh_level": 1, "steps": 10, "max_iterations": 50,
+//           "depth_from": "whole", "fix": ["nu"]},   // `palpa fit` options; "poisson" the
+//                                                     // datasets' (and the value "nu" is held at)
 //   "shape_from": "thigh-left",           // optional, see below
 //   "design": "chair.json",               // a `palpa design` scene: the support and the load;
 //                                         // its "body" is replaced by the subject's
