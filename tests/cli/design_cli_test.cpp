@@ -186,7 +186,20 @@ TEST(DesignCli, ScoresBaselinesAndComparesMaps) {
   }
   const auto d = run_palpa("compare out/support_before.ply out/support_after.ply", dir.path());
   EXPECT_EQ(d.exit_code, 2);
-  EXPECT_NE(d.err.find("same support mesh"), std::string::npos) << d.err;
+  EXPECT_NE(d.err.find("same support mesh, or a transfer"), std::string::npos) << d.err;
+  // Before against after a design: the shapes differ, the after map moved
+  // onto the before support by closest point, each map's force its own.
+  const auto t = run_palpa("compare out/support_before.ply out/support_after.ply --transfer --summary t.json",
+                           dir.path());
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_NE(t.out.find("moved onto the map's"), std::string::npos) << t.out;
+  const auto tj = summary(dir / "t.json");
+  EXPECT_EQ(tj["transfer"]["method"], "closest point");
+  EXPECT_GT(tj["transfer"]["max_distance_m"].get<double>(), 0.0);
+  const double load = s["final"]["pressure_map_force_N"]["load"].get<double>();
+  for (const char* side : {"map_side", "reference_side"}) {
+    EXPECT_NEAR(tj[side]["force_N"].get<double>(), load, 0.02 * load) << side;
+  }
 }
 
 // A scene on the linear tet (ν 0.4, 2–3× cheaper), for the tests of the

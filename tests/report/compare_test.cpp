@@ -104,3 +104,57 @@ TEST(CompareMaps, RefusesDifferentMeshesAndBadFields) {
 
 }  // namespace
 }  // namespace palpa::report
+
+namespace palpa::report {
+namespace {
+
+// A finer square over the same unit square (4 × 4 cells), lifted by `lift`.
+SurfaceMesh fine_square(double lift) {
+  SurfaceMesh m;
+  m.V.resize(25, 3);
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 5; ++i) m.V.row(5 * j + i) << 0.25 * i, 0.25 * j, lift;
+  m.F.resize(32, 3);
+  int f = 0;
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      const int a = 5 * j + i;
+      m.F.row(f++) << a, a + 1, a + 6;
+      m.F.row(f++) << a, a + 6, a + 5;
+    }
+  }
+  return m;
+}
+
+TEST(CompareMaps, ATransferOntoAnotherMeshKeepsALinearFieldAndSaysHowFar) {
+  // p = 1000 (1 + x) is linear, so the closest point's interpolation
+  // reproduces it exactly on the finer mesh 2 mm above.
+  const PressureMap coarse = square();
+  MapTransfer t;
+  const PressureMap moved = transfer_pressure_map(coarse, fine_square(0.002), &t);
+  ASSERT_EQ(moved.pressure.size(), 25);
+  for (Eigen::Index v = 0; v < 25; ++v) {
+    EXPECT_NEAR(moved.pressure[v], 1000.0 * (1.0 + moved.mesh.V(v, 0)), 1e-9) << v;
+  }
+  EXPECT_NEAR(t.max_distance, 0.002, 1e-12);
+  EXPECT_NEAR(t.mean_distance, 0.002, 1e-12);
+  // Compared across the meshes: the same field agrees; each side's own
+  // figures on its own mesh (both carry 1500 N).
+  PressureMap fine{fine_square(0.0), Eigen::VectorXd(25), "fine"};
+  for (Eigen::Index v = 0; v < 25; ++v) fine.pressure[v] = 1000.0 * (1.0 + fine.mesh.V(v, 0));
+  const MapComparison c = compare_across_meshes(fine, coarse);
+  EXPECT_NEAR(c.rms_difference, 0.0, 1e-9);
+  EXPECT_NEAR(c.correlation, 1.0, 1e-12);
+  EXPECT_NEAR(c.a.force, 1500.0, 1e-9);
+  EXPECT_NEAR(c.b.force, 1500.0, 1e-9);
+  // Without the transfer the meshes are refused, naming it.
+  try {
+    compare_pressure_maps(fine, coarse);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--transfer"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace palpa::report

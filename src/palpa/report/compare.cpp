@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/closest_point.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/io/ply.hpp"
 #include "palpa/io/vtu.hpp"
@@ -66,13 +67,13 @@ PressureMap read_pressure_map(const std::filesystem::path& path, const std::stri
 MapComparison compare_pressure_maps(const PressureMap& a, const PressureMap& b) {
   if (a.mesh.V.rows() != b.mesh.V.rows()) {
     fail(a.source, fmt::format("{} vertices against {} in {}", a.mesh.V.rows(), b.mesh.V.rows(), b.source),
-         "two maps on the same support mesh");
+         "two maps on the same support mesh, or a transfer of one onto the other's (palpa compare --transfer)");
   }
   const double size = (a.mesh.V.colwise().maxCoeff() - a.mesh.V.colwise().minCoeff()).norm();
   const double moved = (a.mesh.V - b.mesh.V).rowwise().norm().maxCoeff();
   if (moved > 1e-6 * size) {
     fail(a.source, fmt::format("its vertices lie up to {:.3g} m from those of {}", moved, b.source),
-         "two maps on the same support mesh");
+         "two maps on the same support mesh, or a transfer of one onto the other's (palpa compare --transfer)");
   }
   const Eigen::VectorXd A = geometry::vertex_areas(a.mesh);
   MapComparison c;
@@ -102,6 +103,32 @@ MapComparison compare_pressure_maps(const PressureMap& a, const PressureMap& b) 
   c.rms_difference = std::sqrt(sd / w);
   c.relative_rms = mb > 0.0 ? c.rms_difference / mb : 0.0;
   c.correlation = caa > 0.0 && cbb > 0.0 ? cab / std::sqrt(caa * cbb) : std::numeric_limits<double>::quiet_NaN();
+  return c;
+}
+
+PressureMap transfer_pressure_map(const PressureMap& from, const SurfaceMesh& onto, MapTransfer* t) {
+  PressureMap out;
+  out.mesh = onto;
+  out.source = from.source + " (moved by closest point)";
+  out.pressure.resize(onto.V.rows());
+  const geometry::TriangleTree tree(from.mesh.V, from.mesh.F);
+  MapTransfer figures;
+  for (Eigen::Index v = 0; v < onto.V.rows(); ++v) {
+    const geometry::SurfacePoint q = geometry::closest_point(from.mesh, tree, onto.V.row(v).transpose());
+    double p = 0.0;
+    for (int k = 0; k < 3; ++k) p += q.barycentric[k] * from.pressure[from.mesh.F(q.face, k)];
+    out.pressure[v] = std::max(0.0, p);
+    figures.max_distance = std::max(figures.max_distance, q.distance);
+    figures.mean_distance += q.distance;
+  }
+  if (onto.V.rows() > 0) figures.mean_distance /= static_cast<double>(onto.V.rows());
+  if (t != nullptr) *t = figures;
+  return out;
+}
+
+MapComparison compare_across_meshes(const PressureMap& a, const PressureMap& b, MapTransfer* t) {
+  MapComparison c = compare_pressure_maps(a, transfer_pressure_map(b, a.mesh, t));
+  c.b = pressure_metrics(b.mesh, b.pressure);
   return c;
 }
 

@@ -45,7 +45,26 @@ struct MapComparison {
 };
 
 // a against the reference b. Throws palpa::Error (Input) for maps on
-// different meshes or with no contact at all.
+// different meshes (naming transfer_pressure_map's way) or with no contact
+// at all.
 MapComparison compare_pressure_maps(const PressureMap& a, const PressureMap& b);
+
+// How far a transfer reached.
+struct MapTransfer {
+  double max_distance = 0.0;   // from a target vertex to its closest point on the source [m]
+  double mean_distance = 0.0;  // [m]
+};
+
+// The pressures of `from` moved onto the vertices of `onto` (maps on two
+// different supports: before and after a design, a measured mat against a
+// simulated support): each vertex of `onto` takes the pressure at its closest
+// point on `from`, interpolated linearly in that triangle. t (may be null)
+// receives how far the closest points were.
+PressureMap transfer_pressure_map(const PressureMap& from, const SurfaceMesh& onto, MapTransfer* t = nullptr);
+
+// a against a reference b on another mesh: b moved onto a's vertices
+// (transfer_pressure_map), the difference figures over a's mesh; each map's
+// own figures on its own mesh.
+MapComparison compare_across_meshes(const PressureMap& a, const PressureMap& b, MapTransfer* t = nullptr);
 
 }  // namespace palpa::report
