@@ -311,12 +311,11 @@ def main():
     truth["locations"].sort(key=lambda l: order.index(l["name"]))
     dump(truth_path, truth)
     # The subject, a smaller one for the tests (four locations, a coarser
-    # body, a short design), and a cohort of three tiny subjects.
+    # body), and a cohort of three tiny subjects.
     dump(os.path.join(HERE, "chair-design.json"), design_json(12))
     dump(os.path.join(HERE, "subject.json"), subject_json("seated", LOCATIONS, 12.0, "chair-design.json"))
     small = [LOCATIONS[i] for i in (0, 3, 4, 7)]
-    dump(os.path.join(HERE, "chair-design-4.json"), design_json(4))
-    dump(os.path.join(HERE, "subject-small.json"), subject_json("seated-small", small, 16.0, "chair-design-4.json"))
+    dump(os.path.join(HERE, "subject-small.json"), subject_json("seated-small", small, 16.0, "chair-design.json"))
     # A cohort of three tiny subjects for the workflow's bookkeeping tests: a
     # generated thigh each, one location with the logs of one of the seated
     # subject's, a two-iteration design of a flat block.
@@ -330,7 +329,7 @@ def main():
                    "direction": "normal", "iterations": 2}})
     names = []
     for tiny, source in (("tiny-a", "knee-left"), ("tiny-b", "thigh-mid-right"), ("tiny-c", "thigh-back-left")):
-        loc = location_json(source, (0.0, 0.0, -61.0), True, 0.0)
+        loc = location_json(source, (0.0, 0.0, -69.0), True, 0.0)
         loc["name"] = "underside"
         for p in loc["pokes"]:
             for k in ("force", "laser", "calibration"):
