@@ -47,7 +47,7 @@ def main():
         head, data = rows[0], [[float(x) for x in row] for row in rows[1:]]
         x = [d[0] for d in data]
         ax.plot(x, [d[1] for d in data], "o", ms=3, label=c["name"] + " measured")
-        ax.plot(x, [d[head.index(next(h for h in head if h.startswith("fitted")))] for d in data], "-",
+        ax.plot(x, [d[head.index(next(h for h in head if "_fitted" in h))] for d in data], "-",
                 label=c["name"] + " fitted")
     ax.set_xlabel(head[0])
     ax.set_ylabel("stress")
