@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <sstream>
 
@@ -69,7 +70,8 @@ LocationFit read_fit(const Subject& s, const Location& l, const fs::path& folder
     sum += e * e;
     ++n;
   }
-  f.relative_error = n > 0 ? std::sqrt(sum / n) : INFINITY;
+  // No training point simulated with the fitted material: no error to rank it by.
+  f.relative_error = n > 0 ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();
   return f;
 }
 
@@ -148,7 +150,7 @@ void write_body_fields(const Subject& s, const BodyFields& f, const fs::path& ou
          {"poisson", l.poisson},
          {"depth_m", l.depth},
          {"depth", l.depth_searched ? "searched by the fit" : "measured (ultrasound)"},
-         {"relative_error", l.relative_error},
+         {"relative_error", std::isfinite(l.relative_error) ? Json(l.relative_error) : Json(nullptr)},
          {"termination", l.termination},
          {"fit", l.folder.string()}});
   }

@@ -38,7 +38,9 @@ report::HtmlReport subject_report(const Subject& s, const fs::path& results) {
                                   p[2].get<double>() * 1e3),
                       kpa(l.at("youngs_modulus_Pa").get<double>()), fmt::format("{:.3f}", l.at("poisson").get<double>()),
                       fmt::format("{:.1f} mm", l.at("depth_m").get<double>() * 1e3), l.at("depth").get<std::string>(),
-                      fmt::format("{:.2f}%", 100.0 * l.at("relative_error").get<double>()),
+                      l.at("relative_error").is_null()
+                          ? std::string("-")
+                          : fmt::format("{:.2f}%", 100.0 * l.at("relative_error").get<double>()),
                       l.at("termination").get<std::string>()});
     }
     h.table({"location", "position [mm]", "E (small strain)", "ν", "layer depth", "depth", "fit error", "fit"}, rows);
