@@ -34,8 +34,21 @@ taken while poking with the probe (fat at 40% of the depth taking 60% of the
 indentation, bone at the depth taking 90%), on a clock 0.15 s ahead; the
 other two have none, and their depth is searched by the fit (on a 2 mm grid).
 
+Pressure map. The subject also ships what a pressure mat on its chair would
+have logged (raw/pressure/): palpa rests the body with the true depths and
+moduli (the same pipeline steps as the fitted body: `palpa subject body` on
+the truths, then `palpa rest`) on the design's initial support, and a sensor
+on a 25 mm grid over the seat reads its support-side pressure: 300 samples
+each, through a gain, times the subject's posture at that sensor (the
+reference sensor's reading, 1 + 0.1 sin(1.3 i)), with 2% noise and a few mV
+of offset noise. The workflow
+turns them into a map (`palpa acquire pressure`) and compares it with the
+simulated one.
+
 Usage (about 15 min on one core; CalculiX runs one at a time):
   python3 examples/subject/generate.py [--ccx /usr/bin/ccx]
+  python3 examples/subject/generate.py --subjects-only --pressure build/release/apps/palpa/palpa
+      (the pressure logs only; about a minute)
 Python standard library only. Deterministic: the same CalculiX binary gives the
 same files.
 """
@@ -46,6 +59,7 @@ import json
 import math
 import os
 import random
+import re
 import shutil
 import sys
 import time
@@ -256,6 +270,87 @@ def design_json(iterations):
     }
 
 
+def read_ply_pressure(path):
+    """Vertices and pressure_Pa of a binary PLY written by palpa (x, y, z, pressure_Pa doubles)."""
+    import struct
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode()
+    n = int(re.search(r"element vertex (\d+)", header).group(1))
+    props = re.findall(r"property double (\w+)", header.split("element face")[0])
+    rows = struct.unpack_from("<%dd" % (n * len(props)), data, end)
+    k = props.index("pressure_Pa")
+    return [(rows[i * len(props)], rows[i * len(props) + 1], rows[i * len(props) + 2], rows[i * len(props) + k])
+            for i in range(n)]
+
+
+def pressure_logs(palpa, seated, truth):
+    """raw/pressure/: a pressure mat's logs of the body with the true fields on the initial chair."""
+    import subprocess
+    import tempfile
+    palpa = os.path.abspath(palpa)
+    work = tempfile.mkdtemp(prefix="palpa_subject_pressure_")
+    subject = json.loads(json.dumps(seated))  # a copy: the subject file keeps its locations
+    subject["name"] = "truth"
+    subject["body"] = dict(seated["body"], surface=os.path.join(EXAMPLES, "rest", "chair", "base_seated.obj"))
+    subject["design"] = os.path.join(HERE, "chair-design.json")
+    for loc in subject["locations"]:
+        loc["pokes"] = [{"radius": "3 mm", "curve": os.path.join(work, "unused.csv")}]
+        loc.pop("ultrasound", None)
+        loc["depth_search"] = {"from": "5 mm", "to": "10 mm", "count": 2}
+    write(os.path.join(work, "unused.csv"), "indentation_m,force_N\n")
+    dump(os.path.join(work, "subject.json"), subject)
+    for l in truth["locations"]:
+        e_kpa = l["youngs_modulus_Pa"] * 1e-3
+        dump(os.path.join(work, "fits", l["name"], "material.json"),
+             {"palpa_material": 1, "model": "neo-hookean-isochoric",
+              "parameters": {"E": "%.17g kPa" % e_kpa, "nu": NU},
+              "provenance": {"created_by": "examples/subject/generate.py", "method": "the truth", "objective": None}})
+        dump(os.path.join(work, "fits", l["name"], "report.json"),
+             {"layer_depth_m": l["depth_m"], "depth_search": False, "termination": "converged",
+              "curves": [{"role": "train", "rms_error_fitted": 0.0, "largest_measured": 1.0}]})
+    for cmd in (["subject", "body", "subject.json", "--fits", "fits", "-o", "body"],
+                ["-q", "rest", "body/rest.json", "-o", "rest"]):
+        subprocess.run([palpa] + cmd, cwd=work, check=True)
+    with open(os.path.join(work, "rest", "summary.json")) as f:
+        load = json.load(f)["pressure_map_force_N"]["load"]
+    verts = read_ply_pressure(os.path.join(work, "rest", "support.ply"))
+    top = max(v[2] for v in verts)
+    seat = [v for v in verts if v[2] > top - 1e-6]
+    touched = [v for v in seat if v[3] > 0.0]
+    lo = [min(v[k] for v in touched) - 0.03 for k in (0, 1)]
+    hi = [max(v[k] for v in touched) + 0.03 for k in (0, 1)]
+    sensors = []
+    x = lo[0]
+    while x <= hi[0]:
+        y = lo[1]
+        while y <= hi[1]:
+            v = min(seat, key=lambda q: (q[0] - x) ** 2 + (q[1] - y) ** 2)
+            if (v[0] - x) ** 2 + (v[1] - y) ** 2 < 0.01 ** 2:
+                sensors.append(v)
+            y += 0.025
+        x += 0.025
+    rng = random.Random("pressure-%d" % SEED)
+    peak = max(v[3] for v in sensors)
+    loc_rows = ["# synthetic pressure-mat sensor locations (on the chair's seat, world frame)",
+                "location,x_mm,y_mm,z_mm"]
+    sample_rows = ["# synthetic pressure-mat samples, 300 per sensor", "location,reading_V,reference_V"]
+    for i, v in enumerate(sensors, start=1):
+        loc_rows.append("%d,%.3f,%.3f,%.3f" % (i, v[0] * 1e3, v[1] * 1e3, v[2] * 1e3))
+        posture = 1.0 + 0.1 * math.sin(1.3 * i)
+        for _ in range(300):
+            # 2% noise on the reading, and a sensor's own few mV above 0 (an unloaded
+            # sensor does not read exactly 0, which would look like a clipped one).
+            reading = 2.0 * v[3] / peak * posture * (1.0 + rng.gauss(0.0, 0.02)) + abs(rng.gauss(0.0, 0.002))
+            sample_rows.append("%d,%.5f,%.5f" % (i, reading, posture * (1.0 + rng.gauss(0.0, 0.005))))
+    write(os.path.join(HERE, "raw", "pressure", "locations.csv"), "\n".join(loc_rows) + "\n")
+    write(os.path.join(HERE, "raw", "pressure", "samples.csv"), "\n".join(sample_rows) + "\n")
+    write(os.path.join(HERE, "raw", "pressure", "load.txt"), "%.6g N\n" % load)
+    print("pressure mat: %d sensors, load %.1f N, peak %.1f kPa" % (len(sensors), load, peak * 1e-3))
+    shutil.rmtree(work)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -263,6 +358,7 @@ def main():
     ap.add_argument("--keep", action="store_true", help="keep the CalculiX folders")
     ap.add_argument("--only", default="", help="these locations only (comma-separated; for testing)")
     ap.add_argument("--subjects-only", action="store_true", help="rewrite the subject files only, no CalculiX runs")
+    ap.add_argument("--pressure", default="", help="palpa binary: (re)make the pressure-mat logs with it")
     args = ap.parse_args()
     t0 = time.time()
     truth = {"palpa_subject_truth": 1, "material": "neo-hookean-isochoric (CalculiX YEOH, C20 = C30 = 0)",
@@ -313,7 +409,14 @@ def main():
     # The subject, a smaller one for the tests (four locations, a coarser
     # body), and a cohort of three tiny subjects.
     dump(os.path.join(HERE, "chair-design.json"), design_json(12))
-    dump(os.path.join(HERE, "subject.json"), subject_json("seated", LOCATIONS, 12.0, "chair-design.json"))
+    seated = subject_json("seated", LOCATIONS, 12.0, "chair-design.json")
+    if args.pressure:
+        pressure_logs(args.pressure, seated, truth)
+    if os.path.exists(os.path.join(HERE, "raw", "pressure", "samples.csv")):
+        with open(os.path.join(HERE, "raw", "pressure", "load.txt")) as f:
+            seated["pressure"] = {"locations": "raw/pressure/locations.csv", "samples": "raw/pressure/samples.csv",
+                                  "load": f.read().strip()}
+    dump(os.path.join(HERE, "subject.json"), seated)
     small = [LOCATIONS[i] for i in (0, 3, 4, 7)]
     dump(os.path.join(HERE, "subject-small.json"), subject_json("seated-small", small, 16.0, "chair-design.json"))
     # A cohort of three tiny subjects for the workflow's bookkeeping tests: a
