@@ -5,10 +5,9 @@
 
 #include <cmath>
 #include <limits>
-#include <fstream>
-#include <sstream>
 
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/units.hpp"
 #include "palpa/io/csv.hpp"
@@ -20,13 +19,6 @@ namespace palpa::pipeline {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 LocationFit read_fit(const Subject& s, const Location& l, const fs::path& folder) {
   const std::string who = fmt::format("subject '{}', location '{}'", s.name, l.name);
@@ -139,7 +131,7 @@ void write_body_fields(const Subject& s, const BodyFields& f, const fs::path& ou
   batch.add(out / "moduli.csv") << format_csv(samples_table(
       f, "youngs_modulus", "Pa", Dimension::Pressure,
       fmt::format("subject {}: small-strain Young's modulus of each location's fit", s.name)));
-  batch.add(out / "material.json") << read_text(shape.folder / "material.json");
+  batch.add(out / "material.json") << read_input_file(shape.folder / "material.json");
 
   Json locations = Json::array();
   for (const LocationFit& l : f.fits) {

@@ -5,10 +5,9 @@
 #include <cctype>
 #include <cstdlib>
 #include <fmt/format.h>
-#include <fstream>
-#include <sstream>
 
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/base64.hpp"
 
 namespace palpa::report {
@@ -38,13 +37,6 @@ bool reads_as_number(const std::string& s) {
   std::strtod(s.c_str(), &end);
   // A number, maybe with a unit or a percent sign after a space.
   return end != s.c_str() && (*end == '\0' || *end == ' ' || *end == '%');
-}
-
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 }  // namespace
@@ -110,7 +102,7 @@ void HtmlReport::picture_files(const std::vector<std::pair<std::filesystem::path
   std::vector<Picture> found;
   for (const auto& [svg, caption] : row) {
     if (std::filesystem::is_regular_file(svg)) {
-      found.push_back({read_file(svg), caption});
+      found.push_back({read_input_file(svg), caption});
     } else {
       body_ += fmt::format("<p class=\"missing\">{}: not made ({} is missing)</p>\n", html_escape(caption),
                            html_escape(svg.string()));
