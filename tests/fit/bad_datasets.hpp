@@ -50,7 +50,7 @@ inline std::vector<BadDataset> bad_datasets() {
        {"a.csv:4", "does not increase"}},
       {"negative force", indentation_dataset(),
        {{"a.csv", "indentation_mm,force_N\n0.25,0.01\n0.5,-0.003\n0.75,0.055\n1.0,0.085\n"}},
-       {"a.csv:3", "force -0.003 N is negative"}},
+       {"a.csv:3", "column 'force_N'", "force -0.003 N is negative"}},
       {"punch as wide as half the block",
        indentation_dataset(R"([{"file": "a.csv", "radius": "50 mm", "role": "train"}])"), {{"a.csv", good}},
        {"dataset.json", "curves[0].radius", "half the sample's lateral size"}},

@@ -112,9 +112,11 @@ void read_curve_file(MeasuredCurve& c, TestKind test, const ErrorContext& where)
       }
     }
     const double fmax = *std::max_element(c.y.begin(), c.y.end());
+    const auto force_column = std::find_if(t.names().begin(), t.names().end(),
+                                           [](const std::string& n) { return n.rfind("force_", 0) == 0; });
     for (std::size_t i = 0; i < c.y.size(); ++i) {
       if (c.y[i] < -0.02 * std::max(fmax, 0.0) || (fmax <= 0.0 && c.y[i] < 0.0)) {
-        throw_input_error(fmt::format("force {} N is negative", c.y[i]), t.context_of(i, ""),
+        throw_input_error(fmt::format("force {} N is negative", c.y[i]), t.context_of(i, *force_column),
                           "pushing forces >= 0 (compression positive)");
       }
     }
