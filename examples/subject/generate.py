@@ -6,7 +6,7 @@ Writes examples/subject/: subject.json (the seated body of examples/rest/chair,
 eight poke locations under the buttocks and thighs, a chair to design), the
 raw logs of every location (raw/<location>/), truth.json (the materials and
 depths the logs were made from) and the smaller subjects the tests run
-(subject-small.json, cohort/).
+(subject-small.json, cohort/) and the README's walkthrough (walkthrough.json).
 
 Truth. The tissue at every location is one material's shape, an isochoric
 neo-Hookean (CalculiX *HYPERELASTIC, YEOH with C20 = C30 = 0, which is
@@ -419,6 +419,12 @@ def main():
     dump(os.path.join(HERE, "subject.json"), seated)
     small = [LOCATIONS[i] for i in (0, 3, 4, 7)]
     dump(os.path.join(HERE, "subject-small.json"), subject_json("seated-small", small, 16.0, "chair-design.json"))
+    # The README's walkthrough: two locations (one with ultrasound, one whose
+    # depth is searched), the coarser body, the pressure mat.
+    walk = subject_json("seated-walkthrough", [LOCATIONS[0], LOCATIONS[7]], 16.0, "chair-design.json")
+    if "pressure" in seated:
+        walk["pressure"] = seated["pressure"]
+    dump(os.path.join(HERE, "walkthrough.json"), walk)
     # A cohort of three tiny subjects for the workflow's bookkeeping tests: a
     # generated thigh each, one location with the logs of one of the seated
     # subject's, a two-iteration design of a flat block.

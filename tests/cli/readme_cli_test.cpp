@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // The README's commands, run as a new user would: every command of the code
-// blocks under "## Commands", in order, from a folder that holds the bundled
-// examples as the repository root does, each ending with exit 0.
+// blocks of the walkthrough ("## A subject, step by step") and under
+// "## Commands", in order, from a folder that holds the bundled examples as
+// the repository root does, each ending with exit 0.
 //
 // By default the iterative commands run shortened (fit: one shape iteration
 // on the coarsest mesh, design: one iteration), which still runs every stage
@@ -32,11 +33,16 @@ namespace {
 
 using test::ScratchDir;
 
+// The README's sections whose commands run: the walkthrough as one sequence,
+// and the reference, one sequence per ### section.
+constexpr const char* kWalkthrough = "## A subject, step by step";
+constexpr const char* kReference = "## Commands";
+
 struct ReadmeCommand {
   int line = 0;             // 1-based line of the README where it starts
-  std::string section;      // the ### heading above it
+  std::string section;      // the ### heading above it (the walkthrough's ## heading)
   std::string text;         // the command, continuation lines joined
-  std::string assignments;  // shell variables set earlier in the same block
+  std::string assignments;  // shell variables set earlier in the same section
 };
 
 std::string trim(const std::string& s) {
@@ -72,7 +78,9 @@ bool is_assignment(const std::string& s) {
   return s.find(' ') == std::string::npos || s.find(' ') > eq;
 }
 
-// Every command of the ```sh blocks between "## Commands" and the next "## ".
+// Every command of the ```sh blocks of the walkthrough and of the reference
+// (up to the next "## "): palpa commands, shell variables set for the
+// section's later commands, and `mkdir -p` for the folders of outputs.
 std::vector<ReadmeCommand> readme_commands(const std::string& readme,
                                            std::vector<std::string>& problems) {
   std::vector<ReadmeCommand> out;
@@ -84,9 +92,16 @@ std::vector<ReadmeCommand> readme_commands(const std::string& readme,
   int pending_line = 0;
   while (std::getline(in, raw)) {
     ++n;
-    if (!in_block && raw.rfind("## ", 0) == 0) in_commands = raw == "## Commands";
+    if (!in_block && raw.rfind("## ", 0) == 0) {
+      in_commands = raw == kWalkthrough || raw == kReference;
+      section = raw == kWalkthrough ? raw.substr(3) : "";
+      assignments.clear();
+    }
     if (!in_commands) continue;
-    if (!in_block && raw.rfind("### ", 0) == 0) section = raw.substr(4);
+    if (!in_block && raw.rfind("### ", 0) == 0 && section != std::string(kWalkthrough).substr(3)) {
+      section = raw.substr(4);
+      assignments.clear();
+    }
     if (raw.rfind("```", 0) == 0) {
       if (in_block) {
         in_block = false;
@@ -95,7 +110,6 @@ std::vector<ReadmeCommand> readme_commands(const std::string& readme,
         pending.clear();
       } else if (raw == "```sh") {
         in_block = true;
-        assignments.clear();
       }
       continue;
     }
@@ -111,7 +125,7 @@ std::vector<ReadmeCommand> readme_commands(const std::string& readme,
     if (command.empty()) continue;
     if (is_assignment(command)) {
       assignments += command + "; ";
-    } else if (command.rfind("palpa ", 0) == 0) {
+    } else if (command.rfind("palpa ", 0) == 0 || command.rfind("mkdir -p ", 0) == 0) {
       out.push_back(ReadmeCommand{pending_line, section, command, assignments});
     } else {
       problems.push_back(
@@ -137,10 +151,21 @@ bool long_example(const std::string& command) {
   return false;
 }
 
+// `command` with option `name` set to `value`: its value replaced where it is
+// given, the option added where it is not.
+std::string with_option(const std::string& command, const std::string& name, const std::string& value) {
+  const std::size_t at = command.find(" " + name + " ");
+  if (at == std::string::npos) return command + " " + name + " " + value;
+  const std::size_t from = at + name.size() + 2;
+  const std::size_t to = std::min(command.find(' ', from), command.size());
+  return command.substr(0, from) + value + command.substr(to);
+}
+
 // The shortened form of an iterative command (see the file comment).
 std::string shortened(const std::string& command) {
-  if (command.rfind("palpa fit ", 0) == 0) return command + " --max-iterations 1 --mesh-level 0";
-  if (command.rfind("palpa design ", 0) == 0) return command + " --iterations 1";
+  if (command.rfind("palpa fit ", 0) == 0)
+    return with_option(with_option(command, "--max-iterations", "1"), "--mesh-level", "0");
+  if (command.rfind("palpa design ", 0) == 0) return with_option(command, "--iterations", "1");
   return command;
 }
 
@@ -182,10 +207,10 @@ void check_results(const std::vector<Ran>& ran, const ScratchDir& dir) {
   for (const auto& r : ran) {
     if (r.exit_code != 0) continue;  // failed, or not run
     const std::string& t = r.command.text;
-    if (t.rfind("palpa demo -o demo-out", 0) == 0) {
-      EXPECT_TRUE(std::filesystem::exists(dir / "demo-out" / "summary.txt"));
-      EXPECT_TRUE(std::filesystem::exists(dir / "demo-out" / "tissue_uniaxial.csv"));
-      EXPECT_TRUE(std::filesystem::exists(dir / "demo-out" / "tissue_poke.csv"));
+    if (t.rfind("palpa demo -o stages-demo", 0) == 0) {
+      EXPECT_TRUE(std::filesystem::exists(dir / "stages-demo" / "summary.txt"));
+      EXPECT_TRUE(std::filesystem::exists(dir / "stages-demo" / "tissue_uniaxial.csv"));
+      EXPECT_TRUE(std::filesystem::exists(dir / "stages-demo" / "tissue_poke.csv"));
       EXPECT_NE(r.out.find("poke         3 mm punch, 10 mm layer"), std::string::npos) << r.out;
       EXPECT_NE(r.out.find("tissue (neo-hookean-volume): small-strain E = 10 kPa"),
                 std::string::npos)
@@ -206,6 +231,13 @@ void check_results(const std::vector<Ran>& ran, const ScratchDir& dir) {
         EXPECT_NEAR(s["contact_torque_Nm"][1].get<double>(), -2.0, 0.1);
       }
       if (out == "chair") EXPECT_GT(s["body"]["self_intersections_removed"].get<int>(), 0);
+    }
+    // The walkthrough ends in the subject's report, with every step's part in it.
+    if (t.rfind("palpa subject report ", 0) == 0) {
+      const std::string page = test::read_text(dir / t.substr(t.find(" -o ") + 4));
+      // The locations' fits, the rest table, the design's headline and the comparison's figures.
+      for (const char* part : {"buttock-left", "knee-right", "body PPI", "the body's ζ", "relative_rms"})
+        EXPECT_NE(page.find(part), std::string::npos) << t << " has no " << part;
     }
   }
 }
@@ -304,6 +336,9 @@ TEST(ReadmeCli, HasCommandsInEverySectionAndNoneThatIsNotPalpa) {
   for (const auto& p : problems) ADD_FAILURE() << p;
   // A parser that finds nothing (a renamed heading) must not pass.
   EXPECT_GE(commands.size(), 40u);
+  EXPECT_GE(std::count_if(commands.begin(), commands.end(),
+                          [](const auto& c) { return "## " + c.section == kWalkthrough; }),
+            12);
   const auto groups = readme_groups();
   EXPECT_GE(groups.size(), 9u);
   for (const auto& entry : runs_after()) {
@@ -356,6 +391,25 @@ TEST(ReadmeCli, TheCommandParserJoinsLinesAndStripsComments) {
   readme_commands("## Commands\n```sh\nSCENE -o OUT\n```\n", problems);
   ASSERT_EQ(problems.size(), 1u);
   EXPECT_NE(problems[0].find("not a palpa command"), std::string::npos);
+}
+
+TEST(ReadmeCli, TheWalkthroughIsOneSequenceAndShortenedCommandsKeepTheirOptions) {
+  const std::string readme =
+      "## A subject, step by step\n### 1. Acquire\n```sh\ns=examples/subject\nmkdir -p walk\n"
+      "palpa subject check $s/x.json\n```\n### 2. Fit\n```sh\npalpa fit d.json --mesh-level 2 -o f\n```\n"
+      "## Units\n```sh\nmkdir -p not-run\n```\n## Commands\n### `palpa a`\n```sh\npalpa design s.json -o d\n```\n";
+  std::vector<std::string> problems;
+  const auto c = readme_commands(readme, problems);
+  EXPECT_TRUE(problems.empty());
+  ASSERT_EQ(c.size(), 4u);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(c[i].section, "A subject, step by step");
+  EXPECT_EQ(c[1].text, "palpa subject check $s/x.json");
+  // A variable holds across the walkthrough's blocks, and not past it.
+  EXPECT_EQ(c[2].assignments, "s=examples/subject; ");
+  EXPECT_EQ(c[3].section, "`palpa a`");
+  EXPECT_EQ(c[3].assignments, "");
+  EXPECT_EQ(shortened(c[2].text), "palpa fit d.json --mesh-level 0 -o f --max-iterations 1");
+  EXPECT_EQ(shortened(c[3].text), "palpa design s.json -o d --iterations 1");
 }
 
 }  // namespace
