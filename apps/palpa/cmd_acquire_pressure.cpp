@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <memory>
 
 #include "acquire_options.hpp"
@@ -51,9 +52,11 @@ void run_acquire_pressure(const PressureArgs& a) {
 
   acquire::write_pressure_map(mesh, m, acquire::pressure_summary(mesh, m, o, a.mesh, a.locations, a.samples, a.method),
                               a.output);
-  spdlog::info("acquire pressure: {} locations{}, {} interpolation onto {} vertices; C = {}, pressure {} .. {}, net "
-               "force {}; wrote {}",
+  spdlog::info("acquire pressure: {} locations{}, {} interpolation onto {} vertices, {} within {} of a location; "
+               "C = {}, pressure {} .. {}, net force {}; wrote {}",
                m.locations.size(), m.compensated ? " (posture compensated)" : "", a.method, mesh.V.rows(),
+               format_quantity(m.covered_area, Dimension::Area),
+               std::isfinite(m.reach) ? format_quantity(m.reach, Dimension::Length) : "any distance",
                format_quantity(m.constant, Dimension::Pressure),
                format_quantity(m.pressure.minCoeff(), Dimension::Pressure),
                format_quantity(m.pressure.maxCoeff(), Dimension::Pressure),
@@ -88,6 +91,11 @@ void add_acquire_pressure(CLI::App& acquire) {
   cmd->add_option("--method", a->method, "biharmonic (linearly precise, default) or harmonic");
   add_quantity_option(*cmd, "--max-distance", a->max_distance, Dimension::Length,
                       "Largest distance of a location from the surface (default 5 mm)", Sign::Positive);
+  add_quantity_option(*cmd, "--reach", a->o.reach, Dimension::Length,
+                      "How far the map extends along the surface from the nearest location; beyond it nothing was "
+                      "measured and the pressure is 0 (default: the locations' spacing, the largest distance from one "
+                      "to its nearest neighbour)",
+                      Sign::Positive);
   cmd->add_flag("--no-clamp", a->no_clamp, "Do not clamp the interpolated map to the locations' range");
   cmd->add_option("--reading-column", a->o.reading_column, "Name (or base name) of the reading column (default reading)");
   cmd->add_option("--reference-column", a->o.reference_column,

@@ -11,6 +11,7 @@
 #include "palpa/acquire/pressure.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/io/csv.hpp"
+#include "palpa/sim3d/shapes.hpp"
 #include "synthetic.hpp"
 
 namespace palpa::acquire {
@@ -54,6 +55,7 @@ TEST(AcquirePressure, CompensatesPostureAndReproducesALinearFieldExactly) {
   PressureOptions o;
   o.load = 350.0;
   o.interpolation.clamp_to_sample_range = false;
+  o.reach = 1.0;  // the whole plate was measured
   const PressureMap m = pressure_map(mesh, f.locations, f.samples, o);
   ASSERT_TRUE(m.compensated);
   // The posture factors cancel: location i reads C·ratio(x_i).
@@ -90,9 +92,51 @@ TEST(AcquirePressure, AConstantFieldIsTheLoadOverTheArea) {
     PressureOptions o;
     o.load = 100.0;
     o.interpolation.method = method;
+    o.reach = 1.0;  // the whole plate was measured
     const PressureMap m = pressure_map(test::plate(8, 0.1), f.locations, f.samples, o);
     for (Eigen::Index v = 0; v < m.pressure.size(); ++v) EXPECT_NEAR(m.pressure(v), 100.0 / 0.01, 1e-7);
   }
+}
+
+TEST(AcquirePressure, TheMapEndsWhereTheSensorsDoAndCarriesTheLoad) {
+  // A seat: a 20 × 20 × 4 cm box of 5 mm cells, a mat of 5 × 5 sensors 2.5 cm
+  // apart over the middle 10 × 10 cm of its top, reading a constant.
+  const SurfaceMesh seat = sim3d::make_box_surface({0.2, 0.2, 0.04}, Eigen::Vector3i(40, 40, 8));
+  test::ScratchDir dir;
+  test::SyntheticPressure s;
+  for (int j = 0; j < 5; ++j) {
+    for (int i = 0; i < 5; ++i) s.positions.emplace_back(-0.05 + 0.025 * i, -0.05 + 0.025 * j, 0.04);
+  }
+  s.ratio = [](const Eigen::Vector3d&) { return 3.0; };
+  const PressureFiles f = write_files(dir, s);
+  PressureOptions o;
+  o.load = 100.0;
+  const PressureMap m = pressure_map(seat, f.locations, f.samples, o);
+  EXPECT_DOUBLE_EQ(m.reach, 0.025);  // the sensors' spacing
+  const Eigen::VectorXd areas = geometry::vertex_areas(seat);
+  double carried = 0.0;
+  for (Eigen::Index v = 0; v < seat.V.rows(); ++v) {
+    const Eigen::Vector3d x = seat.V.row(v).transpose();
+    carried += m.pressure(v) * areas(v);
+    if (x.z() < 0.04 - 1e-9) {
+      EXPECT_EQ(m.pressure(v), 0.0) << "a side or the bottom: " << x.transpose();
+    } else if (x.head<2>().cwiseAbs().maxCoeff() <= 0.05 + 1e-9) {
+      EXPECT_GT(m.pressure(v), 0.0) << "under the mat: " << x.transpose();
+    } else if (x.head<2>().cwiseAbs().minCoeff() > 0.075 + 1e-9) {
+      EXPECT_EQ(m.pressure(v), 0.0) << "beyond the mat: " << x.transpose();
+    }
+  }
+  // All on the flat top: the map's own force Σ p·A is the load.
+  EXPECT_NEAR(carried, 100.0, 1e-9);
+  EXPECT_NEAR(m.net_force.z(), 100.0, 1e-9);
+  EXPECT_GT(m.covered_area, 0.1 * 0.1);
+  EXPECT_LT(m.covered_area, 0.15 * 0.15);
+  // Spread over the whole box, the sides and the bottom would push back: the
+  // net force is still the load, the map's own force far above it.
+  o.reach = 1.0;
+  const PressureMap everywhere = pressure_map(seat, f.locations, f.samples, o);
+  EXPECT_NEAR(everywhere.net_force.norm(), 100.0, 1e-9);
+  EXPECT_GT(everywhere.pressure.dot(areas), 2.0 * 100.0);
 }
 
 TEST(AcquirePressure, WithoutAReferenceTheReadingsAreUsedAsTheyAre) {

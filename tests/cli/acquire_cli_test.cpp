@@ -224,7 +224,16 @@ TEST(AcquireCli, PressureWritesPlyVtuAndASummary) {
   EXPECT_GT(m.at("peak_pressure_index_Pa").get<double>(), 0.0);
   EXPECT_LE(m.at("peak_pressure_index_Pa").get<double>(), m.at("peak_Pa").get<double>());
   EXPECT_LE(m.at("p95_Pa").get<double>(), m.at("peak_Pa").get<double>());
-  EXPECT_GT(m.at("force_N").get<double>(), 0.0);
+  // On the flat plate the map's own force Σ p·A is the load; it ends one
+  // sensor spacing (the 12 locations are 2 cm apart) beyond the mat.
+  EXPECT_NEAR(m.at("force_N").get<double>(), 343.0, 1e-6);
+  EXPECT_NEAR(s.at("reach_m").get<double>(), 0.02, 1e-12);
+  EXPECT_LT(s.at("covered_area_m2").get<double>(), 0.0099);
+  const auto whole = run_palpa(std::string(kPressure) + "--reach 20cm -o whole", dir.path());
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  const Json w = Json::parse(test::read_text(dir / "whole" / "summary.json"));
+  EXPECT_NEAR(w.at("covered_area_m2").get<double>(), 0.01, 1e-12);  // the whole 10 cm plate
+  EXPECT_NEAR(w.at("pressure_map").at("force_N").get<double>(), 343.0, 1e-6);
 }
 
 TEST(AcquireCli, PressureRefusesBadInputAndWritesNothing) {
@@ -243,6 +252,7 @@ TEST(AcquireCli, PressureRefusesBadInputAndWritesNothing) {
       {"locations.csv", "", "", "--method spline", "unknown interpolation 'spline'"},
       {"locations.csv", "", "", "--unit kPa", "'kPa' is not a length unit"},
       {"locations.csv", "", "", "--max-distance 0mm", "--max-distance: 0mm is zero"},
+      {"locations.csv", "", "", "--reach 0mm", "--reach: 0mm is zero"},
   };
   for (const Bad& b : cases) {
     ScratchDir dir;

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <optional>
 
 #include "palpa/core/atomic_file.hpp"
@@ -172,6 +173,8 @@ Json pressure_summary(const SurfaceMesh& mesh, const PressureMap& m, const Press
               {"pressure_min_Pa", m.pressure.minCoeff()},
               {"pressure_max_Pa", m.pressure.maxCoeff()},
               {"contact_area_m2", m.contact_area},
+              {"reach_m", std::isfinite(m.reach) ? Json(m.reach) : Json(nullptr)},
+              {"covered_area_m2", m.covered_area},
               {"pressure_map", report::to_json(report::pressure_metrics(mesh, m.pressure))},
               {"locations", locations}};
 }

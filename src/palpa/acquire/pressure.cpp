@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 
 #include "palpa/acquire/signal.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/geometry/edge_distance.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/io/csv.hpp"
 
@@ -45,6 +47,20 @@ long location_id(const CsvTable& table, std::size_t row, double value) {
                       "integer location ids");
   }
   return static_cast<long>(value);
+}
+
+// The largest distance from a location to its nearest other location: a
+// vertex farther than this from every location lies outside the mat.
+double sensor_spacing(const Eigen::MatrixX3d& positions) {
+  double spacing = 0.0;
+  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (Eigen::Index j = 0; j < positions.rows(); ++j) {
+      if (j != i) nearest = std::min(nearest, (positions.row(j) - positions.row(i)).norm());
+    }
+    spacing = std::max(spacing, nearest);
+  }
+  return spacing > 0.0 ? spacing : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -167,7 +183,18 @@ PressureMap pressure_map(const SurfaceMesh& mesh, const std::filesystem::path& l
   io.source = locations_file.string();
   io.sample_labels = labels;
   const geometry::SurfaceInterpolator interp(mesh, positions, io);
-  const Eigen::MatrixXd field = interp.interpolate_columns(values);
+  Eigen::MatrixXd field = interp.interpolate_columns(values);
+  // Only the covered part of the surface was measured: 0 beyond the reach.
+  map.reach = o.reach > 0.0 ? o.reach : sensor_spacing(positions);
+  const Eigen::VectorXd along = geometry::edge_path_distance(mesh, interp.sample_vertices(), map.reach);
+  const Eigen::VectorXd areas = geometry::vertex_areas(mesh);
+  for (Eigen::Index v = 0; v < field.rows(); ++v) {
+    if (along(v) <= map.reach) {
+      map.covered_area += areas(v);
+    } else {
+      field.row(v).setZero();
+    }
+  }
   const Eigen::Vector3d unit_force = geometry::pressure_force(mesh.V, mesh.F, field.col(0));
   if (!(unit_force.norm() > 0.0)) {
     throw_input_error("the interpolated readings carry no net force (all zero, or cancelling)",
@@ -177,7 +204,6 @@ PressureMap pressure_map(const SurfaceMesh& mesh, const std::filesystem::path& l
   map.pressure = map.constant * field.col(0);
   map.pressure_std = map.constant * field.col(1);
   map.net_force = map.constant * unit_force;
-  const Eigen::VectorXd areas = geometry::vertex_areas(mesh);
   for (Eigen::Index v = 0; v < map.pressure.size(); ++v) {
     if (map.pressure(v) > 0.0) map.contact_area += areas(v);
   }

@@ -11,7 +11,9 @@
 // changes by scaling with α_i = C / r_i (so α_i r_i is the same constant C for
 // every location); interpolate C p_i / r_i onto the support's vertices with
 // linearly precise biharmonic weights (harmonic as a fallback), each location a
-// handle; choose C so the net force of the interpolated pressure over the
+// handle, over the part of the surface the sensors cover (within `reach` of a
+// location along the surface; beyond it nothing was measured and the map is
+// 0); choose C so the net force of the interpolated pressure over the
 // surface equals a given load (e.g. half the body weight). Sensor readings may
 // be in any unit proportional to the force (volts of the sensor circuit): the
 // load fixes the scale, so no calibration is needed.
@@ -50,6 +52,10 @@ struct PressureOptions {
   std::string reference_column = "reference";  // used when present
   geometry::InterpolationOptions interpolation;  // method, max_distance, clamping
   double load = 0.0;           // net force the map must carry [N], > 0
+  // How far along the surface the map reaches from its nearest location [m];
+  // 0: the largest distance from a location to its nearest neighbour (the
+  // sensors' spacing), unlimited for a single location.
+  double reach = 0.0;
 };
 
 struct SensorLocation {
@@ -70,6 +76,8 @@ struct PressureMap {
   Eigen::VectorXd pressure_std;           // #V [Pa]
   Eigen::Vector3d net_force = Eigen::Vector3d::Zero();  // ∫ p n dA [N]
   double contact_area = 0.0;              // area where p > 0 [m²]
+  double reach = 0.0;                     // the reach used [m] (+inf: unlimited)
+  double covered_area = 0.0;              // area within reach of a location [m²]
 };
 
 // Reads the two files and builds the map on `mesh`. Throws palpa::Error

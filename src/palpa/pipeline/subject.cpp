@@ -37,7 +37,7 @@ const std::vector<std::string> kUltrasoundOptions = {
     "force_columns", "pick_columns", "offset",         "no_align", "search",     "cutoff",
     "order",         "rest",         "rest_tolerance", "max_gap",  "saturation", "force_window"};
 const std::vector<std::string> kPressureOptions = {
-    "unit",         "trim",     "clip_run",       "method",
+    "unit",         "trim",     "clip_run",       "method",           "reach",
     "max_distance", "no_clamp", "reading_column", "reference_column"};
 
 bool usable_name(const std::string& n) {
