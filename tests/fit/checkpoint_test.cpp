@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 // Checkpoint and resume: a fit interrupted after its second iteration and
 // resumed ends where an uninterrupted fit ends, bit for bit (nonlinear CG,
-// and Levenberg–Marquardt, whose trust-region radius is checkpointed); a
-// checkpoint of another fit is refused.
+// and Levenberg–Marquardt, whose trust-region radius and iteration count,
+// rejected steps included, are checkpointed); a checkpoint of another fit is
+// refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -50,7 +52,8 @@ struct Runs {
   GuessResult resumed;
 };
 
-Runs interrupted_and_resumed(const Dataset& d, const FitOptions& o, const std::filesystem::path& checkpoint) {
+Runs interrupted_and_resumed(const Dataset& d, const FitOptions& o, const std::filesystem::path& checkpoint,
+                             int interrupt_after = kInterruptAfter) {
   Runs runs;
   runs.whole = fit_dataset(d, o).guesses.at(0);
 
@@ -59,7 +62,7 @@ Runs interrupted_and_resumed(const Dataset& d, const FitOptions& o, const std::f
   int last = -1;
   c.on_iteration = [&](std::size_t, const GuessResult& r) {
     last = r.iterations;
-    if (r.iterations == kInterruptAfter) request_interrupt();
+    if (r.iterations == interrupt_after) request_interrupt();
   };
   try {
     fit_dataset(d, o, c);
@@ -68,7 +71,7 @@ Runs interrupted_and_resumed(const Dataset& d, const FitOptions& o, const std::f
     EXPECT_EQ(e.kind(), ErrorKind::Interrupted) << e.what();
   }
   clear_interrupt();
-  EXPECT_EQ(last, kInterruptAfter);
+  EXPECT_EQ(last, interrupt_after);
   EXPECT_TRUE(std::filesystem::exists(checkpoint));
 
   FitControl resume;
@@ -79,7 +82,10 @@ Runs interrupted_and_resumed(const Dataset& d, const FitOptions& o, const std::f
     if (first < 0) first = r.iterations;
   };
   runs.resumed = fit_dataset(d, o, resume).guesses.at(0);
-  EXPECT_EQ(first, kInterruptAfter + 1) << "the resumed fit continues after the checkpointed iteration";
+  // It continues after the checkpointed iteration (interrupted after the
+  // last, it only reports where it ended).
+  EXPECT_EQ(first, std::min(interrupt_after + 1, runs.whole.iterations))
+      << "the resumed fit continues after the checkpointed iteration";
   return runs;
 }
 
@@ -120,6 +126,31 @@ TEST(Checkpoint, ResumedLmEndsBitForBitWhereAnUninterruptedFitEnds) {
   ASSERT_GT(runs.whole.iterations, kInterruptAfter + 1) << runs.whole.stop.detail;
   expect_bit_for_bit(runs);
   RecordProperty("iterations", runs.whole.iterations);
+}
+
+// Levenberg–Marquardt's iteration limit counts its rejected steps too: a fit
+// that rejected a step before the interrupt and then runs into the limit
+// stops where the uninterrupted one stops (with the accepted iterations as
+// the count, the resumed one had a step more to try).
+TEST(Checkpoint, ResumedLmStopsAtTheIterationLimitWhereAnUninterruptedFitStops) {
+  ScratchDir dir;
+  test::IndentationSpec spec;
+  spec.train_radii = {3e-3};
+  spec.points = 6;
+  spec.mesh_level = 0;
+  spec.noise_rel = spec.noise_abs = 0.0;  // noise-free: the fit ends in tiny steps, some rejected
+  const Dataset d = read_dataset(
+      test::write_indentation_dataset(dir.path(), material::NeoHookean(20e3, 0.3), spec).dataset);
+  FitOptions o = options(Optimizer::LevenbergMarquardt);
+  o.max_iterations = 15;
+  o.simulation.steps = 6;
+  const GuessResult whole = fit_dataset(d, o).guesses.at(0);
+  ASSERT_EQ(whole.stop.termination, Termination::IterationLimit) << whole.stop.detail;
+  const int accepted = whole.iterations;
+  ASSERT_LT(accepted, o.max_iterations) << "no step was rejected: the case does not test the limit";
+  // Interrupted after its last accepted step: the rejected one came before.
+  const Runs runs = interrupted_and_resumed(d, o, dir / "checkpoint.json", accepted);
+  expect_bit_for_bit(runs);
 }
 
 std::vector<std::filesystem::path> warm_files(const std::filesystem::path& dir) {

@@ -166,7 +166,8 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,
           {"step", s.step},
           {"slope", s.slope},
           {"since_restart", s.since_restart},
-          {"trust_region_radius", s.trust_region_radius}};
+          {"trust_region_radius", s.trust_region_radius},
+          {"solver_iterations", s.solver_iterations}};
   doc_["guesses"][key] = Json{
       {"layer_depth_m", r.layer_depth},
       {"modulus_scale", r.modulus_scale},
@@ -260,6 +261,7 @@ bool Checkpoint::restore(std::size_t g, GuessResult& r, GuessState& s, std::vect
   s.since_restart = static_cast<int>(st.at("since_restart").as_integer());
   // (Checkpoints written before it was saved restart the trust region.)
   s.trust_region_radius = st.has("trust_region_radius") ? st.at("trust_region_radius").as_number() : 0.0;
+  s.solver_iterations = st.has("solver_iterations") ? static_cast<int>(st.at("solver_iterations").as_integer()) : 0;
   if (warm != nullptr && v.has("warm_start")) {
     const JsonView w = v.at("warm_start");
     const std::string name = w.at("file").as_string();

@@ -80,8 +80,8 @@ class ResidualCost final : public ceres::CostFunction {
 class ProgressCallback final : public ceres::IterationCallback {
  public:
   ProgressCallback(const double* x, Eigen::Index n, EvaluationCache& cache, const OptimizeOptions& o,
-                   const OptimizerCallbacks& cb)
-      : x_(x), n_(n), cache_(&cache), o_(&o), cb_(&cb) {}
+                   const OptimizerCallbacks& cb, int done)
+      : x_(x), n_(n), cache_(&cache), o_(&o), cb_(&cb), done_(done) {}
 
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (cache_->error || interrupt_requested()) return ceres::SOLVER_ABORT;
@@ -92,6 +92,7 @@ class ProgressCallback final : public ceres::IterationCallback {
       // (After an accepted step the summary holds the radius already updated
       // by the step's quality: the one the next step is taken with.)
       st.trust_region_radius = s.trust_region_radius;
+      st.solver_iterations = done_ + s.iteration;
       // An exception must not cross Ceres: it is rethrown after Solve.
       try {
         cb_->on_iteration(st.x, 2.0 * s.cost, st);
@@ -109,6 +110,7 @@ class ProgressCallback final : public ceres::IterationCallback {
   EvaluationCache* cache_;
   const OptimizeOptions* o_;
   const OptimizerCallbacks* cb_;
+  int done_;  // the solver's iterations before this run (resuming)
 };
 
 }  // namespace
@@ -139,7 +141,10 @@ OptimizeOutcome levenberg_marquardt(TrainingProblem& p, const GuessState& start,
   // (a nearly incompressible sample's volumetric spline under uniaxial load),
   // which then leave the physically valid set.
   opt.jacobi_scaling = false;
-  opt.max_num_iterations = std::max(0, o.max_iterations - o.done_iterations);
+  // The limit counts rejected steps too: a resumed fit has what was left
+  // (a checkpoint without the count: its accepted iterations).
+  const int done = start.solver_iterations > 0 ? start.solver_iterations : o.done_iterations;
+  opt.max_num_iterations = std::max(0, o.max_iterations - done);
   opt.function_tolerance = o.function_tolerance;
   opt.gradient_tolerance = 1e-14;
   opt.parameter_tolerance = 1e-9;
@@ -150,7 +155,7 @@ OptimizeOutcome levenberg_marquardt(TrainingProblem& p, const GuessState& start,
   opt.num_threads = 1;
   // A resumed fit goes on with the radius the interrupted one had reached.
   if (start.trust_region_radius > 0.0) opt.initial_trust_region_radius = start.trust_region_radius;
-  ProgressCallback progress(x.data(), x.size(), cache, o, cb);
+  ProgressCallback progress(x.data(), x.size(), cache, o, cb, done);
   opt.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
   ceres::Solve(opt, &problem, &summary);

@@ -98,8 +98,11 @@ struct GuessState {
   double slope = 0.0;          // gradient·direction at the start of the last line search
   int since_restart = 0;
   // Levenberg–Marquardt: the trust-region radius of the next step (0 before
-  // the start point is recorded), so that a resumed fit takes the same steps.
+  // the start point is recorded), so that a resumed fit takes the same steps;
+  // and the solver's iterations so far, rejected steps included (its
+  // iteration limit counts both), so that it stops where it would have.
   double trust_region_radius = 0.0;
+  int solver_iterations = 0;
 };
 
 struct OptimizeOptions {
