@@ -20,11 +20,12 @@ namespace palpa::cli {
 void add_demo_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "demo",
-      "Run palpa on the bundled example data and write the results to a folder.\n"
-      "  palpa demo -o demo-out");
-  auto out = std::make_shared<std::string>("demo-out");
+      "Run palpa's stages on the bundled example data (materials, pokes, a fit) and write the results to a "
+      "folder; `make demo` runs the whole subject pipeline.\n"
+      "  palpa demo -o stages-demo");
+  auto out = std::make_shared<std::string>("stages-demo");
   auto examples = std::make_shared<std::string>(PALPA_EXAMPLES_DIR);
-  cmd->add_option("-o,--output", *out, "Output folder (created if missing; default demo-out)");
+  cmd->add_option("-o,--output", *out, "Output folder (created if missing; default stages-demo)");
   cmd->add_option("--examples", *examples, "Folder of the bundled examples");
   declare_paths(*cmd, {"--examples"}, {"-o"});
   cmd->callback([out, examples] {
