@@ -11,6 +11,7 @@
 #include "common/system_derivatives.hpp"
 #include "common/test_support.hpp"
 #include "palpa/geometry/boundary.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/body/contact_term.hpp"
 #include "palpa/tet/system.hpp"
@@ -129,15 +130,18 @@ TEST(ContactTermSurface, SystemDerivativesMatchFiniteDifferencesAndForcesBalance
   EXPECT_TRUE(derivatives_match(g, fd_gradient([&](const Eigen::VectorXd& v) { return sys.energy(v); }, x, 1e-7), 1e-7));
   EXPECT_TRUE(derivatives_match(dense_hessian(sys, x), fd_hessian(sys, x, 1e-7), 1e-6));
   // The skin's nodal forces and the obstacle's reaction cancel, and each
-  // vertex's pressure is its force over its share of the skin.
+  // vertex's pressure is its force over its share of the skin where it is
+  // now.
   const Eigen::VectorXd p = sys.positions(sys.full_displacement(x));
   const Eigen::Matrix3Xd f = term.vertex_forces(p);
   const contact::Wrench w = term.obstacle_wrench(p, Eigen::Vector3d::Zero());
   EXPECT_GT(w.force.norm(), 0.0);
   EXPECT_LE((f.rowwise().sum() + w.force).norm(), 1e-12 * w.force.norm());
   const Eigen::VectorXd pressure = term.pressures(p);
-  EXPECT_NEAR((pressure.array() * term.pressure_areas().array()).sum(), f.colwise().norm().sum(),
-              1e-12 * f.colwise().norm().sum());
+  const Eigen::MatrixX3d deformed = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
+  const Eigen::VectorXd area = geometry::vertex_areas(deformed, term.faces());
+  EXPECT_GT((area - geometry::vertex_areas(box.mesh.V, term.faces())).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NEAR(pressure.dot(area), f.colwise().norm().sum(), 1e-12 * f.colwise().norm().sum());
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -200,7 +200,7 @@ TEST(DesignScore, AreaGradientMatchesDifferences) {
   Eigen::VectorXd w(s.V.rows());
   for (Eigen::Index i = 0; i < w.size(); ++i) w[i] = u(rng);
   Eigen::MatrixX3d G = Eigen::MatrixX3d::Zero(s.V.rows(), 3);
-  add_area_gradient(s.V, s.F, w, G);
+  geometry::add_vertex_area_gradient(s.V, s.F, w, G);
   Eigen::MatrixX3d D(s.V.rows(), 3);
   for (Eigen::Index i = 0; i < D.size(); ++i) D.data()[i] = u(rng);
   const double h = 1e-6;
@@ -247,8 +247,8 @@ void check_adjoint(bool rotate, bool normal_only, int exponent, bool smoothness,
   } else {
     // Without the adjoint term (the equilibrium held fixed) the derivative
     // is off by ten times the tolerance or more (4% to 33× on the nodal-pressure
-    // block): the test sees the adjoint. (A deformable support's depths
-    // follow its deformed surface, so only its areas are explicit.)
+    // block): the test sees the adjoint. (A deformable support's surface
+    // is where the equilibrium puts it, so only its held base is explicit.)
     const double explicit_only =
         space.restrict(deformable ? at.score.d_support_area : at.score.d_support + at.score.d_support_area).dot(dir);
     EXPECT_GT(std::abs(explicit_only - fd), 10.0 * tolerance * std::abs(fd));

@@ -3,7 +3,8 @@
 // contact area, mean = peak = PPI = p95, centre, the window's share) and a
 // Hertz profile p0·√(1 − r²/a²) (force ⅔πa²p0, p95 = p0·√0.95, the peak
 // pressure index as the mean over a disc of the window's area), a one-vertex
-// spike that moves the peak but not the index, and bad input.
+// spike that moves the peak but not the index, a contact area given per
+// vertex, and bad input.
 
 #include "palpa/report/pressure_metrics.hpp"
 
@@ -14,6 +15,7 @@
 
 #include "common/square_grid.hpp"
 #include "common/test_support.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 
 namespace palpa::report {
 namespace {
@@ -80,6 +82,33 @@ TEST(PressureMetrics, AOneVertexSpikeMovesThePeakNotTheIndex) {
   EXPECT_EQ(after.peak, 10.0 * kP0);
   EXPECT_LT(std::abs(after.peak_pressure_index - before.peak_pressure_index), 0.03 * before.peak_pressure_index);
   EXPECT_LT(std::abs(after.p95 - before.p95), 0.01 * before.p95);
+}
+
+TEST(PressureMetrics, TheAreaInContactGivenIsTheContactArea) {
+  // The uniform disc with its rim vertices half in contact: the patch's area
+  // and the mean follow the areas given, the peak and the force do not.
+  const SurfaceMesh m = grid();
+  const Eigen::VectorXd p = radial(m, [](double) { return kP0; });
+  const Eigen::VectorXd area = geometry::vertex_areas(m);
+  Eigen::VectorXd in_contact = Eigen::VectorXd::Zero(p.size());
+  double rim = 0.0;
+  for (Eigen::Index v = 0; v < p.size(); ++v) {
+    if (p[v] == 0.0) continue;
+    const bool on_rim = (m.V.row(v) - Eigen::RowVector3d(0.01, -0.02, 0.3)).norm() > kA - kH;
+    in_contact[v] = on_rim ? 0.5 * area[v] : area[v];
+    if (on_rim) rim += 0.5 * area[v];
+  }
+  const PressureMetrics all = pressure_metrics(m, p);
+  const PressureMetrics part = pressure_metrics(m.V, area, p, in_contact);
+  EXPECT_GT(rim, 0.0);
+  EXPECT_NEAR(part.contact_area, all.contact_area - rim, 1e-12 * all.contact_area);
+  EXPECT_NEAR(part.mean, part.force / part.contact_area, 1e-9 * kP0);
+  EXPECT_EQ(part.force, all.force);
+  EXPECT_EQ(part.peak, all.peak);
+  // More area in contact than the vertex has is refused.
+  in_contact[(kN / 2) * (kN + 1) + kN / 2] = 2.0 * area[(kN / 2) * (kN + 1) + kN / 2];
+  EXPECT_TRUE(test::throws_error([&] { pressure_metrics(m.V, area, p, in_contact); }, ErrorKind::Input,
+                                 {"in contact"}));
 }
 
 TEST(PressureMetrics, NoContactAndBadInput) {

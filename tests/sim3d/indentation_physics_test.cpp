@@ -14,6 +14,7 @@
 
 #include "common/test_support.hpp"
 #include "palpa/axisym/poke.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/material/models.hpp"
 #include "palpa/sim3d/run.hpp"
 #include "scene_fixtures.hpp"
@@ -210,7 +211,8 @@ HertzResult hertz(const HertzCase& k) {
   out.force_error = out.force / (hertz_force * bonded_layer_factor(k.nu, a / k.thickness)) - 1.0;
   const Eigen::VectorXd x = sim.system().positions(sim.displacement());
   const Eigen::VectorXd pressure = sim.contact_term(0).pressures(x);
-  const Eigen::VectorXd& area = sim.contact_term(0).pressure_areas();
+  const Eigen::MatrixX3d deformed = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(x.data(), x.size() / 3, 3);
+  const Eigen::VectorXd area = geometry::vertex_areas(deformed, sim.contact_term(0).faces());
   double m0 = 0.0, m2 = 0.0;
   for (Eigen::Index v = 0; v < pressure.size(); ++v) {
     const double r2 = x[3 * v] * x[3 * v] + x[3 * v + 1] * x[3 * v + 1];

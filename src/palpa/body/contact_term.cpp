@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/body/contact_term.hpp"
 
+#include "palpa/contact/traction_recovery.hpp"
+
 #include <algorithm>
 #include <chrono>
 
@@ -35,7 +37,7 @@ namespace {
 
 contact::ContactSamples samples_of(ContactSampling sampling, const Eigen::MatrixX3d& rest,
                                    const contact::SpringAreas& areas, int subdivisions) {
-  if (sampling == ContactSampling::Vertices) return contact::vertex_samples(areas.surface());
+  if (sampling == ContactSampling::Vertices) return contact::vertex_samples(areas.surface(), areas.skin_areas());
   return contact::surface_samples(rest, areas.faces(), contact::subdivision_rule(subdivisions));
 }
 
@@ -51,11 +53,7 @@ ContactTerm::ContactTerm(const contact::Obstacle& obstacle, const Eigen::MatrixX
 }
 
 void ContactTerm::rescale() {
-  if (sampling_ == ContactSampling::Surface) {
-    pressure_area_ = areas_.skin_areas();
-    return;
-  }
-  pressure_area_ = Eigen::Map<const Eigen::VectorXd>(areas_.areas().data(), static_cast<Eigen::Index>(areas_.areas().size()));
+  if (sampling_ == ContactSampling::Surface) return;
   // Sample s sits on skin vertex surface()[s].
   const std::vector<int>& surface = areas_.surface();
   std::vector<double> scale(surface.size());
@@ -135,11 +133,9 @@ Eigen::Matrix3Xd ContactTerm::vertex_forces(const Eigen::VectorXd& x) const {
 
 Eigen::VectorXd ContactTerm::pressures(const Eigen::VectorXd& x) const {
   const Eigen::Matrix3Xd f = vertex_forces(x);
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(f.cols());
-  for (Eigen::Index v = 0; v < f.cols(); ++v) {
-    if (pressure_area_[v] > 0.0) p[v] = f.col(v).norm() / pressure_area_[v];
-  }
-  return p;
+  const Eigen::MatrixX3d V = as_points(x).transpose();
+  const Eigen::VectorXd F = f.colwise().norm().transpose();
+  return contact::TractionRecovery(areas_.faces(), V.rows(), 0.0).recover(V, F);
 }
 
 contact::Wrench ContactTerm::obstacle_wrench(const Eigen::VectorXd& x, const Eigen::Vector3d& about) const {

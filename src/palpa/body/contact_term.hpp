@@ -59,6 +59,8 @@ class ContactTerm final : public Term {
   void set_stiffness(double k) { potential_.set_stiffness(k); }
   const contact::Obstacle& obstacle() const noexcept { return *obstacle_; }
   const std::vector<int>& surface() const noexcept { return areas_.surface(); }
+  // The skin triangles (rows of the body's vertices).
+  const Eigen::MatrixX3i& faces() const noexcept { return areas_.faces(); }
   // The committed contacts and the potential they make; sample s sits on
   // skin vertex surface()[s].
   const contact::PenaltyContact& potential() const noexcept { return potential_; }
@@ -84,12 +86,11 @@ class ContactTerm final : public Term {
 
   // Contact force on every body vertex at positions x (3N) [N] (3×N).
   Eigen::Matrix3Xd vertex_forces(const Eigen::VectorXd& x) const;
-  // Contact pressure per body vertex at x [Pa], 0 off contact: |f_i| over its
-  // spring area (Vertices: 2kδ_i/Ā), or over its share of the skin (Surface:
-  // the tractions' nodal average, so that Σ p_i A_i = Σ |f_i|).
+  // Contact pressure per body vertex at x [Pa], 0 off contact: the traction
+  // per deformed area, |f_i| over the vertex's share of the skin at x (the
+  // lumped recovery, contact/traction_recovery.hpp), so that Σ p_i A_i(x) =
+  // Σ |f_i|.
   Eigen::VectorXd pressures(const Eigen::VectorXd& x) const;
-  // The area each vertex's pressure is over [m²] (see pressures()).
-  const Eigen::VectorXd& pressure_areas() const noexcept { return pressure_area_; }
   // The wrench on the obstacle about `about` [m].
   contact::Wrench obstacle_wrench(const Eigen::VectorXd& x, const Eigen::Vector3d& about) const;
 
@@ -108,7 +109,6 @@ class ContactTerm final : public Term {
   const contact::Obstacle* obstacle_;
   ContactSampling sampling_;
   contact::SpringAreas areas_;
-  Eigen::VectorXd pressure_area_;  // per body vertex [m²]
   contact::PenaltyContact potential_;
   mutable std::atomic<std::int64_t> detection_ns_{0};
   mutable std::atomic<std::int64_t> detections_{0};

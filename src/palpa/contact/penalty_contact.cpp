@@ -23,10 +23,14 @@ constexpr std::size_t kSampleGrain = 256;
 
 }  // namespace
 
-ContactSamples vertex_samples(std::span<const int> vertices) {
+ContactSamples vertex_samples(std::span<const int> vertices, const Eigen::VectorXd& vertex_area) {
   ContactSamples s;
   s.vertices.reserve(vertices.size());
-  for (int v : vertices) s.vertices.push_back({v, -1, -1});
+  s.area.reserve(vertices.size());
+  for (int v : vertices) {
+    s.vertices.push_back({v, -1, -1});
+    s.area.push_back(vertex_area.size() > 0 ? vertex_area[v] : 0.0);
+  }
   s.weights.assign(vertices.size(), Eigen::Vector3d(1.0, 0.0, 0.0));
   s.scale.assign(vertices.size(), 1.0);
   return s;
@@ -60,6 +64,7 @@ ContactSamples surface_samples(const Eigen::MatrixX3d& rest, const Eigen::Matrix
   s.vertices.reserve(n);
   s.weights.reserve(n);
   s.scale.reserve(n);
+  s.area.reserve(n);
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const Eigen::Vector3d a = rest.row(faces(f, 0)), b = rest.row(faces(f, 1)), c = rest.row(faces(f, 2));
     const double area = 0.5 * (b - a).cross(c - a).norm();
@@ -71,6 +76,7 @@ ContactSamples surface_samples(const Eigen::MatrixX3d& rest, const Eigen::Matrix
       s.vertices.push_back({faces(f, 0), faces(f, 1), faces(f, 2)});
       s.weights.push_back(rule.barycentric[q]);
       s.scale.push_back(0.5 * rule.weight[q] * area);
+      s.area.push_back(rule.weight[q] * area);
     }
   }
   return s;
@@ -349,6 +355,26 @@ void PenaltyContact::add_forces(const Obstacle& obstacle, Points points, Eigen::
     scatter(st, -full.head<3>(), on_points);
     for (int i = 0; i < g.m; ++i) {
       on_obstacle.col(c.closest.vertices[static_cast<std::size_t>(i)]) -= full.segment<3>(3 * (i + 1));
+    }
+  }
+}
+
+void PenaltyContact::add_contact_areas(Points rest, Points points, Eigen::Ref<Eigen::VectorXd> on_points,
+                                       Eigen::Ref<Eigen::VectorXd> on_obstacle) const {
+  assert(rest.cols() == points.cols() && on_points.size() == points.cols());
+  for (const SampleContact& c : contacts_) {
+    const auto s = static_cast<std::size_t>(c.sample);
+    const std::array<int, 3>& v = samples_.vertices[s];
+    double area = samples_.area[s];
+    if (samples_.count(s) == 3) {
+      const double now = (points.col(v[1]) - points.col(v[0])).cross(points.col(v[2]) - points.col(v[0])).norm();
+      const double then = (rest.col(v[1]) - rest.col(v[0])).cross(rest.col(v[2]) - rest.col(v[0])).norm();
+      if (then > 0.0) area *= now / then;
+    }
+    for (int i = 0; i < samples_.count(s); ++i) on_points[v[static_cast<std::size_t>(i)]] += samples_.weights[s][i] * area;
+    if (on_obstacle.size() == 0) continue;
+    for (int i = 0; i < feature_size(c.closest.feature); ++i) {
+      on_obstacle[c.closest.vertices[static_cast<std::size_t>(i)]] += c.closest.weights[i] * area;
     }
   }
 }

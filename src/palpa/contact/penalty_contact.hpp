@@ -57,17 +57,21 @@ namespace palpa::contact {
 
 // Where a pass's springs sit on its surface: sample s is the point
 // x_s = Σ_i weights[s][i]·x(vertices[s][i]) over its first count(s) vertices
-// (columns of the positions; the rest −1), with spring factor scale[s].
+// (columns of the positions; the rest −1), with spring factor scale[s],
+// standing for area[s] of the surface at rest (what the contact area and the
+// pressure's footprint are measured with: rest/measurements.hpp).
 struct ContactSamples {
   std::vector<std::array<int, 3>> vertices;
   std::vector<Eigen::Vector3d> weights;  // N_s, Σ = 1
   std::vector<double> scale;             // c_s > 0
+  std::vector<double> area;              // [m²]; 0 where not known
   std::size_t size() const noexcept { return vertices.size(); }
   int count(std::size_t s) const noexcept { return vertices[s][2] >= 0 ? 3 : vertices[s][1] >= 0 ? 2 : 1; }
 };
 
-// One sample per vertex listed (columns of the positions), c_s = 1.
-ContactSamples vertex_samples(std::span<const int> vertices);
+// One sample per vertex listed (columns of the positions), c_s = 1, standing
+// for vertex_area[v] (one per column; empty: areas not known, 0).
+ContactSamples vertex_samples(std::span<const int> vertices, const Eigen::VectorXd& vertex_area = {});
 
 // Points of a reference triangle with weights summing to 1.
 struct TriangleRule {
@@ -82,7 +86,8 @@ struct TriangleRule {
 TriangleRule subdivision_rule(int n);
 // The rule's points on every triangle (rows of `faces`, columns of the
 // positions), c_s = ½·w_q·A_t with A_t the triangle's area in `rest`
-// (#V×3 [m]): k is then the pressure per depth [Pa/m]. Samples come face by
+// (#V×3 [m]): k is then the pressure per depth [Pa/m]; each stands for
+// w_q·A_t. Samples come face by
 // face, in rule order. Throws palpa::Error (Input) for a degenerate triangle.
 ContactSamples surface_samples(const Eigen::MatrixX3d& rest, const Eigen::MatrixX3i& faces,
                                const TriangleRule& rule);
@@ -191,6 +196,13 @@ class PenaltyContact {
   // (3×#V, or 0 columns to skip the obstacle side) [N].
   void add_forces(const Obstacle& obstacle, Points points, Eigen::Ref<Eigen::Matrix3Xd> on_points,
                   Eigen::Ref<Eigen::Matrix3Xd> on_obstacle) const;
+  // The area in contact [m²]: each committed contact's sample area
+  // (ContactSamples::area; a triangle sample's stretched as its triangle from
+  // `rest` to `points`, same columns), added to on_points (N) by the
+  // sample's weights and to on_obstacle (#V, or empty to skip) by its
+  // feature's weights at detection.
+  void add_contact_areas(Points rest, Points points, Eigen::Ref<Eigen::VectorXd> on_points,
+                         Eigen::Ref<Eigen::VectorXd> on_obstacle) const;
   // The reaction on the obstacle: force −Σ f, torque Σ (a − about) × (−f)
   // about `about` [m]; equal and opposite to the wrench of the f on the samples.
   Wrench obstacle_wrench(const Obstacle& obstacle, Points points, const Eigen::Vector3d& about) const;

@@ -33,7 +33,8 @@ double power(double x, int e) {
 
 }  // namespace
 
-ErgonomicScore::ErgonomicScore(const rest::RestSimulation& sim, ScoreOptions options) : options_(options) {
+ErgonomicScore::ErgonomicScore(const rest::RestSimulation& sim, ScoreOptions options)
+    : options_(options), recovery_(rest::pressure_recovery(sim)) {
   if (options_.exponent < 2 || options_.exponent > 4) {
     throw Error(ErrorKind::Input,
                 fmt::format("the ergonomic score's exponent must be 2, 3 or 4, got {}", options_.exponent));
@@ -48,53 +49,33 @@ ErgonomicScore::ErgonomicScore(const rest::RestSimulation& sim, ScoreOptions opt
                                      options_.pressure_smoothing);
 }
 
-void add_area_gradient(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::VectorXd& w,
-                       Eigen::MatrixX3d& grad) {
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
-    const double wf = (w[ia] + w[ib] + w[ic]) / 3.0;  // each vertex gets a third of the area
-    if (wf == 0.0) continue;
-    const Eigen::Vector3d a = V.row(ia), b = V.row(ib), c = V.row(ic);
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const double len = n.norm();
-    if (!(len > 0.0)) continue;
-    const Eigen::Vector3d u = n / len;
-    grad.row(ia) += wf * 0.5 * u.cross(c - b).transpose();
-    grad.row(ib) += wf * 0.5 * u.cross(a - c).transpose();
-    grad.row(ic) += wf * 0.5 * u.cross(b - a).transpose();
-  }
-}
-
-void ErgonomicScore::sum(const rest::RestSimulation& sim, const Eigen::VectorXd& support_area, Score& s,
-                         Eigen::VectorXd& wb, Eigen::VectorXd& ws) const {
+void ErgonomicScore::sum(const rest::ContactPressures& cp, Score& s, Eigen::VectorXd& wb, Eigen::VectorXd& ws) const {
   const int e = options_.exponent;
   s.body_smoothed = body_smoothing_ * s.body_pressure;
   s.support_smoothed = support_smoothing_ * s.support_pressure;
-  const Eigen::VectorXd& area = sim.contact_term().pressure_areas();
   wb = Eigen::VectorXd::Zero(s.body_pressure.size());
   ws = Eigen::VectorXd::Zero(s.support_pressure.size());
-  for (int v : sim.surface_vertices()) {
+  for (Eigen::Index v = 0; v < wb.size(); ++v) {
     const double pb = s.body_smoothed[v];
-    if (pb <= 0.0) continue;
-    const double sa = area[v];
-    s.zeta_body += sa * power(pb, e);
-    wb[v] = e * sa * power(pb, e - 1);
+    if (pb <= 0.0 || cp.body_area[v] == 0.0) continue;
+    s.zeta_body += cp.body_area[v] * power(pb, e);
+    wb[v] = e * cp.body_area[v] * power(pb, e - 1);
   }
   for (Eigen::Index v = 0; v < ws.size(); ++v) {
     const double ps = s.support_smoothed[v];
     if (ps <= 0.0) continue;
-    s.zeta_support += support_area[v] * power(ps, e);
-    ws[v] = e * support_area[v] * power(ps, e - 1);
+    s.zeta_support += cp.support_area[v] * power(ps, e);
+    ws[v] = e * cp.support_area[v] * power(ps, e - 1);
   }
   s.zeta = s.zeta_body + s.zeta_support;
 }
 
 Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) const {
-  // p_i = ‖f_i‖/A_i with f the nodal contact forces (both passes on a
-  // deformable support), so
-  // ∂p_i/∂y = −f̂_iᵀ H_c(i, ·)/A_i (f = −∂E_c/∂y) and ∂ζ/∂y = −H_c v with
-  // v_i = (∂ζ/∂p_i / A_i) f̂_i: one product with the contact Hessian.
-  const rest::ContactPressures cp = rest::contact_pressures(sim);
+  // ζ = Σ A_i(y) p̄_i^e on each side, p̄ = S p, p = R(y) |f| the recovered
+  // traction (rest/measurements.hpp) of the nodal forces f = −∂E_c/∂y. So
+  // ∂ζ/∂y = −H_c v + (the pullbacks of R and of the areas), with
+  // v_i = (∂ζ/∂|f_i|) f̂_i: one product with the contact Hessian.
+  const rest::ContactPressures cp = rest::contact_pressures(sim, recovery_);
   const Eigen::Index nb = sim.model().num_vertices();
   const Eigen::Index ns = sim.support().vertices().rows();
   const int e = options_.exponent;
@@ -103,40 +84,53 @@ Score ErgonomicScore::evaluate(const rest::RestSimulation& sim, bool gradient) c
   s.support_pressure = cp.support;
   s.body_contacts = static_cast<int>((cp.body.array() > 0.0).count());
   s.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
-  const Eigen::VectorXd& body_area = sim.contact_term().pressure_areas();
-  const Eigen::MatrixX3d& X = sim.support_rest_vertices();
-  const Eigen::MatrixX3i& F = sim.support().triangles();
-  const Eigen::VectorXd support_area = geometry::vertex_areas(X, F);
   Eigen::VectorXd wb, ws;
-  sum(sim, support_area, s, wb, ws);
+  sum(cp, s, wb, ws);
   if (!gradient) return s;
 
-  const Eigen::VectorXd gb = body_smoothing_.transpose() * wb;
-  const Eigen::VectorXd gs = support_smoothing_.transpose() * ws;
-  Eigen::Matrix3Xd vb = Eigen::Matrix3Xd::Zero(3, nb), vs = Eigen::Matrix3Xd::Zero(3, ns);
-  for (int v : sim.surface_vertices()) {
-    const double f = cp.body_force.col(v).norm();
-    if (f > 0.0 && gb[v] != 0.0) vb.col(v) = gb[v] / (body_area[v] * f) * cp.body_force.col(v);
+  const Eigen::MatrixX3d Yb = rest::body_points(sim), Ys = rest::support_points(sim);
+  const Eigen::VectorXd fb = cp.body_force.colwise().norm().transpose();
+  const Eigen::VectorXd fs = cp.support_force.colwise().norm().transpose();
+  Eigen::VectorXd d_fb = Eigen::VectorXd::Zero(nb), d_fs = Eigen::VectorXd::Zero(ns);
+  Eigen::MatrixX3d d_yb = Eigen::MatrixX3d::Zero(nb, 3), d_ys = Eigen::MatrixX3d::Zero(ns, 3);
+  recovery_.body.add_pullback(Yb, fb, body_smoothing_.transpose() * wb, d_fb, d_yb);
+  recovery_.support.add_pullback(Ys, fs, support_smoothing_.transpose() * ws, d_fs, d_ys);
+  // The areas weighing p̄^e.
+  Eigen::VectorXd ab = Eigen::VectorXd::Zero(nb), as = Eigen::VectorXd::Zero(ns);
+  for (Eigen::Index v = 0; v < nb; ++v) {
+    if (wb[v] != 0.0) ab[v] = power(s.body_smoothed[v], e);
   }
-  // ζ_s = Σ A_j p̄_j^e with p_j = ‖f_j‖/A_j: the area enters twice.
-  Eigen::VectorXd area_weight = Eigen::VectorXd::Zero(ns);
+  for (Eigen::Index v = 0; v < ns; ++v) {
+    if (ws[v] != 0.0) as[v] = power(s.support_smoothed[v], e);
+  }
+  geometry::add_vertex_area_gradient(Yb, recovery_.body.triangles(), ab, d_yb);
+  geometry::add_vertex_area_gradient(Ys, recovery_.support.triangles(), as, d_ys);
+
+  Eigen::Matrix3Xd vb = Eigen::Matrix3Xd::Zero(3, nb), vs = Eigen::Matrix3Xd::Zero(3, ns);
+  for (Eigen::Index v = 0; v < nb; ++v) {
+    if (fb[v] > 0.0 && d_fb[v] != 0.0) vb.col(v) = d_fb[v] / fb[v] * cp.body_force.col(v);
+  }
   for (Eigen::Index j = 0; j < ns; ++j) {
-    const double f = cp.support_force.col(j).norm();
-    if (s.support_smoothed[j] > 0.0) area_weight[j] = power(s.support_smoothed[j], e);
-    if (f > 0.0 && gs[j] != 0.0) {
-      vs.col(j) = gs[j] / (support_area[j] * f) * cp.support_force.col(j);
-      area_weight[j] -= gs[j] * s.support_pressure[j] / support_area[j];
-    }
+    if (fs[j] > 0.0 && d_fs[j] != 0.0) vs.col(j) = d_fs[j] / fs[j] * cp.support_force.col(j);
   }
   Eigen::Matrix3Xd hb, hs;
   rest::contact_hessian_product(sim, vb, vs, hb, hs);
-  s.d_body = -Eigen::Map<const Eigen::VectorXd>(hb.data(), hb.size());
-  s.d_support = -hs.transpose();
+  const Eigen::Matrix3Xd d_body = d_yb.transpose() - hb;
+  s.d_body = Eigen::Map<const Eigen::VectorXd>(d_body.data(), d_body.size());
+  s.d_support = d_ys - hs.transpose();
   s.d_support_area = Eigen::MatrixX3d::Zero(ns, 3);
-  add_area_gradient(X, F, area_weight, s.d_support_area);
+  // A deformable support's held base is where it was made: what the score
+  // sees of it there is its shape's own.
+  if (sim.deformable_support()) {
+    for (Eigen::Index j = 0; j < ns; ++j) {
+      if (sim.support_vertex_fixed(static_cast<int>(j))) {
+        s.d_support_area.row(j) = s.d_support.row(j);
+        s.d_support.row(j).setZero();
+      }
+    }
+  }
   return s;
 }
-
 
 Smoothness::Smoothness(const Eigen::MatrixX3i& F, Eigen::Index n, std::vector<int> design, int iterations,
                        double lambda, double mu)

@@ -4,15 +4,16 @@
 // (thesis §7.4.1, MODEL.md "Body + rigid core + support contact").
 //
 // Ergonomic score (7.11–7.12):
-//   ζ = Σ_i s_i p̄_i^e  over the body's skin vertices and the support's vertices,
+//   ζ = Σ_i A_i p̄_i^e  over the body's skin vertices and the support's vertices,
 // p the contact pressures of the equilibrium on both sides (bidirectional,
-// Fig. 7.4), both from one set of nodal contact forces (both passes on a
-// deformable support, rest/coupled.hpp): p_i = ‖f_i‖/s_i, s_i the vertex's
-// area (the body's ContactTerm::pressure_areas(); the support vertex's rest
-// area, a third of its triangles, a function of the support's shape). So
-// what the body feels and what the support sees carry the same load, and a
-// support vertex cannot lower ζ by missing the skin. p̄ = S p, one Laplacian
-// smoothing step on each surface's own mesh:
+// Fig. 7.4): the traction per deformed area a mat would read, recovered from
+// one set of nodal contact forces (rest/measurements.hpp: both passes on a
+// deformable support), with the footprints of the contacts when the score
+// is built (so that ζ stays one smooth function of the shape); A_i the
+// vertex's area where the surface is now. So ζ_body is ∫ p̄^e over the
+// deformed skin, what the body feels and what the support sees carry the
+// same load, and a support vertex cannot lower ζ by missing the skin. p̄ = S p,
+// one Laplacian smoothing step on each surface's own mesh:
 //   p̄_i = (1 − λ) p_i + λ · mean_{j ∈ N(i)} p_j,   λ = ½,
 // i.e. (I + λL) p with the umbrella L = W − I (W: the mean of the
 // neighbours), the sign that smooths: a lone spike is spread over its ring,
@@ -20,13 +21,12 @@
 // ζ [Pa^e·m²].
 //
 // Partial derivatives (for the adjoint, design/optimizer.hpp): with the
-// contact set, each contact's feature and the spring areas held, ζ is a
-// smooth function of the body's vertex positions Y and the support's
-// vertices (where they are, and at rest through their areas). Since
-// f = −∂E_c/∂y, ∂p_i/∂y = −f̂_iᵀ H_c(i, ·)/s_i and ∂ζ/∂y = −H_c v with H_c
-// the contact energy's Hessian and v_i = (∂ζ/∂p_i / s_i) f̂_i: one product
-// with the contact Hessian. Areas differentiate as ∂A/∂a = ½ n̂ × (c − b)
-// for triangle (a, b, c).
+// contact set, each contact's feature and the footprints held, ζ is a smooth
+// function of the body's vertex positions Y and of the support's where they
+// are. Since f = −∂E_c/∂y and p = R(y)|f| (contact::TractionRecovery),
+// ∂ζ/∂y = −H_c v + ∂ζ/∂y|_f with H_c the contact energy's Hessian and
+// v_i = (∂ζ/∂|f_i|) f̂_i (one product with the contact Hessian), and the
+// explicit part the recovery's pullback and the areas' gradient.
 //
 // Smoothness (7.14): ψ(X) = Σ_{v ∈ D} ‖X_v − (T X)_v‖², T = ((I + μL)(I + λL))^m
 // Taubin smoothing (λ = 0.5, μ = −0.53) on the support's mesh, D the design
@@ -36,6 +36,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "palpa/rest/measurements.hpp"
 #include "palpa/rest/rest.hpp"
 
 namespace palpa::design {
@@ -56,9 +57,10 @@ struct Score {
   int body_contacts = 0;
   int support_contacts = 0;
   // With gradients: ∂ζ/∂Y (3N, the body's vertex positions), ∂ζ/∂Y_s (the
-  // support's vertex positions where they are, #V×3: through the forces) and
-  // ∂ζ/∂X (the support's rest positions, #V×3: through its vertex areas).
-  // For a rigid support Y_s = X and the explicit gradient is their sum.
+  // support's surface vertices where they are, #V×3) and ∂ζ/∂X (the
+  // support's rest positions, #V×3, explicitly: a deformable support's held
+  // base; 0 for a rigid one, where Y_s = X and the explicit gradient is
+  // d_support).
   Eigen::VectorXd d_body;
   Eigen::MatrixX3d d_support;
   Eigen::MatrixX3d d_support_area;
@@ -75,18 +77,14 @@ class ErgonomicScore {
   Score evaluate(const rest::RestSimulation& sim, bool gradient) const;
 
  private:
-  // Smooths s's pressures and sums ζ; wb, ws: ∂ζ/∂p̄ on the body and the
-  // support (support_area: the support's vertex areas).
-  void sum(const rest::RestSimulation& sim, const Eigen::VectorXd& support_area, Score& s, Eigen::VectorXd& wb,
-           Eigen::VectorXd& ws) const;
+  // Smooths s's pressures and sums ζ over cp's areas; wb, ws: ∂ζ/∂p̄ on the
+  // body and the support.
+  void sum(const rest::ContactPressures& cp, Score& s, Eigen::VectorXd& wb, Eigen::VectorXd& ws) const;
   ScoreOptions options_;
+  rest::PressureRecovery recovery_;                // footprints of the contacts when built
   Eigen::SparseMatrix<double> body_smoothing_;     // S over the body's vertices (skin rows)
   Eigen::SparseMatrix<double> support_smoothing_;  // S over the support's vertices
 };
-
-// Vertex areas of a triangle mesh and, if wanted, Σ_v w_v ∂A_v/∂X (#V×3).
-void add_area_gradient(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::VectorXd& w,
-                       Eigen::MatrixX3d& grad);
 
 class Smoothness {
  public:

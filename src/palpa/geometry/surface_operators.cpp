@@ -72,6 +72,24 @@ Eigen::VectorXd vertex_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& 
   return areas;
 }
 
+void add_vertex_area_gradient(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::VectorXd& w,
+                              Eigen::MatrixX3d& grad) {
+  assert(w.size() == V.rows() && grad.rows() == V.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
+    const double wf = (w[ia] + w[ib] + w[ic]) / 3.0;  // each corner gets a third of the area
+    if (wf == 0.0) continue;
+    const Eigen::Vector3d a = V.row(ia), b = V.row(ib), c = V.row(ic);
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double length = n.norm();
+    if (!(length > 0.0)) continue;
+    const Eigen::Vector3d u = n / length;
+    grad.row(ia) += wf * 0.5 * u.cross(c - b).transpose();
+    grad.row(ib) += wf * 0.5 * u.cross(a - c).transpose();
+    grad.row(ic) += wf * 0.5 * u.cross(b - a).transpose();
+  }
+}
+
 Eigen::MatrixX3d vertex_normals(const SurfaceMesh& mesh, NormalWeighting weighting) {
   Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(mesh.V.rows(), 3);
   if (weighting == NormalWeighting::Area) {

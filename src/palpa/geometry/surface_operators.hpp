@@ -34,6 +34,11 @@ Eigen::Vector3d pressure_force(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i
 Eigen::VectorXd vertex_areas(const SurfaceMesh& mesh);
 // The same for V: #V×3 [m] and F: #F×3 rows of V.
 Eigen::VectorXd vertex_areas(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
+// grad += Σ_v w_v ∂A_v/∂V (#V×3 [m·units of w]) for the vertex areas A_v
+// above and a weight w_v per vertex: a triangle (a, b, c) of unit normal n̂
+// moves its area by ∂A/∂a = ½ n̂ × (c − b) (cyclically), a third to each corner.
+void add_vertex_area_gradient(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::VectorXd& w,
+                              Eigen::MatrixX3d& grad);
 
 // How vertex_normals() weighs the normals of the triangles around a vertex.
 enum class NormalWeighting {

@@ -92,7 +92,17 @@ std::pair<double, double> window_sums(const VertexGrid& grid, const Eigen::Matri
 
 PressureMetrics pressure_metrics(const Eigen::MatrixX3d& V, const Eigen::VectorXd& area,
                                  const Eigen::VectorXd& pressure, const PressureMetricsOptions& options) {
-  if (area.size() != V.rows() || pressure.size() != V.rows()) {
+  Eigen::VectorXd in_contact = Eigen::VectorXd::Zero(area.size());
+  for (Eigen::Index i = 0; i < std::min(area.size(), pressure.size()); ++i) {
+    if (pressure[i] > options.threshold) in_contact[i] = area[i];
+  }
+  return pressure_metrics(V, area, pressure, in_contact, options);
+}
+
+PressureMetrics pressure_metrics(const Eigen::MatrixX3d& V, const Eigen::VectorXd& area,
+                                 const Eigen::VectorXd& pressure, const Eigen::VectorXd& contact_area,
+                                 const PressureMetricsOptions& options) {
+  if (area.size() != V.rows() || pressure.size() != V.rows() || contact_area.size() != V.rows()) {
     throw Error(ErrorKind::Input, fmt::format("a pressure map of {} vertices with {} areas and {} pressures", V.rows(),
                                               area.size(), pressure.size()));
   }
@@ -104,6 +114,10 @@ PressureMetrics pressure_metrics(const Eigen::MatrixX3d& V, const Eigen::VectorX
       throw Error(ErrorKind::Input, fmt::format("vertex {} of a pressure map has pressure {} Pa and area {} m²", i,
                                                 pressure[i], area[i]));
     }
+    if (!(contact_area[i] >= 0.0 && contact_area[i] <= area[i] * (1.0 + 1e-9))) {
+      throw Error(ErrorKind::Input, fmt::format("vertex {} of a pressure map has {} m² in contact of its {} m²", i,
+                                                contact_area[i], area[i]));
+    }
   }
   PressureMetrics m;
   std::vector<Eigen::Index> contact, candidates;
@@ -112,12 +126,12 @@ PressureMetrics pressure_metrics(const Eigen::MatrixX3d& V, const Eigen::VectorX
     m.force += area[i] * pressure[i];
     if (pressure[i] > options.threshold && area[i] > 0.0) {
       contact.push_back(i);
-      m.contact_area += area[i];
+      m.contact_area += contact_area[i];
       m.centre += area[i] * pressure[i] * V.row(i).transpose();
     }
   }
   m.contact_vertices = static_cast<int>(contact.size());
-  if (contact.empty() || !(m.force > 0.0)) return PressureMetrics{};
+  if (contact.empty() || !(m.force > 0.0) || !(m.contact_area > 0.0)) return PressureMetrics{};
   m.centre /= m.force;
   m.mean = m.force / m.contact_area;
   m.peak = pressure.maxCoeff();
@@ -127,7 +141,7 @@ PressureMetrics pressure_metrics(const Eigen::MatrixX3d& V, const Eigen::VectorX
   std::sort(by_pressure.begin(), by_pressure.end(), [&](Eigen::Index a, Eigen::Index b) { return pressure[a] < pressure[b]; });
   double below = 0.0;
   for (Eigen::Index i : by_pressure) {
-    below += area[i];
+    below += contact_area[i];
     m.p95 = pressure[i];
     if (below >= 0.95 * m.contact_area) break;
   }

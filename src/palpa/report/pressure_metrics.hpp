@@ -6,7 +6,7 @@
 // (a third of their triangles) [m²]. Over the contact patch C (p_i above the
 // threshold):
 //   force               Σ_i A_i p_i                                   [N]
-//   contact_area        Σ_C A_i                                       [m²]
+//   contact_area        Σ_C A_i (or the areas in contact, if given)  [m²]
 //   mean                force / contact_area                          [Pa]
 //   peak                max p_i                                       [Pa]
 //   peak_pressure_index the highest mean pressure over a window of about
@@ -53,6 +53,13 @@ struct PressureMetrics {
 // differ, a negative or non-finite pressure or area, or a window ≤ 0.
 PressureMetrics pressure_metrics(const Eigen::MatrixX3d& V, const Eigen::VectorXd& area,
                                  const Eigen::VectorXd& pressure, const PressureMetricsOptions& options = {});
+// The same with each vertex's area in contact given (#V, each between 0 and
+// its area: the patch's edge cuts through vertices): the contact area is
+// their sum and the p95 is weighted by them (the patch C and the windows
+// stay as above).
+PressureMetrics pressure_metrics(const Eigen::MatrixX3d& V, const Eigen::VectorXd& area,
+                                 const Eigen::VectorXd& pressure, const Eigen::VectorXd& contact_area,
+                                 const PressureMetricsOptions& options = {});
 // The same with the vertex areas of a triangle surface.
 PressureMetrics pressure_metrics(const SurfaceMesh& mesh, const Eigen::VectorXd& pressure,
                                  const PressureMetricsOptions& options = {});

@@ -68,9 +68,9 @@ contact::ContactSamples reverse_samples(const contact::Obstacle& support, const 
   if (term.sampling() == body::ContactSampling::Surface) {
     return contact::surface_samples(support.vertices(), support.triangles(), contact::subdivision_rule(subdivisions));
   }
-  contact::ContactSamples s = contact::vertex_samples(first_n(static_cast<std::size_t>(support.vertices().rows())));
   // Springs k·A_j/Ā, areas as built (sample j: vertex j).
   const Eigen::VectorXd area = geometry::vertex_areas(support.vertices(), support.triangles());
+  contact::ContactSamples s = contact::vertex_samples(first_n(static_cast<std::size_t>(support.vertices().rows())), area);
   for (Eigen::Index j = 0; j < area.size(); ++j) s.scale[static_cast<std::size_t>(j)] = area[j] / term.mean_area();
   return s;
 }
@@ -169,6 +169,23 @@ void CoupledSystem::contact_forces(const Eigen::VectorXd& y, Eigen::Matrix3Xd& b
   Eigen::Matrix3Xd on_boundary = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(body_vertex_.size()));
   reverse_.add_forces(at.body, support_points(y), support, on_boundary);
   scatter_boundary(on_boundary, body);
+}
+
+void CoupledSystem::contact_areas(const Eigen::VectorXd& y, Eigen::VectorXd& body, Eigen::VectorXd& support) const {
+  const Eigen::VectorXd p = body_->positions(y.head(num_body_dofs()));
+  const contact::Points P = Eigen::Map<const Eigen::Matrix3Xd>(p.data(), 3, p.size() / 3);
+  const Eigen::MatrixX3d& body_rest = body_->model().mesh().V;
+  const Eigen::MatrixX3d& support_rest = support_->model().mesh().V;
+  Eigen::Matrix3Xd surface_rest(3, static_cast<Eigen::Index>(surface_.size()));
+  for (std::size_t j = 0; j < surface_.size(); ++j) surface_rest.col(static_cast<Eigen::Index>(j)) = support_rest.row(surface_[j]).transpose();
+  body = Eigen::VectorXd::Zero(body_->model().num_vertices());
+  support = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(surface_.size()));
+  term_->potential().add_contact_areas(body_rest.transpose(), P, body, support);
+  Eigen::VectorXd on_boundary = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(body_vertex_.size()));
+  reverse_.add_contact_areas(surface_rest, support_points(y), support, on_boundary);
+  for (std::size_t i = 0; i < body_vertex_.size(); ++i) body[body_vertex_[i]] += on_boundary[static_cast<Eigen::Index>(i)];
+  body *= 0.5;
+  support *= 0.5;
 }
 
 void CoupledSystem::contact_hessian_product(const Eigen::VectorXd& y, const Eigen::Matrix3Xd& v_body,

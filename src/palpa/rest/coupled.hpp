@@ -89,6 +89,11 @@ class CoupledSystem final : public System {
   // body's vertices (3×N) and the support's surface vertices (3×#surface)
   // [N]: the pressure a vertex feels is its force over its area.
   void contact_forces(const Eigen::VectorXd& y, Eigen::Matrix3Xd& body, Eigen::Matrix3Xd& support) const;
+  // The area in contact at y [m²] on the body's vertices (N) and the
+  // support's surface vertices: each pass's samples in contact
+  // (contact::PenaltyContact::add_contact_areas) on both sides, halved (the
+  // two passes measure one patch).
+  void contact_areas(const Eigen::VectorXd& y, Eigen::VectorXd& body, Eigen::VectorXd& support) const;
   // H_c v for the contact energy's Hessian H_c over the vertex positions of
   // both bodies (both passes, committed features): v and the result over
   // the body's vertices (3×N) and the support's surface vertices.

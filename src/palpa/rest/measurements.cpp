@@ -3,33 +3,72 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/rest/coupled.hpp"
 
 namespace palpa::rest {
 
-ContactPressures contact_pressures(const RestSimulation& sim) {
+namespace {
+
+// κ√ā of a pass's committed contacts (0 without any).
+double footprint(const contact::PenaltyContact& pass) {
+  double area = 0.0;
+  for (const contact::SampleContact& c : pass.contacts()) area += pass.samples().area[static_cast<std::size_t>(c.sample)];
+  return pass.empty() ? 0.0 : kFootprintSamples * std::sqrt(area / static_cast<double>(pass.size()));
+}
+
+}  // namespace
+
+Eigen::MatrixX3d body_points(const RestSimulation& sim) {
+  const Eigen::VectorXd Y = sim.system().positions(sim.dofs());
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(Y.data(), Y.size() / 3, 3);
+}
+
+Eigen::MatrixX3d support_points(const RestSimulation& sim) {
+  const contact::Obstacle& support = sim.support();
+  Eigen::MatrixX3d P(support.vertices().rows(), 3);
+  for (Eigen::Index j = 0; j < P.rows(); ++j) P.row(j) = support.world_vertex(static_cast<int>(j)).transpose();
+  return P;
+}
+
+PressureRecovery pressure_recovery(const RestSimulation& sim) {
+  const CoupledSystem* coupled = sim.coupled_system();
+  const double body = coupled != nullptr ? footprint(coupled->reverse_contacts()) : 0.0;
+  const double support = footprint(sim.contact_term().potential());
+  return {contact::TractionRecovery(sim.surface_faces(), sim.model().num_vertices(), body),
+          contact::TractionRecovery(sim.support().triangles(), sim.support().vertices().rows(), support)};
+}
+
+ContactPressures contact_pressures(const RestSimulation& sim) { return contact_pressures(sim, pressure_recovery(sim)); }
+
+ContactPressures contact_pressures(const RestSimulation& sim, const PressureRecovery& recovery) {
   ContactPressures out;
   const contact::Obstacle& support = sim.support();
+  const Eigen::MatrixX3d Yb = body_points(sim), Ys = support_points(sim);
+  Eigen::VectorXd in_body, in_support;  // the areas in contact, deposited
   if (const CoupledSystem* coupled = sim.coupled_system()) {
     coupled->contact_forces(sim.coupled_dofs(), out.body_force, out.support_force);
+    coupled->contact_areas(sim.coupled_dofs(), in_body, in_support);
   } else {
-    const Eigen::VectorXd Y = sim.system().positions(sim.dofs());
-    out.body_force = Eigen::Matrix3Xd::Zero(3, Y.size() / 3);
+    const Eigen::Matrix3Xd points = Yb.transpose();
+    out.body_force = Eigen::Matrix3Xd::Zero(3, Yb.rows());
     out.support_force = Eigen::Matrix3Xd::Zero(3, support.vertices().rows());
-    sim.contact_term().potential().add_forces(support, Eigen::Map<const Eigen::Matrix3Xd>(Y.data(), 3, Y.size() / 3),
-                                              out.body_force, out.support_force);
+    sim.contact_term().potential().add_forces(support, points, out.body_force, out.support_force);
+    in_body = Eigen::VectorXd::Zero(Yb.rows());
+    in_support = Eigen::VectorXd::Zero(Ys.rows());
+    sim.contact_term().potential().add_contact_areas(sim.body().mesh.V.transpose(), points, in_body, in_support);
   }
-  out.body = Eigen::VectorXd::Zero(out.body_force.cols());
-  out.support = Eigen::VectorXd::Zero(out.support_force.cols());
-  const Eigen::VectorXd& area = sim.contact_term().pressure_areas();
-  for (int v : sim.surface_vertices()) {
-    if (area[v] > 0.0) out.body[v] = out.body_force.col(v).norm() / area[v];
-  }
-  const Eigen::VectorXd& support_area = sim.support_area();
-  for (Eigen::Index j = 0; j < out.support.size(); ++j) {
-    if (support_area[j] > 0.0) out.support[j] = out.support_force.col(j).norm() / support_area[j];
-  }
+  out.body = recovery.body.recover(Yb, out.body_force.colwise().norm().transpose());
+  out.support = recovery.support.recover(Ys, out.support_force.colwise().norm().transpose());
+  out.body_area = geometry::vertex_areas(Yb, recovery.body.triangles());
+  out.support_area = geometry::vertex_areas(Ys, recovery.support.triangles());
+  // The recovered share of each vertex's area in contact.
+  out.body_contact_area =
+      recovery.body.recover(Yb, in_body).cwiseMin(1.0).cwiseProduct(out.body_area);
+  out.support_contact_area =
+      recovery.support.recover(Ys, in_support).cwiseMin(1.0).cwiseProduct(out.support_area);
   return out;
 }
 
@@ -79,25 +118,17 @@ void measure(const RestSimulation& sim, RestResult& r) {
     }
   }
 
-  // Each vertex's force over its area (the body's skin share, the
-  // support's vertex area at rest).
+  // Traction per deformed area on both sides (contact_pressures).
   r.body_pressure = cp.body;
   r.support_pressure = cp.support;
   r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
-  const Eigen::MatrixX3d body_points =
-      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.size() / 3, 3);
-  r.body_metrics = report::pressure_metrics(body_points, sim.skin_area(), cp.body);
-  const contact::Obstacle& support = sim.support();
-  Eigen::MatrixX3d support_points(support.vertices().rows(), 3);
-  for (Eigen::Index j = 0; j < support_points.rows(); ++j) {
-    support_points.row(j) = support.world_vertex(static_cast<int>(j)).transpose();
-  }
-  r.support_metrics = report::pressure_metrics(support_points, sim.support_area(), cp.support);
-  // Integrated as a user would: Σ p·A over each map's vertex areas. That is
-  // Σ |f_i|: the load where the contact forces are parallel to it, more where
-  // the surface curves and they fan out.
-  r.body_map_force = (cp.body.array() * sim.skin_area().array()).sum();
-  r.support_map_force = (cp.support.array() * sim.support_area().array()).sum();
+  r.body_metrics = report::pressure_metrics(body_points(sim), cp.body_area, cp.body, cp.body_contact_area);
+  r.support_metrics = report::pressure_metrics(support_points(sim), cp.support_area, cp.support, cp.support_contact_area);
+  // Σ p·A over each map's vertex areas where it is drawn: Σ |f_i|, the load
+  // where the contact forces are parallel to it, more where the surface
+  // curves and they fan out.
+  r.body_map_force = cp.body.dot(cp.body_area);
+  r.support_map_force = cp.support.dot(cp.support_area);
 }
 
 }  // namespace palpa::rest

@@ -5,9 +5,10 @@
 // closed support surface by penalty contact with sliding anchors (by default
 // integrated over the skin's triangles, RestOptions::sampling), solved for
 // static equilibrium; then the contact pressures on both sides
-// (bidirectional, Fig. 7.4) from one set of nodal contact forces, each
-// vertex's force over its area, so that each map integrates to the contact
-// force.
+// (bidirectional, Fig. 7.4) from one set of nodal contact forces: the
+// traction per deformed area a mat would read, recovered on the skin and on
+// the support where they are (rest/measurements.hpp), so that each map
+// integrates to the contact force over the surface it is drawn on.
 //
 // The support is rigid and fixed, or deformable (§7.4.3,
 // RestOptions::deformable_support): then its inside is meshed with tets, its
@@ -128,13 +129,13 @@ struct RestResult {
   double support_max_displacement = 0.0;  // deformable support [m]
   double support_min_det_f = 1.0;         // deformable support
   Eigen::Vector3d support_base_force = Eigen::Vector3d::Zero();  // deformable: the ground on its base [N]
-  // Per vertex, 0 off contact: the nodal contact force over the vertex's
-  // area (the body's skin share, the support's vertex area at rest) [Pa].
+  // Per vertex, 0 off contact: the contact pressure, the normal traction per
+  // deformed area (rest/measurements.hpp) [Pa].
   Eigen::VectorXd body_pressure;     // per body vertex
   Eigen::VectorXd support_pressure;  // per support vertex
-  // Σ p_i A_i of each map over its vertex areas [N]: with Surface sampling
-  // the magnitudes of the nodal contact forces summed, equal to the load
-  // where the forces are parallel to it.
+  // Σ p_i A_i of each map over its vertex areas where it is drawn [N]: the
+  // magnitudes of the nodal contact forces summed, equal to the load where
+  // the forces are parallel to it.
   double body_map_force = 0.0;
   double support_map_force = 0.0;
   // What a pressure-mapping mat would read on each side
@@ -206,7 +207,7 @@ class RestSimulation {
   NewtonSolver& newton() noexcept { return *newton_; }
   const std::vector<int>& surface_vertices() const noexcept { return surface_; }
   const Eigen::MatrixX3i& boundary_faces() const noexcept { return boundary_faces_; }
-  const Eigen::VectorXd& skin_area() const noexcept { return body_area_; }  // per body vertex [m²]
+  const Eigen::VectorXd& skin_area() const noexcept { return body_area_; }  // per body vertex, at rest [m²]
   const Eigen::VectorXd& support_area() const noexcept { return support_area_; }  // per support vertex, at rest [m²]
 
   RestState state() const;
