@@ -67,22 +67,25 @@ TractionRecovery::Reach TractionRecovery::reach(const Eigen::MatrixX3d& V, int k
   return r;
 }
 
-Eigen::VectorXd TractionRecovery::recover(const Eigen::MatrixX3d& V, const Eigen::VectorXd& F) const {
-  assert(V.rows() == n_ && F.size() == n_);
-  const Eigen::VectorXd A = geometry::vertex_areas(V, F_);
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(n_);
+template <class Fn>
+void TractionRecovery::for_each_source(const Eigen::MatrixX3d& V, const Eigen::VectorXd& F, const Eigen::VectorXd& A,
+                                       Fn&& fn) const {
   std::vector<double> path(radius_ > 0.0 ? static_cast<std::size_t>(n_) : 0, std::numeric_limits<double>::infinity());
   for (Eigen::Index k = 0; k < n_; ++k) {
     if (F[k] == 0.0 || !(A[k] > 0.0)) continue;
-    if (radius_ == 0.0) {
-      p[k] = F[k] / A[k];
-      continue;
-    }
-    const Reach r = reach(V, static_cast<int>(k), path);
+    const Reach r = radius_ > 0.0 ? reach(V, static_cast<int>(k), path) : Reach{{static_cast<int>(k)}, {1.0}};
     double W = 0.0;
     for (std::size_t i = 0; i < r.vertex.size(); ++i) W += r.weight[i] * A[r.vertex[i]];
-    for (std::size_t i = 0; i < r.vertex.size(); ++i) p[r.vertex[i]] += r.weight[i] * F[k] / W;
+    fn(static_cast<int>(k), r, W);
   }
+}
+
+Eigen::VectorXd TractionRecovery::recover(const Eigen::MatrixX3d& V, const Eigen::VectorXd& F) const {
+  assert(V.rows() == n_ && F.size() == n_);
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(n_);
+  for_each_source(V, F, geometry::vertex_areas(V, F_), [&](int k, const Reach& r, double W) {
+    for (std::size_t i = 0; i < r.vertex.size(); ++i) p[r.vertex[i]] += r.weight[i] * F[k] / W;
+  });
   return p;
 }
 
@@ -91,21 +94,9 @@ void TractionRecovery::add_pullback(const Eigen::MatrixX3d& V, const Eigen::Vect
   assert(V.rows() == n_ && F.size() == n_ && g.size() == n_ && d_force.size() == n_ && d_position.rows() == n_);
   const Eigen::VectorXd A = geometry::vertex_areas(V, F_);
   Eigen::VectorXd d_area = Eigen::VectorXd::Zero(n_);
-  std::vector<double> path(radius_ > 0.0 ? static_cast<std::size_t>(n_) : 0, std::numeric_limits<double>::infinity());
-  for (Eigen::Index k = 0; k < n_; ++k) {
-    if (F[k] == 0.0 || !(A[k] > 0.0)) continue;
-    if (radius_ == 0.0) {
-      // p_k = F_k / A_k.
-      d_force[k] += g[k] / A[k];
-      d_area[k] -= g[k] * F[k] / (A[k] * A[k]);
-      continue;
-    }
-    const Reach r = reach(V, static_cast<int>(k), path);
-    double W = 0.0, gw = 0.0;
-    for (std::size_t i = 0; i < r.vertex.size(); ++i) {
-      W += r.weight[i] * A[r.vertex[i]];
-      gw += g[r.vertex[i]] * r.weight[i];
-    }
+  for_each_source(V, F, A, [&](int k, const Reach& r, double W) {
+    double gw = 0.0;
+    for (std::size_t i = 0; i < r.vertex.size(); ++i) gw += g[r.vertex[i]] * r.weight[i];
     // p_j = w_jk F_k / W_k: ∂/∂F_k = gw / W; ∂/∂W_k = −gw F_k / W² =: λ.
     d_force[k] += gw / W;
     const double lambda = -gw * F[k] / (W * W);
@@ -121,7 +112,7 @@ void TractionRecovery::add_pullback(const Eigen::MatrixX3d& V, const Eigen::Vect
       d_position.row(j) += dw * dd;
       d_position.row(k) -= dw * dd;
     }
-  }
+  });
   geometry::add_vertex_area_gradient(V, F_, d_area, d_position);
 }
 

@@ -61,6 +61,10 @@ class TractionRecovery {
     std::vector<double> weight;
   };
   Reach reach(const Eigen::MatrixX3d& V, int k, std::vector<double>& path) const;
+  // fn(k, reach, W_k) for every source k with a force and an area (A: the
+  // vertex areas at V); r = 0: the reach is k alone.
+  template <class Fn>
+  void for_each_source(const Eigen::MatrixX3d& V, const Eigen::VectorXd& F, const Eigen::VectorXd& A, Fn&& fn) const;
 
   Eigen::MatrixX3i F_;
   Eigen::Index n_;

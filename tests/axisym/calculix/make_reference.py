@@ -40,6 +40,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "common"))
+from graded_points import geometric_points, growing_points, refine  # noqa: E402
+
 E = 10e3  # Pa
 LEVELS = (1, 2, 3)
 
@@ -57,45 +60,7 @@ CASES = [
 ]
 
 
-def geometric_points(x0, x1, n, ratio):
-    w = [ratio ** k for k in range(n)]
-    total = sum(w)
-    x = [x0]
-    acc = 0.0
-    for k in range(n):
-        acc += w[k]
-        x.append(x0 + (x1 - x0) * acc / total)
-    x[-1] = x1
-    return x
 
-
-def growing_points(x0, x1, h0, g):
-    length = x1 - x0
-    n = 1
-    if length > h0:
-        n = math.ceil(math.log(1.0 + length * (g - 1.0) / h0) / math.log(g))
-    n = max(n, 1)
-    total = lambda q: h0 * (q ** n - 1.0) / (q - 1.0)
-    lo, hi = 1.0 + 1e-12, 10.0
-    if total(lo) >= length:
-        return geometric_points(x0, x1, n, 1.0)
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if total(mid) > length:
-            hi = mid
-        else:
-            lo = mid
-    return geometric_points(x0, x1, n, 0.5 * (lo + hi))
-
-
-def refine(x, level):
-    parts = 1 << level
-    out = []
-    for k in range(len(x) - 1):
-        for p in range(parts):
-            out.append(x[k] + (x[k + 1] - x[k]) * p / parts)
-    out.append(x[-1])
-    return out
 
 
 def layer_grid(a, thickness, level):
