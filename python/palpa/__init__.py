@@ -184,7 +184,8 @@ def fit(
 @dataclasses.dataclass
 class RestResult:
     """A body at rest on its support: pressures per vertex [Pa] on the body's skin
-    and on the support, the deformed skin and the support where it is [m],
+    and on the support (the normal traction per deformed area, what a mat would
+    read), the deformed skin and the support where it is [m],
     summary.json as a dict (forces, balance, peaks, the pressure-map figures of
     each side), and the output folder (None when it ran in a temporary one)."""
 

@@ -76,6 +76,9 @@ report::HtmlReport subject_report(const Subject& s, const fs::path& results) {
               fmt::format("{:.1f} cm²", body.at("contact_area_m2").get<double>() * 1e4),
               kpa(rest->at("peak_pressure_Pa").at("support").get<double>())}});
   }
+  h.paragraph("Pressures are the normal traction per deformed area, what a pressure-mapping mat between the body "
+              "and the support would read; the two sides carry the same contact, drawn on the skin and on the "
+              "support.");
   h.picture_files({{results / "rest" / "body_pressure.svg", "what the person feels"},
                    {results / "rest" / "support_pressure.svg", "what the support sees"}});
 
