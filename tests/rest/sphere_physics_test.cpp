@@ -14,55 +14,18 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <map>
 #include <numbers>
-#include <sstream>
-#include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "common/test_support.hpp"
 #include "palpa/contact/penalty_contact.hpp"
+#include "palpa/io/csv.hpp"
 #include "palpa/rest/measurements.hpp"
 #include "palpa/rest/rest.hpp"
 #include "palpa/rest/scene.hpp"
 
 namespace palpa::rest {
 namespace {
-
-using Row = std::map<std::string, double>;
-
-// A row's value in a column, or a test failure naming it.
-double cell(const Row& row, const std::string& column) {
-  const auto it = row.find(column);
-  if (it == row.end()) throw std::runtime_error("no column " + column);
-  return it->second;
-}
-
-// Rows of a CSV with '#' comments and a header, by column name.
-std::vector<Row> read_csv(const std::string& relative) {
-  std::ifstream in(test::source_path(relative));
-  EXPECT_TRUE(in) << relative;
-  std::vector<std::string> names;
-  std::vector<std::map<std::string, double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::stringstream ss(line);
-    std::string cell;
-    std::vector<std::string> cells;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (names.empty()) {
-      names = cells;
-      continue;
-    }
-    std::map<std::string, double> row;
-    for (std::size_t i = 0; i < names.size() && i < cells.size(); ++i) row[names[i]] = std::stod(cells[i]);
-    rows.push_back(row);
-  }
-  return rows;
-}
 
 constexpr double kLoad = 100.0;    // [N]
 constexpr double kGap = 0.5e-3;    // the sphere's lowest point above the plate at the start [m]
@@ -87,18 +50,20 @@ struct Reference {
 
 Reference reference() {
   Reference ref;
-  int finest = 0;
-  for (const auto& row : read_csv("tests/rest/calculix/sphere_reference.csv")) {
-    if (cell(row, "load_N") != kLoad || cell(row, "level") < finest) continue;
-    finest = static_cast<int>(cell(row, "level"));
-    ref.approach = cell(row, "approach_m");
-    ref.radius = cell(row, "contact_radius_m");
-    ref.centre = cell(row, "centre_pressure_Pa");
+  const CsvTable levels = read_csv(test::source_path("tests/rest/calculix/sphere_reference.csv"));
+  double finest = 0.0;
+  for (std::size_t i = 0; i < levels.rows(); ++i) {
+    if (levels.column("load_N")[i] != kLoad || levels.column("level")[i] < finest) continue;
+    finest = levels.column("level")[i];
+    ref.approach = levels.column("approach_m")[i];
+    ref.radius = levels.column("contact_radius_m")[i];
+    ref.centre = levels.column("centre_pressure_Pa")[i];
   }
-  for (const auto& row : read_csv("tests/rest/calculix/sphere_profile.csv")) {
-    if (cell(row, "load_N") != kLoad) continue;
-    ref.r.push_back(cell(row, "r_m"));
-    ref.p.push_back(cell(row, "pressure_Pa"));
+  const CsvTable profile = read_csv(test::source_path("tests/rest/calculix/sphere_profile.csv"));
+  for (std::size_t i = 0; i < profile.rows(); ++i) {
+    if (profile.column("load_N")[i] != kLoad) continue;
+    ref.r.push_back(profile.column("r_m")[i]);
+    ref.p.push_back(profile.column("pressure_Pa")[i]);
   }
   return ref;
 }

@@ -47,29 +47,34 @@ ContactPressures contact_pressures(const RestSimulation& sim, const PressureReco
   ContactPressures out;
   const contact::Obstacle& support = sim.support();
   const Eigen::MatrixX3d Yb = body_points(sim), Ys = support_points(sim);
-  Eigen::VectorXd in_body, in_support;  // the areas in contact, deposited
   if (const CoupledSystem* coupled = sim.coupled_system()) {
     coupled->contact_forces(sim.coupled_dofs(), out.body_force, out.support_force);
-    coupled->contact_areas(sim.coupled_dofs(), in_body, in_support);
   } else {
-    const Eigen::Matrix3Xd points = Yb.transpose();
     out.body_force = Eigen::Matrix3Xd::Zero(3, Yb.rows());
     out.support_force = Eigen::Matrix3Xd::Zero(3, support.vertices().rows());
-    sim.contact_term().potential().add_forces(support, points, out.body_force, out.support_force);
-    in_body = Eigen::VectorXd::Zero(Yb.rows());
-    in_support = Eigen::VectorXd::Zero(Ys.rows());
-    sim.contact_term().potential().add_contact_areas(sim.body().mesh.V.transpose(), points, in_body, in_support);
+    sim.contact_term().potential().add_forces(support, Yb.transpose(), out.body_force, out.support_force);
   }
   out.body = recovery.body.recover(Yb, out.body_force.colwise().norm().transpose());
   out.support = recovery.support.recover(Ys, out.support_force.colwise().norm().transpose());
   out.body_area = geometry::vertex_areas(Yb, recovery.body.triangles());
   out.support_area = geometry::vertex_areas(Ys, recovery.support.triangles());
-  // The recovered share of each vertex's area in contact.
-  out.body_contact_area =
-      recovery.body.recover(Yb, in_body).cwiseMin(1.0).cwiseProduct(out.body_area);
-  out.support_contact_area =
-      recovery.support.recover(Ys, in_support).cwiseMin(1.0).cwiseProduct(out.support_area);
   return out;
+}
+
+ContactAreas contact_areas(const RestSimulation& sim, const PressureRecovery& recovery, const ContactPressures& cp) {
+  const Eigen::MatrixX3d Yb = body_points(sim), Ys = support_points(sim);
+  Eigen::VectorXd in_body, in_support;  // the areas in contact, deposited
+  if (const CoupledSystem* coupled = sim.coupled_system()) {
+    coupled->contact_areas(sim.coupled_dofs(), in_body, in_support);
+  } else {
+    in_body = Eigen::VectorXd::Zero(Yb.rows());
+    in_support = Eigen::VectorXd::Zero(Ys.rows());
+    sim.contact_term().potential().add_contact_areas(sim.body().mesh.V.transpose(), Yb.transpose(), in_body,
+                                                     in_support);
+  }
+  // The recovered share of each vertex's area in contact.
+  return {recovery.body.recover(Yb, in_body).cwiseMin(1.0).cwiseProduct(cp.body_area),
+          recovery.support.recover(Ys, in_support).cwiseMin(1.0).cwiseProduct(cp.support_area)};
 }
 
 void measure(const RestSimulation& sim, RestResult& r) {
@@ -81,7 +86,9 @@ void measure(const RestSimulation& sim, RestResult& r) {
   r.core_rotation = system.core_rotation(x);
   // One set of nodal contact forces (both passes on a deformable support)
   // gives the balance and both pressure maps.
-  const ContactPressures cp = contact_pressures(sim);
+  const PressureRecovery recovery = pressure_recovery(sim);
+  const ContactPressures cp = contact_pressures(sim, recovery);
+  const ContactAreas in_contact = contact_areas(sim, recovery, cp);
   const Eigen::Matrix3Xd& f = cp.body_force;
   if (const CoupledSystem* coupled = sim.coupled_system()) {
     r.reverse_contacts = static_cast<int>(coupled->reverse_contacts().size());
@@ -122,8 +129,8 @@ void measure(const RestSimulation& sim, RestResult& r) {
   r.body_pressure = cp.body;
   r.support_pressure = cp.support;
   r.support_contacts = static_cast<int>((cp.support.array() > 0.0).count());
-  r.body_metrics = report::pressure_metrics(body_points(sim), cp.body_area, cp.body, cp.body_contact_area);
-  r.support_metrics = report::pressure_metrics(support_points(sim), cp.support_area, cp.support, cp.support_contact_area);
+  r.body_metrics = report::pressure_metrics(body_points(sim), cp.body_area, cp.body, in_contact.body);
+  r.support_metrics = report::pressure_metrics(support_points(sim), cp.support_area, cp.support, in_contact.support);
   // Σ p·A over each map's vertex areas where it is drawn: Σ |f_i|, the load
   // where the contact forces are parallel to it, more where the surface
   // curves and they fan out.

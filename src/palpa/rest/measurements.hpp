@@ -37,13 +37,19 @@ struct ContactPressures {
   Eigen::Matrix3Xd body_force, support_force;  // nodal contact forces, equal and opposite in sum [N]
   Eigen::VectorXd body, support;               // pressure [Pa]
   Eigen::VectorXd body_area, support_area;     // vertex areas where the surfaces are now [m²]
-  // The part of each vertex's area in contact [m²]: the samples in contact,
-  // their area where they are now, recovered as the forces are.
-  Eigen::VectorXd body_contact_area, support_contact_area;
 };
 ContactPressures contact_pressures(const RestSimulation& sim, const PressureRecovery& recovery);
 // With pressure_recovery(sim).
 ContactPressures contact_pressures(const RestSimulation& sim);
+
+// The part of each vertex's area in contact on each side [m²] (what the
+// maps' contact areas are made of): the samples in contact, their area where
+// they are now, recovered as the forces are; cp: contact_pressures() of the
+// same recovery.
+struct ContactAreas {
+  Eigen::VectorXd body, support;
+};
+ContactAreas contact_areas(const RestSimulation& sim, const PressureRecovery& recovery, const ContactPressures& cp);
 
 // The body's vertex positions (#V×3) and the support's surface vertices,
 // where they are now [m].
