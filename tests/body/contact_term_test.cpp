@@ -13,6 +13,7 @@
 #include "palpa/geometry/boundary.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/material/models.hpp"
+#include "palpa/body/area_updates.hpp"
 #include "palpa/body/contact_term.hpp"
 #include "palpa/tet/system.hpp"
 #include "palpa/tet/mesh.hpp"
@@ -142,6 +143,48 @@ TEST(ContactTermSurface, SystemDerivativesMatchFiniteDifferencesAndForcesBalance
   const Eigen::VectorXd area = geometry::vertex_areas(deformed, term.faces());
   EXPECT_GT((area - geometry::vertex_areas(box.mesh.V, term.faces())).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_NEAR(pressure.dot(area), f.colwise().norm().sum(), 1e-12 * f.colwise().norm().sum());
+}
+
+TEST(AreaUpdates, FollowTheContactSetAtMostThreeTimesPerStiffness) {
+  // A 1 mm cube on the notched cube's flat top, its bottom alternately all in
+  // contact and in contact on one side only: every commit moves the spring
+  // areas, as a rim vertex that touches and lets go does. The schedule
+  // follows three times, then holds until the stiffness changes.
+  const tet::BoxMesh box = tet::make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(1e-3),
+                                              Eigen::Vector3i(2, 2, 2));
+  const tet::ElasticModel model(box.mesh, {tet::BodyMaterial{std::make_shared<material::NeoHookean>(5e3, 0.3), 1000.0}});
+  contact::Obstacle obstacle(notched_cube(), "notch");
+  obstacle.set_pose({Eigen::Matrix3d::Identity(), -Eigen::Vector3d(kA, kA, 2 * kA)});
+  auto term = std::make_unique<ContactTerm>(obstacle, box.mesh.V, geometry::boundary_of(box.mesh).faces, 100.0);
+  tet::StaticSystem sys(model, std::vector<char>(static_cast<std::size_t>(model.num_dofs()), 0), PsdProjection::None);
+  sys.add_term(term.get());
+  Eigen::VectorXd all = Eigen::VectorXd::Zero(sys.num_dofs()), side = all;
+  for (Eigen::Index v = 0; v < box.mesh.V.rows(); ++v) {
+    all[3 * v + 2] = -1e-4;
+    if (box.mesh.V(v, 0) < 0.6e-3) side[3 * v + 2] = -1e-4;
+  }
+  const std::vector<std::unique_ptr<ContactTerm>> terms = [&] {
+    std::vector<std::unique_ptr<ContactTerm>> t;
+    t.push_back(std::move(term));
+    return t;
+  }();
+  AreaUpdates updates;
+  sys.prepare(all);
+  const std::size_t bottom = terms[0]->potential().size();
+  EXPECT_TRUE(updates.update(terms));
+  EXPECT_FALSE(updates.update(terms));  // the same contacts: nothing moved
+  sys.prepare(side);
+  ASSERT_LT(terms[0]->potential().size(), bottom);
+  EXPECT_TRUE(updates.update(terms));
+  sys.prepare(all);
+  EXPECT_TRUE(updates.update(terms));
+  sys.prepare(side);
+  const std::vector<double> held = terms[0]->spring_area();
+  EXPECT_FALSE(updates.update(terms));  // the fourth change is not followed
+  EXPECT_EQ(terms[0]->spring_area(), held);
+  updates.restart();
+  EXPECT_TRUE(updates.update(terms));
+  EXPECT_NE(terms[0]->spring_area(), held);
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "palpa/body/area_updates.hpp"
 #include "palpa/contact/contact.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/geometry/boundary.hpp"
@@ -254,12 +255,7 @@ RestResult RestSimulation::solve() {
   term_->reset_timers();
   RestResult r;
   constexpr int kMaxSolves = 12;
-  // Spring areas are updated while they change by more than 1% of the
-  // contact area, at most three times for one stiffness: a rim vertex that
-  // touches in one solve and not the next must not cycle the re-solves.
-  constexpr double kAreaTolerance = 0.01;
-  constexpr int kMaxAreaUpdates = 3;
-  int area_updates = 0;
+  body::AreaUpdates area_updates;
   double ratio = 0.0;
   const auto solve_once = [&] {
     NewtonResult res;
@@ -298,12 +294,11 @@ RestResult RestSimulation::solve() {
     const double depth = term_->potential().max_depth();
     const bool k_ok = !automatic_ || stiffness_->accepts(depth);
     if (last) return k_ok ? Resolve::None : Resolve::Stiffness;
-    const bool areas_changed =
-        options_.update_areas && area_updates < kMaxAreaUpdates && term_->update_areas(kAreaTolerance) > 0.0;
-    if (areas_changed) ++area_updates;
+    body::ContactTerm* const terms[] = {term_.get()};
+    const bool areas_changed = options_.update_areas && area_updates.update(terms);
     if (!k_ok) {
       set_pass_stiffness(stiffness_->next(term_->stiffness(), depth));
-      area_updates = 0;
+      area_updates.restart();
       return Resolve::Stiffness;
     }
     return areas_changed ? Resolve::Areas : Resolve::None;

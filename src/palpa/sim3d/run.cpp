@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "palpa/body/area_updates.hpp"
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/checkpoint.hpp"
 #include "palpa/core/error.hpp"
@@ -275,30 +276,32 @@ StepRecord Simulation::solve_step(int s) {
       ++r.solves;
     }
   };
-  // Spring areas follow the contact set; re-solve while they change (the
-  // last solve always runs with the areas it ends with). Then k is raised
-  // where the penetration exceeds the target.
+  // k is raised where the penetration exceeds the target; spring areas follow
+  // the contact set (body/area_updates.hpp); contacts that stick are anchored
+  // once both stand. The last solve always runs with what it ends with.
+  body::AreaUpdates area_updates;
   const auto adjust = [&](int, bool last) {
-    if (!last) {
-      bool areas_changed = false;
-      for (auto& t : terms_) areas_changed = t->update_areas() > 0.0 || areas_changed;
-      if (areas_changed) return Resolve::Areas;
-      if (scene_->contact.friction == contact::Friction::Stick) {
-        const Eigen::VectorXd now = system_->positions(system_->full_displacement(x_));
-        int anchored = 0;
-        for (std::size_t i = 0; i < terms_.size(); ++i) anchored += terms_[i]->anchor(now, reference, reference_pose[i]);
-        if (anchored > 0) return Resolve::Anchors;
-      }
-    }
-    if (!automatic_stiffness_) return Resolve::None;
     bool raised = false;
     for (auto& t : terms_) {
       const double depth = t->potential().max_depth();
-      if (stiffness_.accepts(depth)) continue;
+      if (!automatic_stiffness_ || stiffness_.accepts(depth)) continue;
       if (!last) t->set_stiffness(stiffness_.next(t->stiffness(), depth));
       raised = true;
     }
-    return raised ? Resolve::Stiffness : Resolve::None;
+    if (last) return raised ? Resolve::Stiffness : Resolve::None;
+    const bool areas_changed = area_updates.update(terms_);
+    if (raised) {
+      area_updates.restart();
+      return Resolve::Stiffness;
+    }
+    if (areas_changed) return Resolve::Areas;
+    if (scene_->contact.friction == contact::Friction::Stick) {
+      const Eigen::VectorXd now = system_->positions(system_->full_displacement(x_));
+      int anchored = 0;
+      for (std::size_t i = 0; i < terms_.size(); ++i) anchored += terms_[i]->anchor(now, reference, reference_pose[i]);
+      if (anchored > 0) return Resolve::Anchors;
+    }
+    return Resolve::None;
   };
   if (run_equilibrium_loop(kMaxCorrections, solve_once, adjust).capped()) {
     throw Error(ErrorKind::Solver,
