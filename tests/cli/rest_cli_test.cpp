@@ -237,11 +237,34 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
            Case{R"("scale": 0)", "field 'body.scale': applies to a surface file, not to a generated body"},
            Case{R"("scale": 1e300)", "field 'body.scale': applies to a surface file"},
            Case{R"("unit": "mm")", "field 'body.unit': applies to a surface file"},
+           // A refinement finer than the body's edge, at a distance ≥ 0.
+           Case{R"("refine": {"edge": "7 mm", "within": "5 mm"})",
+                "field 'body.refine.edge': 7 mm is not below the body's edge 7 mm"},
+           Case{R"("refine": {"edge": "3 mm", "within": "-5 mm"})", "field 'body.refine.within': a negative distance"},
+           Case{R"("refine": {"edge": "3 mm", "size": "5 mm"})", "field 'body.refine.size': is not a known field"},
        }) {
     dir.write("box.json", with_body_key(k.key));
     const auto r = run_palpa("rest box.json -o out", dir.path());
     EXPECT_EQ(r.exit_code, 2) << k.key << "\n" << r.err;
     EXPECT_NE(r.err.find(k.says), std::string::npos) << k.key << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  }
+  // A negative image is made from the body: the body cannot be refined
+  // toward it. Pressure definitions and recoveries palpa does not have are
+  // refused by name (it reports the traction per deformed area only).
+  std::string refined = with_support(R"({"negative_image": {"box": {"size": ["150 mm", "150 mm", "20 mm"]}}})");
+  refined.replace(refined.find(edge), edge.size(), R"("refine": {"edge": "3 mm", "within": "5 mm"}, )" + edge);
+  std::string nominal = kRestScene;
+  nominal.replace(nominal.find("\"core\""), 6, R"("pressure": "nominal", "core")");
+  std::string recovery = kRestScene;
+  recovery.replace(recovery.find("\"core\""), 6, R"("contact": {"recovery": "lumped"}, "core")");
+  for (const auto& [scene, says] : {std::pair{refined, "field 'body.refine': a negative image is made from the body"},
+                                    std::pair{nominal, "field 'pressure': is not a known field"},
+                                    std::pair{recovery, "field 'contact.recovery': is not a known field"}}) {
+    dir.write("scene.json", scene);
+    const auto r = run_palpa("rest scene.json -o out", dir.path());
+    EXPECT_EQ(r.exit_code, 2) << says << "\n" << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << says << "\n" << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
   }
 }

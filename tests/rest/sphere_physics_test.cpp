@@ -3,11 +3,12 @@
 // mesh-converged axisymmetric CalculiX solve of the same problem
 // (calculix/make_sphere_reference.py; the scene calculix/sphere_scene.json):
 // a 70 mm sphere whose outer 20 mm is soft, 100 N on its rigid core, a rigid
-// frictionless plate, no gravity. What a mat under it would read, on both
-// sides: the approach (measured −0.7%), the peak against the centre
-// pressure (body −2.1%, support +2.0%), the mean pressure over rings, the
-// contact radius, and each map's force over the surface it is drawn on
-// (the load to rounding). About a minute on 2 cores (65 900 tets at 6 mm).
+// frictionless plate, no gravity. The skin is meshed at 3 mm within 18 mm of
+// the plate and grows to 7 mm elsewhere ("refine"). What a mat under it would
+// read, on both sides: the approach (measured +0.7%), the peak against the
+// centre pressure (body −0.6%, support +1.8%), the mean pressure over rings
+// (within 1.7%), the contact radius, and each map's force over the surface it
+// is drawn on (the load to rounding).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -113,17 +114,19 @@ TEST(RestSphere, PressuresOnBothSidesMatchCalculix) {
   EXPECT_NEAR(approach, ref.approach, 0.01 * ref.approach);
   EXPECT_NEAR(r.body_metrics.peak, ref.centre, 0.05 * ref.centre);
   EXPECT_NEAR(r.support_metrics.peak, ref.centre, 0.05 * ref.centre);
-  // The contact's edge: the pressure falls from a fifth of the peak to 0
-  // over the last 2.7 mm, inside one 6 mm skin triangle, whose linear
-  // surface lifts the outer samples off: −4.6% (both sides) at 6 mm edges.
-  EXPECT_NEAR(body_radius, ref.radius, 0.05 * ref.radius);
-  EXPECT_NEAR(support_radius, ref.radius, 0.05 * ref.radius);
+  // The contact's edge: the gap opens as the distance beyond it to the 3/2,
+  // so the straight skin triangle across it (a chord of the curved skin)
+  // lifts off a fraction of an edge inside the smooth body's edge: −3.5% /
+  // −3.8% with 3 mm edges there (−4.6% at 6 mm; 2 mm gives −2.7%, with the
+  // support's peak +8% as the body's samples outnumber its grid).
+  EXPECT_NEAR(body_radius, ref.radius, 0.04 * ref.radius);
+  EXPECT_NEAR(support_radius, ref.radius, 0.04 * ref.radius);
   EXPECT_NEAR(body_radius, support_radius, 0.01 * ref.radius);
   EXPECT_NEAR(r.body_map_force, kLoad, 0.02 * kLoad);
   EXPECT_NEAR(r.support_map_force, kLoad, 0.02 * kLoad);
 
   // Rings 6 mm wide out to where the contact's edge begins: within 3%
-  // (measured −2.7…+0.7% on the body, −0.8…+0.6% on the support).
+  // (measured −1.0…+1.7% on the body, −0.8…+1.6% on the support).
   const Eigen::MatrixX3d body = body_points(sim), support = support_points(sim);
   for (double r0 = 0.0; r0 + 6e-3 <= 0.85 * ref.radius; r0 += 6e-3) {
     const double want = ref.ring_mean(r0, r0 + 6e-3);

@@ -306,6 +306,13 @@ LayerMesh make_layer(const SurfaceMesh& scan, const DepthSpec& depth,
   layer.outer = options.edge_length > 0.0
                     ? remesh_surface(repaired, options.edge_length, options.remesh_iterations)
                     : repaired;
+  if (options.grading) {
+    if (!(options.edge_length > 0.0) || !options.contact_distance) {
+      throw Error(ErrorKind::Internal, "a grading needs an edge length and the distance to the contact");
+    }
+    layer.outer = remesh_graded(layer.outer, options.edge_length, *options.grading, options.contact_distance,
+                                options.remesh_iterations);
+  }
   // Remeshing a part thinner than the edge length can fold it through itself.
   if (options.edge_length > 0.0) {
     try {

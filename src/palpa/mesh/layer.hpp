@@ -7,7 +7,8 @@
 // Pipeline of make_layer():
 //  1. repair the scan (repair_surface) and check it is closed, manifold,
 //     outward and free of self-intersections (check_closed_surface);
-//  2. remesh it isotropically to the target edge length;
+//  2. remesh it isotropically to the target edge length (finer toward a
+//     contact with a grading);
 //  3. depth per outer vertex: uniform, or depth samples interpolated over the
 //     surface (geometry::SurfaceInterpolator, linearly precise biharmonic by
 //     default, clamped to the samples' range);
@@ -37,6 +38,7 @@
 
 #include "palpa/geometry/mesh.hpp"
 #include "palpa/geometry/surface_interpolation.hpp"
+#include "palpa/mesh/graded_remesh.hpp"
 #include "palpa/mesh/samples.hpp"
 #include "palpa/mesh/tetrahedralize.hpp"
 
@@ -68,6 +70,12 @@ struct LayerOptions {
   // triangles (it must then be closed and clean already).
   double edge_length = 5e-3;
   int remesh_iterations = 5;
+  // Finer skin where the contact will be (graded_remesh.hpp): with a grading,
+  // the skin is refined toward the points `contact_distance` puts near; the
+  // core surface and the tets keep edge_length (TetGen grades the layer
+  // between a fine skin and its core).
+  std::optional<Grading> grading;
+  ContactDistance contact_distance;
   // Interpolation of depth and stiffness samples.
   geometry::SurfaceInterpolation interpolation = geometry::SurfaceInterpolation::Biharmonic;
   // Largest accepted distance from a sample to the outer surface [m].

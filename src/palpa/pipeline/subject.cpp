@@ -23,7 +23,7 @@ namespace {
 // the fits provide.
 const std::vector<std::string> kBodyKeys = {
     "surface", "generate", "unit",        "scale",       "remove_self_intersections",
-    "clip",    "cut",      "clamp_depth", "core_offset", "edge",
+    "clip",    "cut",      "clamp_depth", "core_offset", "edge",      "refine",
     "density", "position", "rotation",    "element",     "stabilization"};
 
 // The options of each acquisition a subject may pass on (as in `palpa acquire

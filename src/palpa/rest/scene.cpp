@@ -126,12 +126,18 @@ namespace {
 void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
   b.expect_only({"surface", "layer", "generate", "unit", "scale", "remove_self_intersections", "clip", "cut", "depth",
                  "clamp_depth", "core_offset", "stiffness",
-                 "edge", "material", "density", "position", "rotation", "element", "stabilization"});
+                 "edge", "refine", "material", "density", "position", "rotation", "element", "stabilization"});
   const int sources = int(b.has("surface")) + int(b.has("layer")) + int(b.has("generate"));
   Eigen::VectorXd young;  // per tet [Pa]: the material's shape scaled to it
   if (sources != 1) b.fail("give exactly one of \"surface\", \"layer\", \"generate\"");
+  // Placement.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  if (const auto r = b.find("rotation")) R = read_rotation(*r);
+  if (const auto p = b.find("position")) t = read_quantity3(*p, Dimension::Length);
   if (const auto layer = b.find("layer")) {
-    for (const char* k : {"scale", "remove_self_intersections", "clip", "cut", "depth", "clamp_depth", "core_offset", "edge"}) {
+    for (const char* k : {"scale", "remove_self_intersections", "clip", "cut", "depth", "clamp_depth", "core_offset", "edge",
+                          "refine"}) {
       if (b.has(k)) b.at(k).fail("applies to a surface that is meshed here, not to a ready layer", "no such key with \"layer\"");
     }
     const fs::path p = resolve_scene_path(file, layer->as_string());
@@ -156,9 +162,9 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
                  "a layer written by palpa mesh layer with --stiffness-samples");
       }
       young = E->values.col(0);
-      for (Eigen::Index t = 0; t < young.size(); ++t) {
-        if (!(std::isfinite(young[t]) && young[t] > 0.0)) {
-          st->fail(fmt::format("tet {} of {} has a youngs_modulus_Pa of {}", t, p.string(), young[t]),
+      for (Eigen::Index e = 0; e < young.size(); ++e) {
+        if (!(std::isfinite(young[e]) && young[e] > 0.0)) {
+          st->fail(fmt::format("tet {} of {} has a youngs_modulus_Pa of {}", e, p.string(), young[e]),
                    "a finite modulus > 0 in every tet");
         }
       }
@@ -181,6 +187,25 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     mesh::LayerOptions lo;
     lo.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
     lo.source = s.body_source;
+    if (const auto rf = b.find("refine")) {
+      // The skin finer toward the support where the body is placed (read
+      // before the body: read_rest_scene).
+      rf->expect_only({"edge", "within"});
+      mesh::Grading g;
+      g.edge = read_positive(rf->at("edge"), Dimension::Length);
+      if (!(g.edge < lo.edge_length)) {
+        rf->at("edge").fail(fmt::format("{} is not below the body's edge {}", format_quantity(g.edge, Dimension::Length),
+                                        format_quantity(lo.edge_length, Dimension::Length)),
+                            "a shorter edge than \"edge\" near the support");
+      }
+      g.within = rf->at("within").as_quantity(Dimension::Length);
+      if (!(g.within >= 0.0)) rf->at("within").fail("a negative distance", "a distance ≥ 0 such as \"15 mm\"");
+      lo.grading = g;
+      lo.contact_distance = [&s, R, t](const Eigen::MatrixX3d& points) {
+        const Eigen::MatrixX3d world = ((points * R.transpose()).rowwise() + t.transpose()).eval();
+        return mesh::distance_to_surface(s.support, world);
+      };
+    }
     if (const auto c = b.find("clamp_depth")) lo.clamp_depth = c->as_bool();
     if (const auto c = b.find("core_offset")) {
       try {
@@ -204,11 +229,6 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     s.body_depth_clamped = made.depth_clamped;
   }
   s.body.mesh.region.resize(0);
-  // Placement.
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  if (const auto r = b.find("rotation")) R = read_rotation(*r);
-  if (const auto p = b.find("position")) t = read_quantity3(*p, Dimension::Length);
   s.body.mesh.V = ((s.body.mesh.V * R.transpose()).rowwise() + t.transpose()).eval();
 
   tet::BodyMaterial bm;
@@ -408,8 +428,20 @@ RestScene read_rest_scene(const Json& doc, const fs::path& path, const std::stri
   s.file = path;
   RestOptions& o = s.options;
   if (const auto g = root.find("gravity")) o.gravity = read_quantity3(*g, Dimension::Acceleration);
-  read_body(root.at("body"), path, s);
-  read_scene_support(root.at("support"), path, s);
+  // A body refined toward its support is meshed after it; a negative image is
+  // made from the body, after it.
+  const JsonView body_json = root.at("body"), support_json = root.at("support");
+  if (const auto rf = body_json.find("refine")) {
+    if (support_json.has("negative_image")) {
+      rf->fail("a negative image is made from the body, so the body cannot be refined toward it",
+               "a box, spheres or a file support (or no \"refine\")");
+    }
+    read_scene_support(support_json, path, s);
+    read_body(body_json, path, s);
+  } else {
+    read_body(body_json, path, s);
+    read_scene_support(support_json, path, s);
+  }
   if (const auto t = root.find("template")) {
     t->expect_only({"grid", "unit", "pixel", "title"});
     TemplateSpec spec;

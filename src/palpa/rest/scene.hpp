@@ -12,6 +12,9 @@
 //        // "clip": {"min": [...], "max": [...]}, "cut": [{"min", "max"}, ...]
 //        // or "layer": "foot.vtu" (from palpa mesh layer: point data "attached")
 //        // or "generate": {"shape": "foot", "length": "260 mm"}, "depth", "edge"
+//        // optional "refine": {"edge": "3 mm", "within": "15 mm"}: the skin
+//        // within 15 mm of the support (where the body is placed) at 3 mm,
+//        // growing to "edge" around it (mesh/graded_remesh.hpp)
 //     "material": "tissue.json",          // or an inline material object
 //     "stiffness": {"samples": "moduli.csv", "column": "youngs_modulus"},
 //        // optional: Young's moduli measured on the skin (mesh/samples.hpp),

@@ -79,6 +79,20 @@ SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterati
   return from_cgal(m);
 }
 
+SurfaceMesh cgal_remesh_patch(const SurfaceMesh& mesh, const std::vector<char>& selected, double edge_length,
+                              int iterations) {
+  Mesh m = to_cgal(mesh);
+  std::vector<Mesh::Face_index> patch;
+  for (const Mesh::Face_index f : faces(m)) {
+    if (selected.at(static_cast<std::size_t>(f.idx())) != 0) patch.push_back(f);
+  }
+  if (patch.empty()) return mesh;
+  PMP::isotropic_remeshing(patch, edge_length, m,
+                           PMP::parameters::number_of_iterations(iterations).number_of_relaxation_steps(3));
+  m.collect_garbage();
+  return from_cgal(m);
+}
+
 std::optional<SurfaceMesh> cgal_boolean(const SurfaceMesh& a, const SurfaceMesh& b,
                                         CgalBoolean op) {
   Mesh ma = to_cgal(a);

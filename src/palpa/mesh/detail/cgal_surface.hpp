@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "palpa/geometry/mesh.hpp"
 
@@ -21,6 +22,13 @@ namespace palpa::mesh::detail {
 // corners stay sharp.
 SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterations,
                         double feature_angle_deg = 0.0);
+
+// Isotropic remeshing of the triangles with `selected[f]` != 0 alone (one flag
+// per row of mesh.F) to `edge_length` [m]: the patch's border edges are split
+// where long (the triangles outside them are split along), never collapsed or
+// flipped, so the rest of the surface keeps its triangles.
+SurfaceMesh cgal_remesh_patch(const SurfaceMesh& mesh, const std::vector<char>& selected, double edge_length,
+                              int iterations);
 
 // Boolean operations on closed, self-intersection-free, outward surfaces by
 // corefinement. nullopt when the result would not be a 2-manifold.
