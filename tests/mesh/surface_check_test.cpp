@@ -143,6 +143,11 @@ TEST(SurfaceCheck, RefusesASelfIntersectingSurface) {
   two.F.bottomRows(s.F.rows()) = s.F.array() + int(s.V.rows());
   EXPECT_TRUE(throws_error([&] { check_closed_surface(two, "two.obj"); }, ErrorKind::Input,
                            {"two.obj", "intersects itself"}));
+  EXPECT_TRUE(self_intersects(two));
+  EXPECT_FALSE(self_intersects(s));
+  // Apart, the two spheres do not cross.
+  two.V.bottomRows(s.V.rows()).col(0).array() += 0.03;
+  EXPECT_FALSE(self_intersects(two));
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/design/optimizer.hpp"
+#include "palpa/mesh/surface_check.hpp"
 #include "palpa/rest/measurements.hpp"
 
 namespace palpa::design {
@@ -150,8 +151,8 @@ bool line_hits(const Eigen::Vector3d& x, const Eigen::Vector3d& n, const Eigen::
 
 }  // namespace
 
-Eigen::MatrixX3d sit_and_relax(const rest::RestSimulation& sim, const DesignSpace& space, const Eigen::VectorXd& frozen,
-                               double lambda) {
+SitAndRelaxFit sit_and_relax(const rest::RestSimulation& sim, const DesignSpace& space, const Eigen::VectorXd& frozen,
+                             double lambda) {
   if (!(lambda >= 0.0)) throw Error(ErrorKind::Input, fmt::format("the Sit & Relax smoothness must be ≥ 0, got {}", lambda));
   const Eigen::MatrixX3i& F = sim.surface_faces();
   const std::vector<Eigen::Vector3d> Y = placed_undeformed(sim);
@@ -211,12 +212,26 @@ Eigen::MatrixX3d sit_and_relax(const rest::RestSimulation& sim, const DesignSpac
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
   if (solver.info() != Eigen::Success) throw Error(ErrorKind::Solver, "Sit & Relax: the fitting system could not be factored");
   const Eigen::VectorXd tt = solver.solve(w.cwiseProduct(h));
-  Eigen::MatrixX3d X = X0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const int v = D[static_cast<std::size_t>(i)];
-    X.row(v) += tt[i] * N.row(v);
+  const auto moved = [&](double scale) {
+    SurfaceMesh m{X0, sim.support().triangles()};
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const int v = D[static_cast<std::size_t>(i)];
+      m.V.row(v) += scale * tt[i] * N.row(v);
+    }
+    return m;
+  };
+  constexpr int kHalvings = 8;
+  SitAndRelaxFit fit;
+  for (int k = 0; k <= kHalvings; ++k, fit.scale *= 0.5) {
+    SurfaceMesh m = moved(fit.scale);
+    if (!mesh::self_intersects(m)) {
+      fit.vertices = std::move(m.V);
+      return fit;
+    }
   }
-  return X;
+  throw Error(ErrorKind::Solver, fmt::format("Sit & Relax: the support crosses itself even with 1/{} of the fitted "
+                                             "moves (largest {:.3g} mm)",
+                                             1 << kHalvings, tt.cwiseAbs().maxCoeff() * 1e3));
 }
 
 }  // namespace palpa::design

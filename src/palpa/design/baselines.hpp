@@ -43,8 +43,15 @@ class DesignSpace;
 //   min_t Σ_v w_v (t_v − h_v)² + λ w̄ Σ_v (L t)_v²,
 // h_v the signed distance along n_v to the skin, w̄ the mean weight, L the
 // umbrella Laplacian over the design vertices (the others stay put). No
-// physics in the loop: one sparse solve. Returns the support's vertices.
-Eigen::MatrixX3d sit_and_relax(const rest::RestSimulation& sim, const DesignSpace& space,
-                               const Eigen::VectorXd& frozen, double lambda);
+// physics in the loop: one sparse solve. Where the fitted moves would make
+// the support cross itself (a crease of the initial shape closing up), they
+// are scaled back, halving, to the largest share that does not (as a
+// workshop's shape cannot cross itself); scale 0 is refused.
+struct SitAndRelaxFit {
+  Eigen::MatrixX3d vertices;  // the support's vertices
+  double scale = 1.0;         // the share of the fitted moves they make
+};
+SitAndRelaxFit sit_and_relax(const rest::RestSimulation& sim, const DesignSpace& space, const Eigen::VectorXd& frozen,
+                             double lambda);
 
 }  // namespace palpa::design

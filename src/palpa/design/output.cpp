@@ -185,10 +185,16 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
       if (!ni.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}' (negative image): {}", b.name, ni.failure));
       const Evaluation at = optimizer.evaluate(r.initial.support, r.initial.state, false, 0);
       if (!at.ok) throw Error(ErrorKind::Solver, "re-solving the initial shape: " + at.failure);
-      const SurfaceMesh fitted{sit_and_relax(sim, optimizer.space(), ni.rest.body_pressure, b.smoothness),
-                               sim.support().triangles()};
+      const SitAndRelaxFit fit = sit_and_relax(sim, optimizer.space(), ni.rest.body_pressure, b.smoothness);
+      if (fit.scale < 1.0) {
+        spdlog::warn("design: baseline '{}': the full Sit & Relax fit would cross the support through itself; "
+                     "made with {:.3g} of its moves",
+                     b.name, fit.scale);
+      }
+      const SurfaceMesh fitted{fit.vertices, sim.support().triangles()};
       e = optimizer.solve_from_scratch(scene.rest.body, fitted, &bsim);
       j["zeta_negative_image"] = ni.zeta;
+      j["fit_scale"] = fit.scale;
       write_surface_mesh(out / fmt::format("baseline_{}.obj", baseline_slug(b.name)), fitted);
     } else {
       e = optimizer.solve_from_scratch(b.body, b.support, &bsim);

@@ -284,6 +284,8 @@ void check_closed_surface(const SurfaceMesh& mesh, const std::string& source) {
   }
 }
 
+bool self_intersects(const SurfaceMesh& mesh) { return detail::cgal_self_intersection(mesh).has_value(); }
+
 double remeshed_triangles(double area, double edge_length) {
   return area / (std::sqrt(3.0) / 4.0 * edge_length * edge_length);
 }

@@ -36,6 +36,10 @@ SurfaceMesh repair_surface(const SurfaceMesh& mesh, RepairReport* report = nullp
 // self-intersection.
 void check_closed_surface(const SurfaceMesh& mesh, const std::string& source);
 
+// Whether two triangles of the surface cross (share no edge or vertex and
+// intersect).
+bool self_intersects(const SurfaceMesh& mesh);
+
 // Volume enclosed by a closed, outward-oriented surface [m³] (divergence
 // theorem; negative when inward).
 double enclosed_volume(const SurfaceMesh& mesh);
