@@ -242,6 +242,8 @@ TEST(RestCli, RefusesImpossibleSupportsAndBodyCuts) {
                 "field 'body.refine.edge': 7 mm is not below the body's edge 7 mm"},
            Case{R"("refine": {"edge": "3 mm", "within": "-5 mm"})", "field 'body.refine.within': a negative distance"},
            Case{R"("refine": {"edge": "3 mm", "size": "5 mm"})", "field 'body.refine.size': is not a known field"},
+           Case{R"("refine": {"edge": "3 mm", "within": "0.5 mm"})",
+                "field 'body.refine.within': no part of the body is within 500 um of the support (the nearest is 1 mm"},
        }) {
     dir.write("box.json", with_body_key(k.key));
     const auto r = run_palpa("rest box.json -o out", dir.path());

@@ -205,6 +205,12 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
         const Eigen::MatrixX3d world = ((points * R.transpose()).rowwise() + t.transpose()).eval();
         return mesh::distance_to_surface(s.support, world);
       };
+      if (const double nearest = lo.contact_distance(scan.V).minCoeff(); !(nearest < g.within)) {
+        rf->at("within").fail(fmt::format("no part of the body is within {} of the support (the nearest is {} away)",
+                                          format_quantity(g.within, Dimension::Length),
+                                          format_quantity(nearest, Dimension::Length)),
+                              "a distance that reaches the support where the body will touch it");
+      }
     }
     if (const auto c = b.find("clamp_depth")) lo.clamp_depth = c->as_bool();
     if (const auto c = b.find("core_offset")) {
