@@ -2,12 +2,17 @@
 // The optimizer's longer runs (Release build, label physics): the cushion on
 // a rigid slab lowers φ at every iteration, carries the load and keeps its
 // mirror symmetry; on a foam slab the rest shape is designed too; a run
-// resumed from its checkpoint ends where the uninterrupted one ends.
+// resumed from its checkpoint ends where the uninterrupted one ends; a
+// design started from a baseline is placed as the baseline's score is.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
+#include "common/test_support.hpp"
 #include "design_fixtures.hpp"
+#include "palpa/core/json.hpp"
+#include "palpa/design/scene.hpp"
 
 namespace palpa::design {
 namespace {
@@ -105,6 +110,21 @@ TEST(DesignOptimizer, ResumesExactlyFromItsCheckpoint) {
   ShapeOptimizer other(on_linear_tets(block()), s, options(), top_inside(s), c);
   EXPECT_THROW(other.run(), Error);
   std::filesystem::remove_all(dir);
+}
+
+TEST(DesignScene, AStartFromABaselineIsPlacedAsItsScoreIsPlaced) {
+  // The chair from its negative image: the body, sunk into the hollow with
+  // its clearance, has skin vertices inside the smoothed hollow's walls; the
+  // baseline's score lifts it clear, and so does the start (once refused as
+  // starting inside "the support", the scene's box).
+  const std::filesystem::path file = test::source_path("examples/design/chair/scene.json");
+  Json doc = read_json_file(file);
+  doc["design"]["start"] = "negative image";
+  const DesignScene s = read_design_scene(doc, file, false);
+  EXPECT_NEAR(s.start_lift, 1.52e-3, 0.05e-3);  // the case it must handle (the baseline's score: 1.52 mm)
+  EXPECT_EQ(rest::lift_clear_of(s.rest.body, s.rest.support, -s.rest.options.gravity, 0.0), 0.0);
+  EXPECT_NE(s.rest.options.support_name.find("the baseline 'negative image'"), std::string::npos)
+      << s.rest.options.support_name;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <limits>
 #include <map>
 #include <optional>
@@ -131,6 +132,19 @@ DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path
     s.rest.body = start_base->body;
     s.rest.support = start_base->support;
     s.rest.support_source = start_base->source;
+    s.rest.options.support_name = fmt::format("{}: the baseline '{}' the design starts from", path.filename().string(), start);
+    // Placed as the baseline's own score places it (ShapeOptimizer::
+    // solve_from_scratch): lifted clear where a skin vertex starts inside.
+    const Eigen::Vector3d up = -s.rest.options.gravity;
+    if (up.norm() > 0.0) {
+      const double lift = rest::lift_clear_of(s.rest.body, s.rest.support, up, 1e-3);
+      if (lift > 0.0) {
+        spdlog::info("design: the body starts inside the baseline '{}': lifted {:.3g} mm before it is lowered onto it",
+                     start, lift * 1e3);
+        s.rest.body.mesh.V.rowwise() += (lift * up.normalized()).transpose();
+        s.start_lift = lift;
+      }
+    }
   }
   DesignOptions& o = s.options;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());

@@ -62,6 +62,7 @@ struct SceneSupport {
 struct DesignScene {
   rest::RestScene rest;  // with `design.start`, the start baseline's body and support
   std::string start;     // the baseline the design starts from; empty: the scene's support
+  double start_lift = 0.0;  // how far the body was lifted clear of the start's support [m]
   std::optional<SceneSupport> scene_support;  // set with `start`
   std::vector<Baseline> baselines;
   std::vector<int> design_vertices;  // rows of rest.support.V
