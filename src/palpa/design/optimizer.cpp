@@ -312,12 +312,9 @@ Evaluation ShapeOptimizer::solve_from_scratch(const rest::RestBody& body, const 
   const auto t0 = Clock::now();
   // A shape that rose into where the scene places the body: the body is
   // lifted clear of it first (then lowered by its weight as from anywhere).
-  const Eigen::Vector3d up = -rest_options_.gravity;
-  const double lift = up.norm() > 0.0 ? rest::lift_clear_of(body, support, up, 1e-3) : 0.0;
   rest::RestBody placed = body;
-  if (lift > 0.0) {
+  if (const double lift = rest::place_clear_of(placed, support, -rest_options_.gravity, 1e-3); lift > 0.0) {
     spdlog::info("design: the body starts inside this support: lifted {:.3g} mm before it is lowered onto it", lift * 1e3);
-    placed.mesh.V.rowwise() += (lift * up.normalized()).transpose();
   }
   auto sim = std::make_unique<rest::RestSimulation>(placed, support, rest_options_);
   Evaluation ev;

@@ -135,15 +135,10 @@ DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path
     s.rest.options.support_name = fmt::format("{}: the baseline '{}' the design starts from", path.filename().string(), start);
     // Placed as the baseline's own score places it (ShapeOptimizer::
     // solve_from_scratch): lifted clear where a skin vertex starts inside.
-    const Eigen::Vector3d up = -s.rest.options.gravity;
-    if (up.norm() > 0.0) {
-      const double lift = rest::lift_clear_of(s.rest.body, s.rest.support, up, 1e-3);
-      if (lift > 0.0) {
-        spdlog::info("design: the body starts inside the baseline '{}': lifted {:.3g} mm before it is lowered onto it",
-                     start, lift * 1e3);
-        s.rest.body.mesh.V.rowwise() += (lift * up.normalized()).transpose();
-        s.start_lift = lift;
-      }
+    s.start_lift = rest::place_clear_of(s.rest.body, s.rest.support, -s.rest.options.gravity, 1e-3);
+    if (s.start_lift > 0.0) {
+      spdlog::info("design: the body starts inside the baseline '{}': lifted {:.3g} mm before it is lowered onto it",
+                   start, s.start_lift * 1e3);
     }
   }
   DesignOptions& o = s.options;

@@ -54,6 +54,13 @@ SurfaceMesh body_skin(const RestBody& body) {
   return geometry::submesh(body.mesh.V, skin_faces(body.mesh, body.attached)).mesh;
 }
 
+double place_clear_of(RestBody& body, const SurfaceMesh& support, const Eigen::Vector3d& up, double margin) {
+  if (!(up.norm() > 0.0)) return 0.0;
+  const double lift = lift_clear_of(body, support, up, margin);
+  if (lift > 0.0) body.mesh.V.rowwise() += (lift * up.normalized()).transpose();
+  return lift;
+}
+
 double lift_clear_of(const RestBody& body, const SurfaceMesh& support, const Eigen::Vector3d& up, double margin) {
   const Eigen::MatrixX3i faces = skin_faces(body.mesh, body.attached);
   std::vector<int> skin(static_cast<std::size_t>(faces.size()));

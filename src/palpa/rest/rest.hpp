@@ -62,6 +62,9 @@ SurfaceMesh body_skin(const RestBody& body);
 // places the body this way when the optimized shape rose into where the scene
 // puts it. Throws when no lift up to 100 m clears it.
 double lift_clear_of(const RestBody& body, const SurfaceMesh& support, const Eigen::Vector3d& up, double margin);
+// Moves the body by lift_clear_of along `up` (nothing when up is zero);
+// returns the lift [m].
+double place_clear_of(RestBody& body, const SurfaceMesh& support, const Eigen::Vector3d& up, double margin);
 
 // A deformable support (thesis §7.4.3): the inside of the support's closed
 // surface meshed with tets (TetGen, the surface kept as it is), of one
