@@ -27,6 +27,7 @@
 #include "bench_util.hpp"
 #include "palpa/design/optimizer.hpp"
 #include "palpa/design/scene.hpp"
+#include "palpa/design/start.hpp"
 
 int main(int argc, char** argv) {
   using palpa::bench::emit;
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
   for (const auto& file : scenes) {
     for (const auto method : methods) {
       palpa::design::DesignScene scene = palpa::design::read_design_scene(file, false);
+      palpa::design::fit_sit_and_relax_start(scene);
       scene.options.method = method;
       if (iterations >= 0) scene.options.max_iterations = iterations;
       palpa::design::ShapeOptimizer opt(scene.rest.body, scene.rest.support, scene.rest.options,

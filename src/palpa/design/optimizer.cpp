@@ -307,16 +307,16 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestS
   return ev;
 }
 
-Evaluation ShapeOptimizer::solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support,
-                                              std::unique_ptr<rest::RestSimulation>* keep) const {
+Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support, const rest::RestOptions& rest,
+                              const ScoreOptions& score_options, std::unique_ptr<rest::RestSimulation>* keep) {
   const auto t0 = Clock::now();
   // A shape that rose into where the scene places the body: the body is
   // lifted clear of it first (then lowered by its weight as from anywhere).
   rest::RestBody placed = body;
-  if (const double lift = rest::place_clear_of(placed, support, -rest_options_.gravity, 1e-3); lift > 0.0) {
+  if (const double lift = rest::place_clear_of(placed, support, -rest.gravity, 1e-3); lift > 0.0) {
     spdlog::info("design: the body starts inside this support: lifted {:.3g} mm before it is lowered onto it", lift * 1e3);
   }
-  auto sim = std::make_unique<rest::RestSimulation>(placed, support, rest_options_);
+  auto sim = std::make_unique<rest::RestSimulation>(placed, support, rest);
   Evaluation ev;
   ev.support = sim->support_rest_vertices();
   try {
@@ -326,7 +326,7 @@ Evaluation ShapeOptimizer::solve_from_scratch(const rest::RestBody& body, const 
     ev.failure = e.what();
     return ev;
   }
-  const ErgonomicScore score(*sim, options_.score);
+  const ErgonomicScore score(*sim, score_options);
   ev.score = score.evaluate(*sim, false);
   ev.zeta = ev.phi = ev.score.zeta;
   ev.state = sim->state();

@@ -180,6 +180,15 @@ struct DesignResult {
   bool resumed = false;
 };
 
+// ζ of a support solved from scratch, as `palpa rest` solves it: the
+// contact settings of `rest` with the stiffness chosen for this support, the
+// body lifted clear where it starts inside the support and lowered by its
+// weight, a deformable support meshed from its rest surface. φ = ζ. A failed
+// equilibrium gives ok = false. With `keep`, the solved simulation is handed
+// over (for its fields).
+Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support, const rest::RestOptions& rest,
+                              const ScoreOptions& score, std::unique_ptr<rest::RestSimulation>* keep = nullptr);
+
 class ShapeOptimizer {
  public:
   // Builds the simulations (one per thread), solves the initial equilibrium
@@ -201,14 +210,13 @@ class ShapeOptimizer {
   // `gradient`. A failed equilibrium gives ok = false; Ctrl-C propagates.
   Evaluation evaluate(const Eigen::MatrixX3d& X, const rest::RestState& warm, bool gradient, int slot = 0);
 
-  // ζ of a support solved from scratch, as `palpa rest` solves it: the
-  // scene's contact settings with the stiffness chosen for this support, the
-  // body lowered from where the scene places it, a deformable support meshed
-  // anew from its rest surface. How every reported result is checked (the
-  // initial and optimized shapes, the baselines). φ = ζ. With `keep`, the
-  // solved simulation is handed over (for its fields).
+  // solve_from_scratch (above) with the scene's contact settings: how every
+  // reported result is checked (the initial and optimized shapes, the
+  // baselines).
   Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support,
-                                std::unique_ptr<rest::RestSimulation>* keep = nullptr) const;
+                                std::unique_ptr<rest::RestSimulation>* keep = nullptr) const {
+    return design::solve_from_scratch(body, support, rest_options_, options_.score, keep);
+  }
 
   // The optimization. progress: called after every iteration.
   DesignResult run(const std::function<void(const IterationRecord&)>& progress = {});

@@ -179,7 +179,14 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
     std::unique_ptr<rest::RestSimulation> bsim;
     Json j;
     Evaluation e;
-    if (b.sit_and_relax) {
+    if (b.sit_and_relax && scene.start_fit && b.name == scene.start) {
+      // The start itself, fitted on the scene's own support before the run.
+      const SurfaceMesh& fitted = scene.start_fit->support;
+      e = optimizer.solve_from_scratch(scene.scene_support->body, fitted, &bsim);
+      j["zeta_negative_image"] = scene.start_fit->zeta_negative_image;
+      j["fit_scale"] = scene.start_fit->scale;
+      write_surface_mesh(out / fmt::format("baseline_{}.obj", baseline_slug(b.name)), fitted);
+    } else if (b.sit_and_relax) {
       // The frozen pressures: the body on the negative image.
       const Evaluation ni = optimizer.solve_from_scratch(b.body, b.support);
       if (!ni.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}' (negative image): {}", b.name, ni.failure));

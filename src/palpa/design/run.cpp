@@ -11,6 +11,7 @@
 #include "palpa/core/termination.hpp"
 #include "palpa/design/output.hpp"
 #include "palpa/design/scene.hpp"
+#include "palpa/design/start.hpp"
 
 namespace palpa::design {
 
@@ -65,6 +66,7 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
     std::filesystem::remove(checkpoint, ec);
     std::filesystem::remove(finished, ec);
   }
+  fit_sit_and_relax_start(scene);
   if (!scene.start.empty()) {
     spdlog::info("design: starting from the baseline '{}' (the scene's own support, {}, is scored beside it)",
                  scene.start, scene.scene_support->source);

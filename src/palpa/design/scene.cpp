@@ -91,10 +91,6 @@ DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path
       Baseline base;
       base.name = b.at("name").as_string();
       const bool is_start = !start.empty() && base.name == start;
-      if (is_start && b.has("sit_and_relax")) {
-        start_field->fail(fmt::format("'{}' is a Sit & Relax baseline, fitted to a solved design", start),
-                          "the name of a baseline with a \"support\"");
-      }
       const bool build = baselines || is_start;
       for (const char* key : {"support", "sit_and_relax"}) {
         const auto part = b.find(key);
@@ -129,6 +125,11 @@ DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path
     // The design begins on that support; the scene's own is scored beside.
     s.start = start;
     s.scene_support = SceneSupport{s.rest.body, s.rest.support, s.rest.support_source};
+  }
+  if (start_base && start_base->sit_and_relax) {
+    // Fitted on the scene's support once the equilibria are solved.
+    s.start_to_fit = std::move(start_base);
+  } else if (start_base) {
     s.rest.body = start_base->body;
     s.rest.support = start_base->support;
     s.rest.support_source = start_base->source;

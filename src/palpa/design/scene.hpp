@@ -20,8 +20,8 @@
 //     "threads": 0,              // simulations at once; 0: min(#moves, cores)
 //     "post_smoothing": 0,       // Taubin rounds on the result
 //     "pose_to_seat_threshold": "2 mm", // contact distance of the estimate without elasticity
-//     "start": "negative image"  // begin from this baseline's support (not a Sit & Relax one);
-//                                // the scene's own support is scored beside it
+//     "start": "sit and relax"   // begin from this baseline's support; the scene's own support
+//                                // is scored beside it
 //   },
 //   "baselines": [{"name": "negative image", "support": {"negative_image": {...}}},
 //                 {"name": "sit and relax", "sit_and_relax": {"support": {"negative_image": {...}},
@@ -59,9 +59,21 @@ struct SceneSupport {
   std::string source;
 };
 
+// A Sit & Relax start as fitted (design/start.hpp).
+struct SitAndRelaxStart {
+  SurfaceMesh support;              // the scene's support with its design region fitted
+  double scale = 1.0;               // SitAndRelaxFit::scale
+  double zeta_negative_image = 0.0; // ζ on the negative image the frozen pressures come from
+};
+
 struct DesignScene {
   rest::RestScene rest;  // with `design.start`, the start baseline's body and support
   std::string start;     // the baseline the design starts from; empty: the scene's support
+  // A Sit & Relax start is fitted to solved equilibria, after the scene is
+  // read (fit_sit_and_relax_start): until then `rest` holds the scene's own
+  // support and this the baseline to fit; then start_fit holds the fit.
+  std::optional<Baseline> start_to_fit;
+  std::optional<SitAndRelaxStart> start_fit;
   double start_lift = 0.0;  // how far the body was lifted clear of the start's support [m]
   std::optional<SceneSupport> scene_support;  // set with `start`
   std::vector<Baseline> baselines;
