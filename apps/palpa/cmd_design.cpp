@@ -22,6 +22,7 @@ struct DesignArgs {
   bool no_baselines = false;
   int iterations = -1;
   std::string method;
+  std::string start;
 };
 
 void run_design_command(const DesignArgs& a) {
@@ -34,6 +35,7 @@ void run_design_command(const DesignArgs& a) {
   if (a.iterations >= 0) run.iterations = a.iterations;
   if (a.method == "cg") run.method = design::DesignMethod::ConjugateGradient;
   if (a.method == "lbfgs") run.method = design::DesignMethod::Lbfgs;
+  if (!a.start.empty()) run.start = a.start;
   if (const auto summary = design::run_design(run)) {
     spdlog::info("{}; wrote {}", design::design_headline(*summary), a.output);
   }
@@ -63,6 +65,9 @@ void add_design_command(CLI::App& app) {
   cmd->add_flag("--no-baselines", a->no_baselines, "Skip the scene's baselines (a quicker look at the design alone)");
   cmd->add_option("--method", a->method, "Optimizer (overrides the scene's design.method): lbfgs (the default) or cg")
       ->check(CLI::IsMember({"cg", "lbfgs"}));
+  cmd->add_option("--start", a->start,
+                  "Where the design begins (overrides the scene's design.start): a baseline's name, or 'scene' for "
+                  "the scene's own support");
   declare_paths(*cmd, {"scene"}, {"-o"});
   cmd->callback([a] { run_design_command(*a); });
 }

@@ -48,8 +48,20 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
     resume = false;
   }
   if (!resume && !run.overwrite) require_empty_output(out, "design run");
-  DesignScene scene = run.scene_json ? read_design_scene(*run.scene_json, run.scene, run.baselines)
-                                     : read_design_scene(run.scene, run.baselines);
+  std::optional<Json> doc = run.scene_json;
+  if (run.start) {
+    if (!doc) doc = read_json_file(run.scene);
+    if (doc->is_object()) {
+      Json& d = (*doc)["design"];
+      if (*run.start == "scene") {
+        if (d.is_object()) d.erase("start");
+      } else {
+        if (d.is_null()) d = Json::object();
+        if (d.is_object()) d["start"] = *run.start;
+      }
+    }
+  }
+  DesignScene scene = doc ? read_design_scene(*doc, run.scene, run.baselines) : read_design_scene(run.scene, run.baselines);
   if (run.iterations) scene.options.max_iterations = *run.iterations;
   if (run.threads) scene.options.threads = *run.threads;
   if (run.method) scene.options.method = *run.method;

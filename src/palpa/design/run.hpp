@@ -24,6 +24,9 @@ struct DesignRun {
   std::optional<int> iterations;  // overrides the scene's design.iterations
   std::optional<int> threads;     // overrides the scene's design.threads
   std::optional<DesignMethod> method;
+  // Overrides the scene's design.start: a baseline's name, or "scene" for
+  // the scene's own support.
+  std::optional<std::string> start;
 };
 
 // Runs it. Returns the summary (summary.json), or nothing when a resumed run
