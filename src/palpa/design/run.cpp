@@ -51,13 +51,16 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
   std::optional<Json> doc = run.scene_json;
   if (run.start) {
     if (!doc) doc = read_json_file(run.scene);
+    // (A scene that is not an object, or whose design is not one, is left
+    // for the reader to refuse.)
     if (doc->is_object()) {
-      Json& d = (*doc)["design"];
+      const bool has_design = doc->contains("design");
       if (*run.start == "scene") {
-        if (d.is_object()) d.erase("start");
-      } else {
-        if (d.is_null()) d = Json::object();
-        if (d.is_object()) d["start"] = *run.start;
+        if (has_design && (*doc)["design"].is_object()) (*doc)["design"].erase("start");
+      } else if (!has_design) {
+        (*doc)["design"] = Json{{"start", *run.start}};
+      } else if ((*doc)["design"].is_object()) {
+        (*doc)["design"]["start"] = *run.start;
       }
     }
   }
