@@ -49,6 +49,8 @@ void fit_sit_and_relax_start(DesignScene& scene) {
     spdlog::info("design: the body starts inside the baseline '{}': lifted {:.3g} mm before it is lowered onto it",
                  b.name, scene.start_lift * 1e3);
   }
+  // Last (b refers into it): fitted once, a second call leaves the scene as it is.
+  scene.start_to_fit.reset();
 }
 
 }  // namespace palpa::design

@@ -16,7 +16,8 @@ namespace palpa::design {
 
 // With scene.start_to_fit: fits it, makes the fit the scene's support (the
 // scene's own kept in scene_support, the body lifted clear where it starts
-// inside the fit) and fills scene.start_fit. Otherwise does nothing. Throws
+// inside the fit), fills scene.start_fit and clears start_to_fit.
+// Otherwise does nothing. Throws
 // palpa::Error (Solver) naming the start when an equilibrium or the fit
 // fails.
 void fit_sit_and_relax_start(DesignScene& scene);
