@@ -39,6 +39,21 @@ std::vector<int> facing_vertices(const SurfaceMesh& support, const Eigen::Vector
   return out;
 }
 
+void begin_on_start(DesignScene& s, const rest::RestBody& body, const SurfaceMesh& support, const std::string& source) {
+  s.rest.body = body;
+  s.rest.support = support;
+  s.rest.support_source = source;
+  s.rest.options.support_name =
+      fmt::format("{}: the baseline '{}' the design starts from", s.rest.file.filename().string(), s.start);
+  // Placed as the baseline's own score places it (ShapeOptimizer::
+  // solve_from_scratch): lifted clear where a skin vertex starts inside.
+  s.start_lift = rest::place_clear_of(s.rest.body, s.rest.support, -s.rest.options.gravity, 1e-3);
+  if (s.start_lift > 0.0) {
+    spdlog::info("design: the body starts inside the baseline '{}': lifted {:.3g} mm before it is lowered onto it",
+                 s.start, s.start_lift * 1e3);
+  }
+}
+
 std::string baseline_slug(const std::string& name) {
   std::string slug;
   for (char ch : name) slug += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
@@ -130,17 +145,7 @@ DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path
     // Fitted on the scene's support once the equilibria are solved.
     s.start_to_fit = std::move(start_base);
   } else if (start_base) {
-    s.rest.body = start_base->body;
-    s.rest.support = start_base->support;
-    s.rest.support_source = start_base->source;
-    s.rest.options.support_name = fmt::format("{}: the baseline '{}' the design starts from", path.filename().string(), start);
-    // Placed as the baseline's own score places it (ShapeOptimizer::
-    // solve_from_scratch): lifted clear where a skin vertex starts inside.
-    s.start_lift = rest::place_clear_of(s.rest.body, s.rest.support, -s.rest.options.gravity, 1e-3);
-    if (s.start_lift > 0.0) {
-      spdlog::info("design: the body starts inside the baseline '{}': lifted {:.3g} mm before it is lowered onto it",
-                   start, s.start_lift * 1e3);
-    }
+    begin_on_start(s, start_base->body, start_base->support, start_base->source);
   }
   DesignOptions& o = s.options;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());

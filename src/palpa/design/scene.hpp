@@ -82,6 +82,13 @@ struct DesignScene {
   std::string region;                // how the design vertices were chosen, for the summary
 };
 
+// Makes a baseline's support, with the body as placed for it, where the
+// design begins (s.start names the baseline; the scene's own support is kept
+// in s.scene_support by the caller): failures name it, and the body is lifted
+// clear where a skin vertex starts inside it, as the baseline's own score
+// lifts it (s.start_lift, logged).
+void begin_on_start(DesignScene& s, const rest::RestBody& body, const SurfaceMesh& support, const std::string& source);
+
 // A baseline's name as it appears in file names (baseline_<slug>.obj, …):
 // every character other than a letter or digit becomes '_'.
 std::string baseline_slug(const std::string& name);

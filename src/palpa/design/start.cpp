@@ -34,21 +34,8 @@ void fit_sit_and_relax_start(DesignScene& scene) {
                  "{:.3g} of its moves",
                  b.name, fit.scale);
   }
-  const std::string source = "Sit & Relax fit to the pressures on " + b.source;
   scene.start_fit = SitAndRelaxStart{SurfaceMesh{fit.vertices, sim.support().triangles()}, fit.scale, ni.zeta};
-  scene.rest.support = scene.start_fit->support;
-  scene.rest.support_source = source;
-  // "scene.json: support" → "scene.json: the baseline '…' the design starts from".
-  const std::string& was = scene.rest.options.support_name;
-  const std::size_t colon = was.rfind(": ");
-  scene.rest.options.support_name = fmt::format("{}the baseline '{}' the design starts from",
-                                                colon == std::string::npos ? std::string() : was.substr(0, colon + 2),
-                                                b.name);
-  scene.start_lift = rest::place_clear_of(scene.rest.body, scene.rest.support, -scene.rest.options.gravity, 1e-3);
-  if (scene.start_lift > 0.0) {
-    spdlog::info("design: the body starts inside the baseline '{}': lifted {:.3g} mm before it is lowered onto it",
-                 b.name, scene.start_lift * 1e3);
-  }
+  begin_on_start(scene, scene.rest.body, scene.start_fit->support, "Sit & Relax fit to the pressures on " + b.source);
   // Last (b refers into it): fitted once, a second call leaves the scene as it is.
   scene.start_to_fit.reset();
 }
