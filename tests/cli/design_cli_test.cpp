@@ -455,6 +455,13 @@ TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {
   const auto b = run_palpa("design direction.json -o out", dir.path());
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("unknown direction 'sideways'"), std::string::npos) << b.err;
+  std::string smoothing = kDesignScene;
+  smoothing.replace(smoothing.find("\"iterations\": 4"), 15, "\"pressure_smoothing\": 1.5");
+  dir.write("smoothing.json", smoothing);
+  const auto ps = run_palpa("design smoothing.json -o out", dir.path());
+  EXPECT_EQ(ps.exit_code, 2);
+  EXPECT_NE(ps.err.find("design.pressure_smoothing"), std::string::npos) << ps.err;
+  EXPECT_NE(ps.err.find("a weight in [0, 1]"), std::string::npos) << ps.err;
   std::string filter = kDesignScene;
   filter.replace(filter.find("\"iterations\": 4"), 15, "\"filter\": \"-1 mm\"");
   dir.write("filter.json", filter);

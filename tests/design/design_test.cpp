@@ -212,10 +212,12 @@ TEST(DesignScore, AreaGradientMatchesDifferences) {
 // φ along a random direction of θ by central differences of re-solved
 // equilibria, against the adjoint gradient; on a bumpy slab so that every
 // term (body side, support side, areas, smoothness) takes part.
-void check_adjoint(bool rotate, bool normal_only, int exponent, bool smoothness, bool deformable = false) {
+void check_adjoint(bool rotate, bool normal_only, int exponent, bool smoothness, bool deformable = false,
+                   double pressure_smoothing = 0.5) {
   const SurfaceMesh s = deformable ? foam_slab() : slab();
   DesignOptions o;
   o.score.exponent = exponent;
+  o.score.pressure_smoothing = pressure_smoothing;
   o.normal_only = normal_only;
   o.threads = 1;
   if (!smoothness) o.gamma = 0.0;
@@ -261,6 +263,11 @@ TEST(DesignAdjoint, ScoreGradientMatchesFiniteDifferences) { check_adjoint(false
 TEST(DesignAdjoint, GradientMatchesFiniteDifferencesWithARotatingCore) { check_adjoint(true, false, 3, false); }
 TEST(DesignAdjoint, NormalOnlyGradientMatchesFiniteDifferences) { check_adjoint(false, true, 4, false); }
 TEST(DesignAdjoint, SquaredPressureGradientMatchesFiniteDifferences) { check_adjoint(true, true, 2, true); }
+// The score of the pressures as they are (no smoothing step), as the shipped
+// seat, sole and thigh score them.
+TEST(DesignAdjoint, UnsmoothedPressureGradientMatchesFiniteDifferences) {
+  check_adjoint(false, true, 3, false, false, 0.0);
+}
 // A deformable support (7.21–7.23): its DOFs in the equilibrium, its rest
 // shape the design.
 TEST(DesignAdjoint, DeformableSupportGradientMatchesFiniteDifferences) { check_adjoint(true, false, 3, true, true); }

@@ -152,7 +152,7 @@ DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path
   Eigen::Vector3d hi = -lo;
   double facing = 25.0 * 3.14159265358979323846 / 180.0;
   if (const auto d = root.find("design")) {
-    d->expect_only({"method", "region", "facing", "direction", "exponent", "smoothing", "iterations", "min_decrease", "moves", "filter",
+    d->expect_only({"method", "region", "facing", "direction", "exponent", "pressure_smoothing", "smoothing", "iterations", "min_decrease", "moves", "filter",
                     "threads", "post_smoothing", "pose_to_seat_threshold", "start"});
     if (const auto m = d->find("method")) {
       const std::string v = m->as_string();
@@ -185,6 +185,12 @@ DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path
       }
     }
     if (const auto e = d->find("exponent")) o.score.exponent = sim3d::read_count(*e, 2, 4);
+    if (const auto l = d->find("pressure_smoothing")) {
+      o.score.pressure_smoothing = l->as_number();
+      if (!(o.score.pressure_smoothing >= 0.0 && o.score.pressure_smoothing <= 1.0)) {
+        l->fail("out of range", "a weight in [0, 1] (½: one Laplacian step, the thesis's; 0: the pressures as they are)");
+      }
+    }
     if (const auto sm = d->find("smoothing")) {
       sm->expect_only({"exponent", "gamma", "iterations"});
       if (sm->has("exponent") && sm->has("gamma")) sm->fail("give either exponent or gamma", "one of them");

@@ -14,7 +14,7 @@
 // deformed skin, what the body feels and what the support sees carry the
 // same load, and a support vertex cannot lower ζ by missing the skin. p̄ = S p,
 // one Laplacian smoothing step on each surface's own mesh:
-//   p̄_i = (1 − λ) p_i + λ · mean_{j ∈ N(i)} p_j,   λ = ½,
+//   p̄_i = (1 − λ) p_i + λ · mean_{j ∈ N(i)} p_j,   λ = ½ (the thesis's; 0: p itself),
 // i.e. (I + λL) p with the umbrella L = W − I (W: the mean of the
 // neighbours), the sign that smooths: a lone spike is spread over its ring,
 // a constant field is kept. e (exponent) is 2, 3 or 4 (Fig. 7.5). Units:
