@@ -224,6 +224,35 @@ TEST(Umbrella, TheLargestSpikeIsTheLoneVertexThatMoved) {
   EXPECT_EQ(s.vertex, centre);
   EXPECT_NEAR(s.distance, 1e-3, 1e-15);
   EXPECT_EQ(largest_spike(D, grid.F, {}).vertex, -1);
+  // Along the normals (here +z) the lone vertex is the same spike.
+  Eigen::MatrixX3d up = Eigen::MatrixX3d::Zero(grid.V.rows(), 3);
+  up.col(2).setOnes();
+  EXPECT_NEAR(largest_spike(D, grid.F, inside, &up).distance, 1e-3, 1e-15);
+}
+
+TEST(Umbrella, VerticesSlidingAlongTheSurfaceMakeNoSpikeOutOfIt) {
+  const SurfaceMesh grid = square_grid(6, 0.06);
+  std::vector<int> inside;
+  for (Eigen::Index v = 0; v < grid.V.rows(); ++v) {
+    if (grid.V.row(v).head<2>().cwiseAbs().maxCoeff() < 0.029) inside.push_back(static_cast<int>(v));
+  }
+  Eigen::MatrixX3d up = Eigen::MatrixX3d::Zero(grid.V.rows(), 3);
+  up.col(2).setOnes();
+  // Every vertex slides 0.5 mm along the plane, each in its own direction,
+  // and the whole grid rises 2 mm: the plane stays a plane.
+  Eigen::MatrixX3d D = Eigen::MatrixX3d::Zero(grid.V.rows(), 3);
+  for (Eigen::Index v = 0; v < grid.V.rows(); ++v) {
+    const double a = 2.399963 * static_cast<double>(v);  // the golden angle: no two alike
+    D.row(v) << 0.5e-3 * std::cos(a), 0.5e-3 * std::sin(a), 2e-3;
+  }
+  EXPECT_GT(largest_spike(D, grid.F, inside).distance, 0.4e-3);
+  EXPECT_LT(largest_spike(D, grid.F, inside, &up).distance, 1e-15);
+  // A vertex raised 1 mm out of it among them is seen in full.
+  const int centre = inside[12];
+  D(centre, 2) += 1e-3;
+  const Spike s = largest_spike(D, grid.F, inside, &up);
+  EXPECT_EQ(s.vertex, centre);
+  EXPECT_NEAR(s.distance, 1e-3, 1e-15);
 }
 
 TEST(Submesh, NumbersVerticesInOrderOfFirstUse) {

@@ -16,6 +16,7 @@
 #include "palpa/io/vtu.hpp"
 #include "palpa/design/baselines.hpp"
 #include "palpa/geometry/umbrella.hpp"
+#include "palpa/geometry/surface_operators.hpp"
 #include "palpa/report/compare.hpp"
 #include "palpa/report/plot.hpp"
 #include "palpa/report/html.hpp"
@@ -135,7 +136,12 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   const Evaluation after = optimizer.evaluate(r.final.support, r.final.state, false, 0);
   if (!after.ok) throw Error(ErrorKind::Solver, "re-solving the optimized shape: " + after.failure);
   const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
+  // A spike sticks out of the optimized surface: along its normals.
+  const Eigen::MatrixX3d optimized_normals =
+      geometry::vertex_normals(SurfaceMesh{r.final.support, sim.support().triangles()}, geometry::NormalWeighting::Area);
   const geometry::Spike spike =
+      geometry::largest_spike(displacement, sim.support().triangles(), optimizer.space().vertices(), &optimized_normals);
+  const geometry::Spike spike_any =
       geometry::largest_spike(displacement, sim.support().triangles(), optimizer.space().vertices());
   const Json pts_after = write_state(out, "after", sim, after, &displacement, threshold);
   body_maps.push_back(rest::body_pressure_panel(sim, after.rest, "body side, optimized support"));
@@ -358,9 +364,11 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                 {"zeta_body", checked_final.score.zeta_body / after.score.zeta_body},
                 {"body_peak", checked_final.score.body_pressure.maxCoeff() / after.score.body_pressure.maxCoeff()}}}}},
             {"max_design_displacement_m", displacement.rowwise().norm().maxCoeff()},
-            {"largest_spike", {{"note", "a design vertex's move from its neighbours' mean move"},
+            {"largest_spike", {{"note", "a design vertex's move from its neighbours' mean move, along the optimized surface's normal (any_direction: the whole difference, sideways sliding included)"},
                                {"distance_m", spike.distance},
-                               {"vertex", spike.vertex}}},
+                               {"vertex", spike.vertex},
+                               {"any_direction_m", spike_any.distance},
+                               {"any_direction_vertex", spike_any.vertex}}},
             {"iterations", r.iterations},
             {"equilibrium_solves", r.evaluations},
             {"newton_iterations", r.newton_iterations},

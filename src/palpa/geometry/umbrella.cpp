@@ -2,6 +2,7 @@
 #include "palpa/geometry/umbrella.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace palpa::geometry {
 
@@ -37,7 +38,8 @@ Eigen::SparseMatrix<double> umbrella_matrix(const Eigen::MatrixX3i& F, Eigen::In
   return W;
 }
 
-Spike largest_spike(const Eigen::MatrixX3d& D, const Eigen::MatrixX3i& F, const std::vector<int>& vertices) {
+Spike largest_spike(const Eigen::MatrixX3d& D, const Eigen::MatrixX3i& F, const std::vector<int>& vertices,
+                    const Eigen::MatrixX3d* normals) {
   const std::vector<std::vector<int>> ring = vertex_neighbours(F, D.rows());
   Spike worst;
   for (const int v : vertices) {
@@ -46,7 +48,7 @@ Spike largest_spike(const Eigen::MatrixX3d& D, const Eigen::MatrixX3i& F, const 
     Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
     for (const int j : n) mean += D.row(j);
     mean /= static_cast<double>(n.size());
-    const double d = (D.row(v) - mean).norm();
+    const double d = normals ? std::abs((D.row(v) - mean).dot(normals->row(v))) : (D.row(v) - mean).norm();
     if (d > worst.distance || worst.vertex < 0) worst = {d, v};
   }
   return worst;

@@ -25,10 +25,17 @@ Eigen::SparseMatrix<double> umbrella_matrix(const Eigen::MatrixX3i& F, Eigen::In
 // uniform field, and for an affine one where each ring is centred on its
 // vertex, as inside a regular grid; a lone vertex moved by h among still
 // neighbours gives h), and its vertex (−1 when `vertices` is empty).
+// With `normals` (#V×3, unit: those of the moved surface), only the part of
+// D_v − mean along n_v counts — what sticks out of the surface. Neighbours
+// that slide past each other along it make no bump: a curved surface moved
+// by the same amount along its own, diverging normals is an offset surface,
+// smooth, though its moves differ sideways by about the move times the angle
+// between neighbouring normals.
 struct Spike {
   double distance = 0.0;
   int vertex = -1;
 };
-Spike largest_spike(const Eigen::MatrixX3d& D, const Eigen::MatrixX3i& F, const std::vector<int>& vertices);
+Spike largest_spike(const Eigen::MatrixX3d& D, const Eigen::MatrixX3i& F, const std::vector<int>& vertices,
+                    const Eigen::MatrixX3d* normals = nullptr);
 
 }  // namespace palpa::geometry
