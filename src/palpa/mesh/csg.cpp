@@ -179,6 +179,10 @@ NegativeImage negative_image(const SurfaceMesh& block, const SurfaceMesh& body,
       if (movable[std::size_t(i)] && near.inside(cut.V.row(i).transpose())) cut.V.row(i) = before.row(i);
     }
   }
+  // A deep press leaves sharp creases in the hollow (the body's own clipped
+  // faces pressed below the top) that the remesh and the smoothing can fold
+  // through each other: they are cut out and filled, as a scan's skin folds.
+  if (detail::cgal_self_intersection(cut)) cut = remove_self_intersections(cut, source);
   check_closed_surface(cut, source);
   result.support = cut;
   return result;

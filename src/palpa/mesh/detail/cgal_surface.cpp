@@ -17,6 +17,9 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <cmath>
+#include <limits>
+#include <numbers>
 #include <vector>
 
 #include "palpa/core/error.hpp"
@@ -31,6 +34,9 @@ using Mesh = CgalMesh;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 namespace PMP = CGAL::Polygon_mesh_processing;
+
+// A triangle with an angle above this is a cap (its corners nearly in line).
+constexpr double kCapAngleDeg = 175.0;
 
 // Faces get the indices of F's rows (added in order, none removed).
 Mesh to_cgal(const SurfaceMesh& mesh) {
@@ -69,6 +75,13 @@ SurfaceMesh cgal_remesh(const SurfaceMesh& mesh, double edge_length, int iterati
                                  .number_of_relaxation_steps(3)
                                  .edge_is_constrained_map(sharp)
                                  .protect_constraints(true));
+    // Protected sharp edges cannot be collapsed: where two of them meet
+    // nearly in line (a body's clip plane pressed through a block's top
+    // face), the triangle spanning them can be left without area — a cap,
+    // one angle near 180°. Flipping its longest edge removes it and keeps
+    // the surface where it was; needles are left alone.
+    PMP::experimental::remove_almost_degenerate_faces(m, std::cos(kCapAngleDeg * std::numbers::pi / 180.0),
+                                                      std::numeric_limits<double>::max(), 0.0);
   } else {
     PMP::split_long_edges(edges(m), edge_length, m);
     PMP::isotropic_remeshing(faces(m), edge_length, m,
