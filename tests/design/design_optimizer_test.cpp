@@ -7,12 +7,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "common/test_support.hpp"
 #include "design_fixtures.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/design/scene.hpp"
+#include "palpa/mesh/surface_check.hpp"
 
 namespace palpa::design {
 namespace {
@@ -113,18 +115,38 @@ TEST(DesignOptimizer, ResumesExactlyFromItsCheckpoint) {
 }
 
 TEST(DesignScene, AStartFromABaselineIsPlacedAsItsScoreIsPlaced) {
-  // The chair from its negative image: the body, sunk into the hollow with
-  // its clearance, has skin vertices inside the smoothed hollow's walls; the
-  // baseline's score lifts it clear, and so does the start (once refused as
-  // starting inside "the support", the scene's box).
+  // The chair from its default start, the thesis's negative image (§7.5.1:
+  // pressed 5 cm, the rim smoothed). The deep press brings the body's clipped
+  // faces below the block's top, whose creases the remesh once left as
+  // zero-area caps and folded triangles: the hollow must be a clean closed
+  // surface. The body, sunk into it with its clearance, has skin vertices
+  // inside the smoothed hollow's walls; the baseline's score lifts it clear,
+  // and so does the start (once refused as starting inside "the support",
+  // the scene's box).
   const std::filesystem::path file = test::source_path("examples/design/chair/scene.json");
-  Json doc = read_json_file(file);
-  doc["design"]["start"] = "negative image";
+  const Json doc = read_json_file(file);
+  ASSERT_EQ(doc["design"]["start"], "negative image 5 cm (thesis)");
   const DesignScene s = read_design_scene(doc, file, false);
-  EXPECT_NEAR(s.start_lift, 1.52e-3, 0.05e-3);  // the case it must handle (the baseline's score: 1.52 mm)
+  EXPECT_NEAR(s.start_lift, 2.28e-3, 0.05e-3);  // the case it must handle (the baseline's score: 2.28 mm)
   EXPECT_EQ(rest::lift_clear_of(s.rest.body, s.rest.support, -s.rest.options.gravity, 0.0), 0.0);
-  EXPECT_NE(s.rest.options.support_name.find("the baseline 'negative image'"), std::string::npos)
+  EXPECT_NE(s.rest.options.support_name.find("the baseline 'negative image 5 cm (thesis)'"), std::string::npos)
       << s.rest.options.support_name;
+  const SurfaceMesh& hollow = s.rest.support;
+  EXPECT_NO_THROW(mesh::check_closed_surface(hollow, "the negative image"));
+  // The block's top stays at z = 0 (Taubin's inflating step lifts the rim by
+  // well under a millimetre); the hollow's floor lies the press and the 2 mm
+  // clearance below the top (the body first touches the flat top at its
+  // lowest point), to the remesh's sagitta.
+  EXPECT_NEAR(hollow.V.col(2).maxCoeff(), 0.0, 1e-3);
+  double deepest = 0.0;
+  for (Eigen::Index i = 0; i < hollow.V.rows(); ++i) {
+    // Inside the block's footprint (500 mm square about y = −80 mm), above
+    // its bottom: the hollow and the top.
+    const bool inside = std::abs(hollow.V(i, 0)) < 0.24 && std::abs(hollow.V(i, 1) + 0.08) < 0.24 &&
+                        hollow.V(i, 2) > -0.19;
+    if (inside) deepest = std::min(deepest, hollow.V(i, 2));
+  }
+  EXPECT_NEAR(deepest, -0.052, 2e-3);
 }
 
 }  // namespace
