@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -449,25 +450,19 @@ TEST(DesignCli, RefusesBadDesignsWithoutWritingAnything) {
   const auto a = run_palpa("design empty.json -o out", dir.path());
   EXPECT_EQ(a.exit_code, 2);
   EXPECT_NE(a.err.find("no support vertex lies in the design region"), std::string::npos) << a.err;
-  std::string direction = kDesignScene;
-  direction.replace(direction.find("\"iterations\": 4"), 15, "\"direction\": \"sideways\"");
-  dir.write("direction.json", direction);
-  const auto b = run_palpa("design direction.json -o out", dir.path());
-  EXPECT_EQ(b.exit_code, 2);
-  EXPECT_NE(b.err.find("unknown direction 'sideways'"), std::string::npos) << b.err;
-  std::string smoothing = kDesignScene;
-  smoothing.replace(smoothing.find("\"iterations\": 4"), 15, "\"pressure_smoothing\": 1.5");
-  dir.write("smoothing.json", smoothing);
-  const auto ps = run_palpa("design smoothing.json -o out", dir.path());
-  EXPECT_EQ(ps.exit_code, 2);
-  EXPECT_NE(ps.err.find("design.pressure_smoothing"), std::string::npos) << ps.err;
-  EXPECT_NE(ps.err.find("a weight in [0, 1]"), std::string::npos) << ps.err;
-  std::string filter = kDesignScene;
-  filter.replace(filter.find("\"iterations\": 4"), 15, "\"filter\": \"-1 mm\"");
-  dir.write("filter.json", filter);
-  const auto f = run_palpa("design filter.json -o out", dir.path());
-  EXPECT_EQ(f.exit_code, 2);
-  EXPECT_NE(f.err.find("design.filter"), std::string::npos) << f.err;
+  // A bad value of a design key, given in place of "iterations": its field
+  // and what was expected are named.
+  for (const auto& [key, says] : {std::pair{R"("direction": "sideways")", std::vector<std::string>{"unknown direction 'sideways'"}},
+                                  std::pair{R"("pressure_smoothing": 1.5)",
+                                            std::vector<std::string>{"design.pressure_smoothing", "a weight in [0, 1]"}},
+                                  std::pair{R"("filter": "-1 mm")", std::vector<std::string>{"design.filter"}}}) {
+    std::string bad = kDesignScene;
+    bad.replace(bad.find("\"iterations\": 4"), 15, key);
+    dir.write("bad.json", bad);
+    const auto b = run_palpa("design bad.json -o out", dir.path());
+    EXPECT_EQ(b.exit_code, 2) << key;
+    for (const std::string& text : says) EXPECT_NE(b.err.find(text), std::string::npos) << key << ": " << b.err;
+  }
   std::string rest = kDesignScene;
   rest.replace(rest.find("palpa_design"), 12, "palpa_rest");
   dir.write("rest.json", rest);
