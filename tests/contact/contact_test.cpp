@@ -8,6 +8,7 @@
 #include "palpa/contact/penalty_contact.hpp"
 #include "palpa/contact/stiffness.hpp"
 
+#include <cmath>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -338,7 +339,7 @@ TEST(ContactStiffness, RuleAndCorrection) {
 TEST(ContactStiffness, ControllerKeepsKInsideTheBandAndCorrectsOutside) {
   StiffnessPolicy band;
   band.target = 3e-4;
-  const StiffnessController c(band);
+  StiffnessController c(band);
   const double k = 2e4;
   EXPECT_EQ(c.next(k, 3e-4), k);
   EXPECT_EQ(c.next(k, 0.86 * 3e-4), k);
@@ -352,12 +353,46 @@ TEST(ContactStiffness, ControllerKeepsKInsideTheBandAndCorrectsOutside) {
   raise.low = 0.0;
   raise.high = 1.0;
   raise.overshoot = 1.1;
-  const StiffnessController r(raise);
+  StiffnessController r(raise);
   EXPECT_EQ(r.next(k, 1e-5), k);
   EXPECT_EQ(r.next(k, 0.0), k);
   EXPECT_NEAR(r.next(k, 6e-4), 2.2 * k, 1e-9 * k);
   band.target = 0.0;
   EXPECT_TRUE(test::throws_error([&] { StiffnessController bad(band); }, ErrorKind::Input, {"target penetration"}));
+}
+
+TEST(ContactStiffness, ExponentFromTwoSolvesLandsAGrowingContactInFewSolves) {
+  // depth = C·k^−α: a flat punch (α = 1), a sphere on a plane (½).
+  const auto depth = [](double k, double alpha) { return 3e-4 * std::pow(k / 1e6, -alpha); };
+  for (const double alpha : {1.0, 0.5, 0.7}) {
+    EXPECT_NEAR(penetration_exponent(1e5, depth(1e5, alpha), 4e5, depth(4e5, alpha), 9.0), alpha, 1e-12);
+  }
+  EXPECT_EQ(penetration_exponent(1e5, 1e-3, 4e5, 1e-3, 0.5), 0.25);  // no change in depth: clamped
+  EXPECT_EQ(penetration_exponent(1e5, 1e-3, 1.005e5, 9e-4, 0.5), 0.5);  // k too close to tell
+  EXPECT_EQ(penetration_exponent(1e5, 0.0, 4e5, 9e-4, 0.5), 0.5);
+  // Under α = ½ the proportional rule undershoots; the square lands at once.
+  EXPECT_NEAR(corrected_stiffness(1e6, 6e-4, 3e-4, 10.0, 0.5), 4e6, 1e-3);
+
+  // From 10× too deep, a contact with α = 0.6: the proportional rule needs
+  // five solves, the measured exponent three.
+  const auto solves = [&](StiffnessPolicy policy) {
+    StiffnessController c(policy);
+    double k = 1e6 / std::pow(10.0, 1.0 / 0.6);
+    int n = 1;
+    for (; !c.accepts(depth(k, 0.6)) && n < 20; ++n) k = c.next(k, depth(k, 0.6));
+    return n;
+  };
+  StiffnessPolicy proportional;
+  EXPECT_EQ(solves(proportional), 5);
+  StiffnessPolicy measured;
+  measured.exponent = 0.5;
+  measured.measure_exponent = true;
+  EXPECT_EQ(solves(measured), 3);
+  // restart() forgets: the same pair no longer informs the next correction.
+  StiffnessController c(measured);
+  c.next(1e6, depth(1e6, 1.0) * 10.0);
+  c.restart();
+  EXPECT_NEAR(c.next(2e6, 6e-4), 8e6, 1e-3);
 }
 
 }  // namespace
