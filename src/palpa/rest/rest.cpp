@@ -158,11 +158,11 @@ RestSimulation::RestSimulation(RestBody body, const SurfaceMesh& support, RestOp
     contact::StiffnessPolicy policy;
     policy.target = options_.target_penetration;
     // A body's curved skin on a support: the contact grows with the approach
-    // (α = ½) until two solves measure it. The first k is typically 4-5×
-    // too soft, which α = ½ corrects by 16-25× in one step.
+    // (α = ½) until two solves measure it. (k may still move by at most 10×
+    // at once: a larger jump from a state sunk many times the target deep
+    // leaves Newton too far from the new equilibrium.)
     policy.exponent = 0.5;
     policy.measure_exponent = true;
-    policy.max_factor = 30.0;
     stiffness_.emplace(policy);
     // Surface sampling: k is the pressure per depth, 2k/Ā for that vertex
     // spring k of mean skin area Ā.
