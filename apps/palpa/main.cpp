@@ -43,12 +43,7 @@ int report(const palpa::Error& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // BLAS on one thread unless the user asks for more: palpa's own loops use
-  // every core through TBB, and OpenBLAS's threads beside them oversubscribe
-  // the cores (the foot at rest took 83 s instead of 12 s on 2 busy cores).
-  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr && std::getenv("OMP_NUM_THREADS") == nullptr) {
-    palpa::set_blas_threads(1);
-  }
+  palpa::set_default_blas_threads();
   // No output of a run replaces a file it read as an input (input_file.hpp).
   palpa::guard_inputs(true);
   CLI::App app{

@@ -10,6 +10,7 @@
 #include "common.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/version.hpp"
+#include "palpa/solve/blas.hpp"
 
 namespace palpa::python {
 
@@ -49,6 +50,8 @@ PYBIND11_MODULE(_palpa, m) {
   using namespace palpa::python;
   m.doc() = "palpa: soft-tissue mechanics (compiled part; import palpa)";
   m.attr("__version__") = std::string(kVersion);
+  // As the command line starts: the same threads, the same numbers.
+  set_default_blas_threads();
 
   static py::exception<Error> input_error(m, "InputError", PyExc_ValueError);
   static py::exception<Error> solver_error(m, "SolverError", PyExc_RuntimeError);

@@ -3,6 +3,8 @@
 
 #include <dlfcn.h>
 
+#include <cstdlib>
+
 #include <filesystem>
 #include <fmt/format.h>
 
@@ -73,6 +75,12 @@ int blas_threads() {
 void set_blas_threads(int n) {
   if (n < 1) n = 1;
   if (auto* set = symbol<SetThreads>("openblas_set_num_threads")) set(n);
+}
+
+void set_default_blas_threads() {
+  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr && std::getenv("OMP_NUM_THREADS") == nullptr) {
+    set_blas_threads(1);
+  }
 }
 
 ScopedBlasThreads::ScopedBlasThreads(int n) : previous_(blas_threads()) {

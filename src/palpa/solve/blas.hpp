@@ -37,6 +37,13 @@ std::string describe_blas();
 // The BLAS's thread count, and setting it (no-op without thread control).
 int blas_threads();
 void set_blas_threads(int n);
+// How palpa starts (the command line and the Python module alike): the BLAS
+// on one thread unless OPENBLAS_NUM_THREADS or OMP_NUM_THREADS asks for more.
+// palpa's own loops use every core through TBB, and OpenBLAS's threads beside
+// them oversubscribe the cores (the foot at rest took 83 s instead of 12 s on
+// 2 busy cores); and a factorization's last bits then do not depend on where
+// palpa runs.
+void set_default_blas_threads();
 
 // Sets the BLAS thread count for its lifetime and restores it after. Call it
 // from one thread (the one that starts the parallel region).
