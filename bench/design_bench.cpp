@@ -124,8 +124,8 @@ int main(int argc, char** argv) {
       // What the person feels, the optimized shape solved from scratch (the
       // initial one was, when the optimizer was built).
       const auto checked = opt.solve_from_scratch(scene.rest.body, {r.final.support, opt.simulation().support().triangles()});
-      const double body_before = r.initial.score.body_pressure.maxCoeff();
-      const double body_after = checked.ok ? checked.score.body_pressure.maxCoeff() : 0.0;
+      const double body_before = r.initial.body().score.body_pressure.maxCoeff();
+      const double body_after = checked.ok ? checked.body().score.body_pressure.maxCoeff() : 0.0;
       emit({{"bench", "design"},
             {"scene", file.parent_path().filename().string() + "/" + file.filename().string()},
             {"method", method == palpa::design::DesignMethod::Lbfgs ? "lbfgs" : "cg"},
@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
             {"tets", opt.simulation().model().num_elements()},
             {"support_vertices", r.initial.support.rows()},
             {"design_variables", opt.space().size()},
-            {"contact_vertices", r.initial.score.body_contacts},
+            {"contact_vertices", r.initial.body().score.body_contacts},
             {"iterations", r.iterations},
             {"equilibrium_solves", r.evaluations},
             {"newton_iterations", r.newton_iterations},
@@ -150,9 +150,9 @@ int main(int argc, char** argv) {
             {"gamma", r.gamma},
             {"from_scratch_ok", checked.ok},
             {"zeta_final_from_scratch", checked.zeta},
-            {"zeta_body_initial", r.initial.score.zeta_body},
-            {"zeta_body_final_from_scratch", checked.score.zeta_body},
-            {"zeta_body_reduction_percent", 100.0 * (1.0 - checked.score.zeta_body / r.initial.score.zeta_body)},
+            {"zeta_body_initial", r.initial.body().score.zeta_body},
+            {"zeta_body_final_from_scratch", checked.body().score.zeta_body},
+            {"zeta_body_reduction_percent", 100.0 * (1.0 - checked.body().score.zeta_body / r.initial.body().score.zeta_body)},
             {"body_peak_initial_Pa", body_before},
             {"body_peak_final_from_scratch_Pa", body_after},
             {"body_peak_ratio", body_after > 0.0 ? body_before / body_after : 0.0},

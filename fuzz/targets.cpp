@@ -115,8 +115,9 @@ void read_design_checkpoint_file(const std::filesystem::path& p) {
   like.gamma = 1.0;
   like.moves = {1e-6, 1e-5, 1e-4};
   like.theta = Eigen::VectorXd::Zero(4);
-  like.state.x = Eigen::VectorXd::Zero(6);
-  like.state.spring_areas.assign(2, 0.0);
+  like.bodies.resize(1);
+  like.bodies[0].state.x = Eigen::VectorXd::Zero(6);
+  like.bodies[0].state.spring_areas.assign(2, 0.0);
   (void)design::read_design_checkpoint(p, like);
 }
 

@@ -30,11 +30,11 @@ TEST(DesignOptimizer, LowersTheScoreMonotonicallyAndStillCarriesTheLoad) {
   EXPECT_EQ(r.stop.termination, Termination::IterationLimit) << r.stop.detail;
   EXPECT_EQ(r.final.phi, r.history.back().phi);
   EXPECT_LT(r.final.zeta, 0.5 * r.initial.zeta);
-  EXPECT_LT(r.final.score.body_smoothed.maxCoeff(), 0.8 * r.initial.score.body_smoothed.maxCoeff());
-  EXPECT_GT(r.final.score.body_contacts, r.initial.score.body_contacts);
+  EXPECT_LT(r.final.body().score.body_smoothed.maxCoeff(), 0.8 * r.initial.body().score.body_smoothed.maxCoeff());
+  EXPECT_GT(r.final.body().score.body_contacts, r.initial.body().score.body_contacts);
   // The optimized slab still carries the load.
-  EXPECT_LT(r.final.rest.balance_error, 0.005);
-  EXPECT_NEAR(r.final.rest.contact_force.z(), -r.final.rest.load.z(), 0.005 * std::abs(r.final.rest.load.z()));
+  EXPECT_LT(r.final.body().rest.balance_error, 0.005);
+  EXPECT_NEAR(r.final.body().rest.contact_force.z(), -r.final.body().rest.load.z(), 0.005 * std::abs(r.final.body().rest.load.z()));
   // Only the design region moved, along its normals (vertical here).
   const Eigen::MatrixX3d moved = r.final.support - s.V;
   EXPECT_LT(moved.leftCols(2).cwiseAbs().maxCoeff(), 1e-15);
@@ -60,14 +60,14 @@ TEST(DesignOptimizer, ShapesADeformableSupportToo) {
   // its other tests by the figures of its last iteration.
   EXPECT_EQ(r.stop.termination, Termination::Converged) << r.stop.detail;
   EXPECT_LT(r.final.zeta, 0.9 * r.initial.zeta);
-  EXPECT_LT(r.final.score.body_smoothed.maxCoeff(), r.initial.score.body_smoothed.maxCoeff());
+  EXPECT_LT(r.final.body().score.body_smoothed.maxCoeff(), r.initial.body().score.body_smoothed.maxCoeff());
   // Body, slab and ground balance: the contact carries the load and the
   // slab's base carries the contact.
-  const double load = std::abs(r.final.rest.load.z());
-  EXPECT_LT(r.final.rest.balance_error, 0.005);
-  EXPECT_NEAR(r.final.rest.support_base_force.z(), load, 0.005 * load);
-  EXPECT_GT(r.final.rest.support_max_displacement, 1e-4);
-  EXPECT_GT(r.final.rest.support_min_det_f, 0.5);
+  const double load = std::abs(r.final.body().rest.load.z());
+  EXPECT_LT(r.final.body().rest.balance_error, 0.005);
+  EXPECT_NEAR(r.final.body().rest.support_base_force.z(), load, 0.005 * load);
+  EXPECT_GT(r.final.body().rest.support_max_displacement, 1e-4);
+  EXPECT_GT(r.final.body().rest.support_min_det_f, 0.5);
   // Only the top moved, vertically.
   const Eigen::MatrixX3d moved = r.final.support - s.V;
   EXPECT_LT(moved.leftCols(2).cwiseAbs().maxCoeff(), 1e-15);

@@ -38,16 +38,17 @@ TEST(DesignCheckpointFile, ReadsBackWhatWasWrittenAndRefusesAnotherRunsByField) 
   c.direction = Eigen::VectorXd::Constant(4, 0.5);
   c.gradient = Eigen::VectorXd::Constant(4, -0.25);
   c.steepest = false;
-  c.state.x = Eigen::VectorXd::LinSpaced(6, 0.0, 1e-3);
-  c.state.core.omega = Eigen::Vector3d(0.0, 0.01, 0.0);
-  c.state.spring_areas = {1e-4, 2e-4};
-  c.state.stiffness = 3e4;
-  c.state.support = Eigen::VectorXd::Constant(3, 1e-5);
+  c.bodies.resize(1);
+  c.bodies[0].state.x = Eigen::VectorXd::LinSpaced(6, 0.0, 1e-3);
+  c.bodies[0].state.core.omega = Eigen::Vector3d(0.0, 0.01, 0.0);
+  c.bodies[0].state.spring_areas = {1e-4, 2e-4};
+  c.bodies[0].state.stiffness = 3e4;
+  c.bodies[0].state.support = Eigen::VectorXd::Constant(3, 1e-5);
   c.phi = 10.0;
   c.zeta = 9.0;
   c.psi = 1.0;
-  c.max_penetration = 2e-4;
-  c.refreeze_failed = true;
+  c.bodies[0].max_penetration = 2e-4;
+  c.bodies[0].refreeze_failed = true;
   c.history = {IterationRecord{1, 11.0, 10.0, 1.0, 1e-4, 3, true, 0.5, 3e4, true}};
   c.evaluations = 7;
   c.newton_iterations = 55;
@@ -63,13 +64,13 @@ TEST(DesignCheckpointFile, ReadsBackWhatWasWrittenAndRefusesAnotherRunsByField) 
   EXPECT_EQ(r.direction, c.direction);
   EXPECT_EQ(r.gradient, c.gradient);
   EXPECT_FALSE(r.steepest);
-  EXPECT_EQ(r.state.x, c.state.x);
-  EXPECT_EQ(r.state.core.omega, c.state.core.omega);
-  EXPECT_EQ(r.state.spring_areas, c.state.spring_areas);
-  EXPECT_EQ(r.state.support, c.state.support);
-  EXPECT_EQ(r.state.stiffness, c.state.stiffness);
-  EXPECT_EQ(r.max_penetration, 2e-4);
-  EXPECT_TRUE(r.refreeze_failed);
+  EXPECT_EQ(r.bodies[0].state.x, c.bodies[0].state.x);
+  EXPECT_EQ(r.bodies[0].state.core.omega, c.bodies[0].state.core.omega);
+  EXPECT_EQ(r.bodies[0].state.spring_areas, c.bodies[0].state.spring_areas);
+  EXPECT_EQ(r.bodies[0].state.support, c.bodies[0].state.support);
+  EXPECT_EQ(r.bodies[0].state.stiffness, c.bodies[0].state.stiffness);
+  EXPECT_EQ(r.bodies[0].max_penetration, 2e-4);
+  EXPECT_TRUE(r.bodies[0].refreeze_failed);
   ASSERT_EQ(r.history.size(), 1u);
   EXPECT_EQ(r.history[0].phi, 11.0);
   EXPECT_TRUE(r.history[0].refrozen);
@@ -88,7 +89,7 @@ TEST(DesignCheckpointFile, ReadsBackWhatWasWrittenAndRefusesAnotherRunsByField) 
   EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.moves = {1e-6}; }, {"'moves'", "step lengths"}));
   EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.filter_radius = 0.02; }, {"'filter_radius'"}));
   EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.theta = Eigen::VectorXd::Zero(5); }, {"'theta'", "another design"}));
-  EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.state.x = Eigen::VectorXd::Zero(9); }, {"'state.x'"}));
+  EXPECT_TRUE(refused([](DesignCheckpoint& o) { o.bodies[0].state.x = Eigen::VectorXd::Zero(9); }, {"'state.x'"}));
 }
 
 // The design filter on the slab's top (5 mm edges): Sᵀ is S's adjoint, a
@@ -231,14 +232,14 @@ void check_adjoint(bool rotate, bool normal_only, int exponent, bool smoothness,
   for (Eigen::Index i = 0; i < dir.size(); ++i) dir[i] = u(rng);
   if (normal_only) bump = bump.cwiseAbs() * -1.0;  // dents only: the body stays above the slab's rim
   dir /= space.max_move(dir);
-  const Evaluation at = opt.evaluate(space.shape(bump), opt.initial().state, true);
+  const Evaluation at = opt.evaluate(space.shape(bump), opt.initial().states(), true);
   ASSERT_TRUE(at.ok) << at.failure;
-  ASSERT_GT(at.score.body_contacts, 10);
-  ASSERT_GT(at.score.support_contacts, 5);
+  ASSERT_GT(at.body().score.body_contacts, 10);
+  ASSERT_GT(at.body().score.support_contacts, 5);
   const double analytic = space.restrict(at.gradient).dot(dir);
   const double h = 2e-7;  // largest vertex move [m]
-  const Evaluation plus = opt.evaluate(space.shape(bump + h * dir), at.state, false);
-  const Evaluation minus = opt.evaluate(space.shape(bump - h * dir), at.state, false);
+  const Evaluation plus = opt.evaluate(space.shape(bump + h * dir), at.states(), false);
+  const Evaluation minus = opt.evaluate(space.shape(bump - h * dir), at.states(), false);
   ASSERT_TRUE(plus.ok && minus.ok);
   const double fd = (plus.phi - minus.phi) / (2 * h);
   constexpr double tolerance = 2e-3;  // of |fd|
@@ -252,7 +253,7 @@ void check_adjoint(bool rotate, bool normal_only, int exponent, bool smoothness,
     // block): the test sees the adjoint. (A deformable support's surface
     // is where the equilibrium puts it, so only its held base is explicit.)
     const double explicit_only =
-        space.restrict(deformable ? at.score.d_support_area : at.score.d_support + at.score.d_support_area).dot(dir);
+        space.restrict(deformable ? at.body().score.d_support_area : at.body().score.d_support + at.body().score.d_support_area).dot(dir);
     EXPECT_GT(std::abs(explicit_only - fd), 10.0 * tolerance * std::abs(fd));
     std::printf("[design] adjoint share of the derivative: %.1f%%\n", 100.0 * std::abs(explicit_only - fd) / std::abs(fd));
   }
@@ -311,7 +312,7 @@ TEST(DesignOptimizer, LbfgsLowersTheScoreToo) {
   const DesignResult r = cushion_design(s, DesignMethod::Lbfgs, 8, 2);
   ASSERT_GE(r.iterations, 4) << r.stop.detail;
   EXPECT_LT(r.final.zeta, 0.6 * r.initial.zeta);
-  EXPECT_LT(r.final.rest.balance_error, 0.005);
+  EXPECT_LT(r.final.body().rest.balance_error, 0.005);
   // Post-smoothing moved only design vertices, and was re-scored.
   ASSERT_TRUE(r.before_post_smoothing.has_value());
   const Eigen::MatrixX3d smoothed = r.final.support - r.before_post_smoothing->support;

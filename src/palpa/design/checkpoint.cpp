@@ -71,6 +71,17 @@ IterationRecord record_of(const JsonView& j) {
   return r;
 }
 
+// A one-body design's checkpoint keeps its body's members at the top.
+bool one_body(const DesignCheckpoint& c) { return c.bodies.size() == 1 && c.bodies.front().name.empty(); }
+
+BodyCheckpoint body_of(const JsonView& j, const BodyCheckpoint& like) {
+  BodyCheckpoint b = like;
+  b.state = state_of(j.at("state"), like.state);
+  if (const auto p = j.find("max_penetration")) b.max_penetration = p->as_number();
+  if (const auto rf = j.find("refreeze_failed")) b.refreeze_failed = rf->as_bool();
+  return b;
+}
+
 }  // namespace
 
 Json checkpoint_json(const DesignCheckpoint& c) {
@@ -87,15 +98,27 @@ Json checkpoint_json(const DesignCheckpoint& c) {
                   {"phi", c.phi},
                   {"zeta", c.zeta},
                   {"psi", c.psi},
-                  {"max_penetration", c.max_penetration},
-                  {"refreeze_failed", c.refreeze_failed},
-                  {"state", state_json(c.state)},
                   {"history", hist},
                   {"evaluations", c.evaluations},
                   {"newton_iterations", c.newton_iterations},
                   {"moves", c.moves},
                   {"filter_radius", c.filter_radius},
                   {"seconds", c.seconds}});
+  if (one_body(c)) {
+    const BodyCheckpoint& b = c.bodies.front();
+    doc.update(Json{{"max_penetration", b.max_penetration},
+                    {"refreeze_failed", b.refreeze_failed},
+                    {"state", state_json(b.state)}});
+  } else {
+    Json bodies = Json::array();
+    for (const BodyCheckpoint& b : c.bodies) {
+      bodies.push_back(Json{{"name", b.name},
+                            {"max_penetration", b.max_penetration},
+                            {"refreeze_failed", b.refreeze_failed},
+                            {"state", state_json(b.state)}});
+    }
+    doc["bodies"] = std::move(bodies);
+  }
   return doc;
 }
 
@@ -140,11 +163,26 @@ DesignCheckpoint read_design_checkpoint(const std::filesystem::path& path, const
   c.direction = vector_of(j.at("direction"), like.theta.size());
   c.gradient = vector_of(j.at("gradient"), like.theta.size());
   c.steepest = j.at("steepest").as_bool();
-  c.state = state_of(j.at("state"), like.state);
+  if (one_body(like)) {
+    c.bodies = {body_of(j, like.bodies.front())};
+  } else {
+    const JsonView bodies = j.at("bodies");
+    if (bodies.size() != like.bodies.size()) {
+      bodies.fail(fmt::format("{} bodies", bodies.size()),
+                  fmt::format("{} (the checkpoint is of another cohort)", like.bodies.size()));
+    }
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const JsonView b = bodies.at(i);
+      if (const std::string name = b.at("name").as_string(); name != like.bodies[i].name) {
+        b.at("name").fail(fmt::format("the body '{}'", name),
+                          fmt::format("'{}' (the checkpoint is of another cohort)", like.bodies[i].name));
+      }
+      c.bodies[i] = body_of(b, like.bodies[i]);
+    }
+  }
   c.phi = j.at("phi").as_number();
   c.zeta = j.at("zeta").as_number();
   c.psi = j.at("psi").as_number();
-  if (const auto p = j.find("max_penetration")) c.max_penetration = p->as_number();
   const JsonView h = j.at("history");
   c.history.clear();
   for (std::size_t i = 0; i < h.size(); ++i) c.history.push_back(record_of(h.at(i)));
@@ -153,7 +191,6 @@ DesignCheckpoint read_design_checkpoint(const std::filesystem::path& path, const
   const long long iteration = j.at("iteration").as_integer();
   if (iteration < 0 || iteration > 1000000) j.at("iteration").fail(fmt::format("{}", iteration), "0 to 1000000");
   c.iteration = static_cast<int>(iteration);
-  if (const auto rf = j.find("refreeze_failed")) c.refreeze_failed = rf->as_bool();
   return c;
 }
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "palpa/core/json.hpp"
@@ -15,6 +16,14 @@
 #include "palpa/rest/rest.hpp"
 
 namespace palpa::design {
+
+// Where one body of the design stands.
+struct BodyCheckpoint {
+  std::string name;              // a cohort's body (empty: a one-body design)
+  rest::RestState state;
+  double max_penetration = 0.0;  // [m]
+  bool refreeze_failed = false;  // its contact model could not be chosen anew: it stays frozen
+};
 
 struct DesignCheckpoint {
   // What makes it this run's.
@@ -26,10 +35,8 @@ struct DesignCheckpoint {
   int iteration = 0;  // the last accepted iteration
   Eigen::VectorXd theta, direction, gradient;
   bool steepest = true;
-  rest::RestState state;
+  std::vector<BodyCheckpoint> bodies;
   double phi = 0.0, zeta = 0.0, psi = 0.0;
-  double max_penetration = 0.0;  // [m]
-  bool refreeze_failed = false;
   std::vector<IterationRecord> history;
   int evaluations = 0;
   int newton_iterations = 0;
@@ -39,8 +46,8 @@ struct DesignCheckpoint {
 Json checkpoint_json(const DesignCheckpoint& c);
 
 // Reads a checkpoint that must belong to a run like `like`: the same method,
-// γ, step lengths and filter radius, θ of like.theta's size and a state of
-// like.state's sizes (members a file from an older version lacks keep like's
+// γ, step lengths and filter radius, θ of like.theta's size and the bodies of
+// like.bodies (names, and states of their sizes) (members a file from an older version lacks keep like's
 // values). Throws palpa::Error (Input) naming the file and field otherwise,
 // and for anything malformed.
 DesignCheckpoint read_design_checkpoint(const std::filesystem::path& path, const DesignCheckpoint& like);

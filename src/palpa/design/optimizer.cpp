@@ -20,6 +20,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/core/stopwatch.hpp"
 #include "palpa/design/checkpoint.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/mesh/csg.hpp"
@@ -30,10 +31,6 @@
 namespace palpa::design {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr int kTrialNewtonIterations = 50;
 
@@ -178,7 +175,25 @@ double DesignSpace::max_move(const Eigen::VectorXd& d) const {
   return m;
 }
 
+std::vector<rest::RestState> Evaluation::states() const {
+  std::vector<rest::RestState> out;
+  out.reserve(bodies.size());
+  for (const BodyEvaluation& b : bodies) out.push_back(b.state);
+  return out;
+}
+
+int Evaluation::newton_iterations() const {
+  int n = 0;
+  for (const BodyEvaluation& b : bodies) n += b.rest.newton_iterations;
+  return n;
+}
+
 ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& support, const rest::RestOptions& rest,
+                               std::vector<int> design_vertices, DesignOptions options)
+    : ShapeOptimizer(std::vector<DesignBody>{DesignBody{{}, body, rest}}, support, std::move(design_vertices),
+                     std::move(options)) {}
+
+ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh& support,
                                std::vector<int> design_vertices, DesignOptions options)
     : options_(std::move(options)) {
   if (options_.moves.empty()) throw Error(ErrorKind::Input, "no step lengths to try");
@@ -188,7 +203,14 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
     }
   }
   if (options_.max_iterations < 0) throw Error(ErrorKind::Input, "the iteration limit must be ≥ 0");
-  unit_move_ = 0.5 * rest.target_penetration;
+  if (bodies.empty()) throw Error(ErrorKind::Input, "a design needs a body");
+  if (bodies.size() > 1 && !options_.cohort) {
+    throw Error(ErrorKind::Input, fmt::format("{} bodies on one support need a cohort objective", bodies.size()));
+  }
+  if (options_.cohort) cohort_value(*options_.cohort, Eigen::VectorXd::Ones(1));  // refuses bad settings now
+  unit_move_ = 0.5 * std::min_element(bodies.begin(), bodies.end(), [](const DesignBody& a, const DesignBody& b) {
+                       return a.rest.target_penetration < b.rest.target_penetration;
+                     })->rest.target_penetration;
   int threads = options_.threads;
   if (threads <= 0) {
     // Cores: this machine's, or fewer when palpa was told so (--threads).
@@ -197,48 +219,41 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
   }
   threads = std::min(threads, static_cast<int>(options_.moves.size()));
 
-  // The initial equilibrium, with the automatic contact stiffness.
-  const auto t0 = Clock::now();
-  sims_.push_back(std::make_unique<rest::RestSimulation>(body, support, rest));
-  rest::RestSimulation& first = *sims_.front();
-  const rest::RestResult r0 = first.solve();
-  equilibrium_seconds_ = seconds_since(t0);
-  first.freeze_contact_model();
-  // One line per design iteration from here on, not one per equilibrium.
-  first.set_log_solves(false);
-  const rest::RestState s0 = first.state();
-  rest_options_ = rest;
-  rest_options_.log_solves = false;
-  rest::RestOptions frozen = rest_options_;
-  frozen.stiffness = r0.stiffness;
-  frozen.update_areas = false;
-  for (int i = 1; i < threads; ++i) {
-    sims_.push_back(std::make_unique<rest::RestSimulation>(body, support, frozen));
-    sims_.back()->freeze_contact_model();
+  // Each body's initial equilibrium, with the automatic contact stiffness.
+  for (DesignBody& b : bodies) {
+    bodies_.push_back(std::make_unique<BodyProblem>(std::move(b), support, options_.score, threads,
+                                                    kTrialNewtonIterations));
+    equilibrium_seconds_ += bodies_.back()->equilibrium_seconds();
   }
-
-  // A trial whose warm-started equilibrium needs more than 50 Newton
-  // iterations has moved too far: it fails (a shorter step is tried) rather
-  // than grinding on.
-  for (auto& sim : sims_) {
-    NewtonOptions no = sim->newton().options();
-    no.max_iterations = std::min(no.max_iterations, kTrialNewtonIterations);
-    sim->newton().set_options(no);
-  }
-  const Eigen::MatrixX3d X0 = first.support_rest_vertices();
+  BodyProblem& first = *bodies_.front();
+  const Eigen::MatrixX3d X0 = first.simulation().support_rest_vertices();
   // A deformable support's base stays where it is.
-  std::erase_if(design_vertices, [&](int v) { return first.support_vertex_fixed(v); });
+  std::erase_if(design_vertices, [&](int v) { return first.simulation().support_vertex_fixed(v); });
   if (design_vertices.empty()) {
     throw Error(ErrorKind::Input, "no support vertex may move: the design region holds only the support's fixed base");
   }
-  const Eigen::MatrixX3i& F = first.support().triangles();
+  const Eigen::MatrixX3i& F = first.simulation().support().triangles();
   const double radius = options_.filter_radius.value_or(kFilterEdges * design_edge_length(SurfaceMesh{X0, F}, design_vertices));
   space_ = std::make_unique<DesignSpace>(X0, F, std::move(design_vertices), options_.normal_only, radius);
-  score_ = std::make_unique<ErgonomicScore>(first, options_.score);
   smoothness_ = std::make_unique<Smoothness>(F, X0.rows(), space_->vertices(), options_.taubin_iterations);
 
-  // γ: γψ = ζ on the initial shape, times 10^j.
-  const double zeta0 = score_->evaluate(first, false).zeta;
+  // γ: γψ = ζ on the initial shape (a cohort's aggregate: 1), times 10^j.
+  const double zeta0 = options_.cohort ? 1.0 : first.score().evaluate(first.simulation(), false).zeta;
+  std::vector<rest::RestState> s0;
+  for (const auto& b : bodies_) s0.push_back(b->initial_state());
+  initial_ = evaluate(X0, s0, true, 0);
+  if (!initial_.ok) throw Error(ErrorKind::Solver, "the initial shape: " + initial_.failure);
+  // Each body's own ζ on the initial shape: a cohort's normalization.
+  zeta0_.resize(static_cast<Eigen::Index>(bodies_.size()));
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    zeta0_[static_cast<Eigen::Index>(i)] = initial_.bodies[i].zeta;
+    if (options_.cohort && !(initial_.bodies[i].zeta > 0.0)) {
+      throw Error(ErrorKind::Input, fmt::format("the body '{}' does not touch the initial support (ζ = 0): a cohort "
+                                                "normalizes each body's score by its value there",
+                                                bodies_[i]->name()));
+    }
+  }
+
   double psi0 = smoothness_->evaluate(X0);
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> noise(-1e-4, 1e-4);
@@ -256,53 +271,85 @@ ShapeOptimizer::ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& su
   } else {
     gamma_ = psi0 > 0.0 ? std::pow(10.0, options_.smoothing_exponent) * zeta0 / psi0 : 0.0;
   }
-  initial_ = evaluate(X0, s0, true, 0);
+  // φ with γ (evaluate above used γ = 0).
+  Eigen::MatrixX3d dpsi;
+  initial_.psi = smoothness_->evaluate(X0, &dpsi);
+  combine(initial_, &dpsi);
   if (!initial_.ok) throw Error(ErrorKind::Solver, "the initial shape: " + initial_.failure);
 }
 
 ShapeOptimizer::~ShapeOptimizer() = default;
 
-Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const rest::RestState& warm, bool gradient, int slot) {
+void ShapeOptimizer::combine(Evaluation& ev, const Eigen::MatrixX3d* dpsi) const {
+  ev.ok = true;
+  for (std::size_t i = 0; i < ev.bodies.size(); ++i) {
+    if (ev.bodies[i].ok) continue;
+    ev.ok = false;
+    ev.failure = bodies_.size() > 1 ? fmt::format("body '{}': {}", bodies_[i]->name(), ev.bodies[i].failure)
+                                    : ev.bodies[i].failure;
+    return;
+  }
+  const bool gradient = dpsi != nullptr;
+  // Before the normalization is known (the initial shape), or one body: ζ itself.
+  if (!options_.cohort || zeta0_.size() == 0) {
+    ev.zeta = ev.bodies.front().zeta;
+    if (gradient) ev.gradient = ev.bodies.front().gradient;
+  } else {
+    const auto n = static_cast<Eigen::Index>(ev.bodies.size());
+    Eigen::VectorXd r(n), w;
+    for (Eigen::Index i = 0; i < n; ++i) r[i] = ev.bodies[static_cast<std::size_t>(i)].zeta / zeta0_[i];
+    ev.zeta = cohort_value(*options_.cohort, r, gradient ? &w : nullptr);
+    if (gradient) {
+      // Summed in the bodies' order: the same gradient however they were solved.
+      ev.gradient = Eigen::MatrixX3d::Zero(ev.support.rows(), 3);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (w[i] != 0.0) ev.gradient += (w[i] / zeta0_[i]) * ev.bodies[static_cast<std::size_t>(i)].gradient;
+      }
+    }
+  }
+  ev.phi = ev.zeta + gamma_ * ev.psi;
+  if (gradient) ev.gradient += gamma_ * *dpsi;
+  ev.ok = std::isfinite(ev.phi);
+  if (!ev.ok) ev.failure = "the score is not finite";
+}
+
+Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const std::vector<rest::RestState>& warm, bool gradient,
+                                    int slot) {
+  // Several bodies factor at once: a multi-threaded BLAS under each of them
+  // would oversubscribe the cores.
+  std::optional<ScopedBlasThreads> blas;
+  if (bodies_.size() > 1) blas.emplace(1);
+  return evaluate_on(X, warm, gradient, slot);
+}
+
+Evaluation ShapeOptimizer::evaluate_on(const Eigen::MatrixX3d& X, const std::vector<rest::RestState>& warm,
+                                       bool gradient, int slot) {
   const auto t0 = Clock::now();
-  rest::RestSimulation& sim = *sims_[static_cast<std::size_t>(slot)];
   Evaluation ev;
   ev.support = X;
+  if (warm.size() != bodies_.size()) {
+    throw Error(ErrorKind::Internal, fmt::format("{} warm starts for {} bodies", warm.size(), bodies_.size()));
+  }
   // A shape that crosses itself cannot be made (nor solved from scratch):
   // the trial fails, and a shorter step is tried.
-  if (const auto crossing = contact::detail::self_intersections(X, sim.support().triangles(), 1); crossing.pairs > 0) {
+  if (const auto crossing = contact::detail::self_intersections(X, simulation().support().triangles(), 1); crossing.pairs > 0) {
     ev.failure = fmt::format("the support would cross itself (triangles {} and {})", crossing.first, crossing.second);
     ev.seconds = seconds_since(t0);
     return ev;
   }
-  sim.restore(warm);
-  try {
-    sim.set_support_vertices(X);
-    ev.rest = sim.solve();
-  } catch (const Error& e) {
-    if (e.kind() != ErrorKind::Solver) throw;
-    ev.failure = e.what();
-    ev.seconds = seconds_since(t0);
-    return ev;
+  ev.bodies.resize(bodies_.size());
+  if (bodies_.size() == 1) {
+    ev.bodies[0] = bodies_[0]->evaluate(X, warm[0], gradient, slot);
+  } else {
+    // The bodies at once, each on its own simulation; each body's result does
+    // not depend on how many are solved beside it.
+    tbb::parallel_for(std::size_t{0}, bodies_.size(),
+                      [&](std::size_t i) { ev.bodies[i] = bodies_[i]->evaluate(X, warm[i], gradient, slot); });
   }
-  ev.state = sim.state();
-  ev.score = score_->evaluate(sim, gradient);
-  ev.zeta = ev.score.zeta;
+  for (const BodyEvaluation& b : ev.bodies) ev.adjoint_seconds += b.adjoint_seconds;
   Eigen::MatrixX3d dpsi;
-  ev.psi = smoothness_->evaluate(X, gradient ? &dpsi : nullptr);
-  ev.phi = ev.zeta + gamma_ * ev.psi;
-  ev.ok = std::isfinite(ev.phi);
-  if (!ev.ok) ev.failure = "the score is not finite";
-  if (gradient && ev.ok) {
-    const auto ta = Clock::now();
-    Eigen::MatrixX3d through;
-    if (const AdjointStatus st = rest::shape_derivative(sim, ev.score.d_body, ev.score.d_support, through); !st.ok()) {
-      ev.ok = false;
-      ev.failure = st.message();
-    } else {
-      ev.gradient = through + ev.score.d_support_area + gamma_ * dpsi;
-    }
-    ev.adjoint_seconds = seconds_since(ta);
-  }
+  ev.psi = smoothness_ ? smoothness_->evaluate(X, gradient ? &dpsi : nullptr) : 0.0;
+  combine(ev, gradient ? &dpsi : nullptr);
   ev.seconds = seconds_since(t0);
   return ev;
 }
@@ -319,33 +366,34 @@ Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& sup
   auto sim = std::make_unique<rest::RestSimulation>(placed, support, rest);
   Evaluation ev;
   ev.support = sim->support_rest_vertices();
+  BodyEvaluation& b = ev.bodies.emplace_back();
   try {
-    ev.rest = sim->solve();
+    b.rest = sim->solve();
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Solver) throw;
-    ev.failure = e.what();
+    ev.failure = b.failure = e.what();
     return ev;
   }
   const ErgonomicScore score(*sim, score_options);
-  ev.score = score.evaluate(*sim, false);
-  ev.zeta = ev.phi = ev.score.zeta;
-  ev.state = sim->state();
-  ev.ok = std::isfinite(ev.zeta);
-  ev.seconds = seconds_since(t0);
+  b.score = score.evaluate(*sim, false);
+  b.zeta = ev.zeta = ev.phi = b.score.zeta;
+  b.state = sim->state();
+  b.ok = ev.ok = std::isfinite(ev.zeta);
+  b.seconds = ev.seconds = seconds_since(t0);
   if (keep != nullptr) *keep = std::move(sim);
   return ev;
 }
 
 std::vector<Evaluation> ShapeOptimizer::evaluate_all(const std::vector<Eigen::MatrixX3d>& shapes,
-                                                     const rest::RestState& warm) {
+                                                     const std::vector<rest::RestState>& warm) {
   std::vector<Evaluation> out(shapes.size());
-  const int slots = static_cast<int>(sims_.size());
+  const int slots = bodies_.front()->slots();
   // The trials factor concurrently, one per core: a multi-threaded BLAS under
   // each of them would oversubscribe the cores.
-  const ScopedBlasThreads one_blas_thread(slots > 1 ? 1 : blas_threads());
+  const ScopedBlasThreads one_blas_thread(slots > 1 || bodies_.size() > 1 ? 1 : blas_threads());
   tbb::parallel_for(0, slots, [&](int s) {
     for (std::size_t i = static_cast<std::size_t>(s); i < shapes.size(); i += static_cast<std::size_t>(slots)) {
-      out[i] = evaluate(shapes[i], warm, true, s);
+      out[i] = evaluate_on(shapes[i], warm, true, s);
     }
   });
   return out;
@@ -358,7 +406,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   result.gamma = gamma_;
   result.equilibrium_seconds = equilibrium_seconds_;
   result.evaluations = 1;
-  result.newton_iterations = initial_.rest.newton_iterations;
+  result.newton_iterations = initial_.newton_iterations();
 
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(space_->size());
   Evaluation base = initial_;
@@ -367,7 +415,8 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   bool steepest = true;
   int first = 1;
   double earlier_seconds = 0.0;  // a resumed run: the seconds before the resume
-  bool refreeze_failed = false;   // the contact model could not be chosen anew: it stays frozen
+  // Per body: its contact model could not be chosen anew, it stays frozen.
+  std::vector<bool> refreeze_failed(bodies_.size(), false);
 
   // This run's checkpoint as it would stand now; `like` for reading one.
   const auto checkpoint = [&](int iteration) {
@@ -381,12 +430,13 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     c.direction = d;
     c.gradient = g;
     c.steepest = steepest;
-    c.state = base.state;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      c.bodies.push_back({bodies_[i]->name(), base.bodies[i].state, base.bodies[i].rest.max_penetration,
+                          refreeze_failed[i]});
+    }
     c.phi = base.phi;
     c.zeta = base.zeta;
     c.psi = base.psi;
-    c.max_penetration = base.rest.max_penetration;
-    c.refreeze_failed = refreeze_failed;
     c.history = result.history;
     c.evaluations = result.evaluations;
     c.newton_iterations = result.newton_iterations;
@@ -401,18 +451,20 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     d = c.direction;
     g = c.gradient;
     steepest = c.steepest;
-    base.state = c.state;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      base.bodies[i].state = c.bodies[i].state;
+      base.bodies[i].rest.max_penetration = c.bodies[i].max_penetration;
+      refreeze_failed[i] = c.bodies[i].refreeze_failed;
+    }
     base.support = space_->shape(theta);
     accepted_ = base.support;
     base.phi = c.phi;
     base.zeta = c.zeta;
     base.psi = c.psi;
-    base.rest.max_penetration = c.max_penetration;
     result.history = c.history;
     result.evaluations = c.evaluations;
     result.newton_iterations = c.newton_iterations;
     first = c.iteration + 1;
-    refreeze_failed = c.refreeze_failed;
     result.resumed = true;
     spdlog::info("design: resuming after iteration {} (φ = {:.6g})", first - 1, base.phi);
   }
@@ -429,36 +481,52 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   // them, and φ and its gradient are measured again with them; the search
   // direction restarts. So the optimizer's φ stays the from-scratch φ within
   // that band, and it cannot gain by letting the frozen springs sink deeper.
+  auto out_of_band_body = [&](const Evaluation& e, std::size_t i) {
+    return !refreeze_failed[i] && bodies_[i]->out_of_band(e.bodies[i].rest.max_penetration);
+  };
   auto out_of_band = [&](const Evaluation& e) {
-    const auto [low, high] = sims_.front()->accepted_penetration();
-    const double ratio = e.rest.max_penetration / rest_options_.target_penetration;
-    return !refreeze_failed && e.rest.max_penetration > 0.0 && (ratio < low || ratio > high);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      if (out_of_band_body(e, i)) return true;
+    }
+    return false;
+  };
+  auto named = [&](std::size_t i) {
+    return bodies_.size() > 1 ? fmt::format(" (body '{}')", bodies_[i]->name()) : std::string();
   };
   auto refreeze = [&](int it) {
-    rest::RestSimulation& sim = *sims_.front();
-    const double k0 = base.state.stiffness, ratio0 = base.rest.max_penetration / rest_options_.target_penetration;
-    try {
-      sim.restore(base.state);
-      sim.set_support_vertices(base.support);
-      const rest::RestResult r = sim.refreeze_contact_model();
-      ++result.evaluations;
-      result.newton_iterations += r.newton_iterations;
-    } catch (const Error& e) {
-      if (e.kind() != ErrorKind::Solver) throw;
-      spdlog::warn("design: the contact model could not be chosen anew at iteration {} ({}); it stays frozen", it, e.what());
-      refreeze_failed = true;
-      return;
+    std::vector<rest::RestState> warm = base.states();
+    std::vector<std::size_t> chosen;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      if (!out_of_band_body(base, i)) continue;
+      try {
+        const rest::RestResult r = bodies_[i]->refreeze(base.support, base.bodies[i].state);
+        ++result.evaluations;
+        result.newton_iterations += r.newton_iterations;
+        warm[i] = bodies_[i]->simulation().state();
+        chosen.push_back(i);
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Solver) throw;
+        spdlog::warn("design: the contact model could not be chosen anew at iteration {}{} ({}); it stays frozen", it,
+                     named(i), e.what());
+        refreeze_failed[i] = true;
+      }
     }
-    Evaluation again = evaluate(base.support, sim.state(), true, 0);
+    if (chosen.empty()) return;
+    Evaluation again = evaluate(base.support, warm, true, 0);
     ++result.evaluations;
     if (!again.ok) {
       spdlog::warn("design: the contact model chosen anew at iteration {} fails ({}); it stays frozen", it, again.failure);
-      refreeze_failed = true;
+      for (std::size_t i : chosen) refreeze_failed[i] = true;
       return;
     }
-    result.newton_iterations += again.rest.newton_iterations;
-    spdlog::info("design: iteration {}: penetration {:.2f}× the target, contact stiffness chosen anew: k {:.4g} → {:.4g}, "
-                 "φ {:.6g} → {:.6g}", it, ratio0, k0, again.state.stiffness, base.phi, again.phi);
+    result.newton_iterations += again.newton_iterations();
+    for (std::size_t i : chosen) {
+      spdlog::info("design: iteration {}{}: penetration {:.2f}× the target, contact stiffness chosen anew: "
+                   "k {:.4g} → {:.4g}",
+                   it, named(i), base.bodies[i].rest.max_penetration / bodies_[i]->rest_options().target_penetration,
+                   base.bodies[i].state.stiffness, again.bodies[i].state.stiffness);
+    }
+    spdlog::info("design: iteration {}: φ {:.6g} → {:.6g} with the contact model chosen anew", it, base.phi, again.phi);
     base = std::move(again);
     g = space_->restrict(base.gradient);
     d = -g;
@@ -466,7 +534,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     ++result.refreezes;
     if (!result.history.empty()) {
       result.history.back().refrozen = true;
-      result.history.back().stiffness = base.state.stiffness;
+      result.history.back().stiffness = base.body().state.stiffness;
     }
     save(it);
   };
@@ -501,11 +569,11 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
         steps.push_back(theta + (move / m) * d);
         shapes.push_back(space_->shape(steps.back()));
       }
-      trials = evaluate_all(shapes, base.state);
+      trials = evaluate_all(shapes, base.states());
       rec.evaluations += static_cast<int>(trials.size());
       result.evaluations += static_cast<int>(trials.size());
       for (std::size_t i = 0; i < trials.size(); ++i) {
-        if (trials[i].ok) result.newton_iterations += trials[i].rest.newton_iterations;
+        if (trials[i].ok) result.newton_iterations += trials[i].newton_iterations();
         if (trials[i].ok && trials[i].phi < base.phi && (best < 0 || trials[i].phi < trials[static_cast<std::size_t>(best)].phi)) {
           best = static_cast<int>(i);
         }
@@ -539,7 +607,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     rec.phi = base.phi;
     rec.zeta = base.zeta;
     rec.psi = base.psi;
-    rec.stiffness = base.state.stiffness;
+    rec.stiffness = base.body().state.stiffness;
     rec.seconds = seconds_since(ti);
     result.history.push_back(rec);
     iteration = it;
@@ -565,7 +633,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     const double gmax = std::max(space_->max_move(g), 1e-300);
     const double phi0 = std::abs(base.phi);
     const double c = std::sqrt(unit_move_ * phi0 / gmax);
-    rest::RestState warm = base.state;
+    std::vector<rest::RestState> warm = base.states();
     const double max_step = *std::max_element(options_.moves.begin(), options_.moves.end());
     auto* objective = new ScaledObjective(
         [&](const Eigen::VectorXd& th, bool with_gradient) {
@@ -580,7 +648,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
           // not depend on the trials before it.
           Evaluation e = evaluate(space_->shape(th), warm, with_gradient, 0);
           ++result.evaluations;
-          if (e.ok) result.newton_iterations += e.rest.newton_iterations;
+          if (e.ok) result.newton_iterations += e.newton_iterations();
           return e;
         },
         space_->size(), c, phi0);
@@ -604,9 +672,9 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
         base = evaluate(space_->shape(theta), warm, true, 0);
         ++result.evaluations;
         if (!base.ok) throw Error(ErrorKind::Solver, "the point L-BFGS accepted: " + base.failure);
-        result.newton_iterations += base.rest.newton_iterations;
+        result.newton_iterations += base.newton_iterations();
       }
-      warm = base.state;
+      warm = base.states();
       g = space_->restrict(base.gradient);
       d = -g;
       IterationRecord rec;
@@ -614,7 +682,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
       rec.phi = base.phi;
       rec.zeta = base.zeta;
       rec.psi = base.psi;
-      rec.stiffness = base.state.stiffness;
+      rec.stiffness = base.body().state.stiffness;
       rec.move = sum.step_norm * c;
       rec.evaluations = objective->evaluations_ - evaluations_before;
       rec.restarted = iteration == start + 1 && start > first - 1;
@@ -669,15 +737,15 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
 
   if (out_of_band(base)) refreeze(iteration);
   // The optimized shape, solved once more so that simulation 0 holds it.
-  result.final = evaluate(base.support, base.state, false, 0);
+  result.final = evaluate(base.support, base.states(), false, 0);
   ++result.evaluations;
   if (!result.final.ok) throw Error(ErrorKind::Solver, "the optimized shape: " + result.final.failure);
   if (options_.post_smoothing > 0) {
-    SurfaceMesh m{base.support, sims_.front()->support().triangles()};
+    SurfaceMesh m{base.support, simulation().support().triangles()};
     std::vector<bool> movable(static_cast<std::size_t>(m.V.rows()), false);
     for (int v : space_->vertices()) movable[static_cast<std::size_t>(v)] = true;
     mesh::taubin_smooth(m, options_.post_smoothing, &movable);
-    Evaluation smoothed = evaluate(m.V, base.state, false, 0);
+    Evaluation smoothed = evaluate(m.V, base.states(), false, 0);
     ++result.evaluations;
     if (!smoothed.ok) throw Error(ErrorKind::Solver, "the post-smoothed shape: " + smoothed.failure);
     result.before_post_smoothing = std::move(result.final);

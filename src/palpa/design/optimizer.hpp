@@ -72,6 +72,8 @@
 #include <vector>
 
 #include "palpa/core/termination.hpp"
+#include "palpa/design/body_problem.hpp"
+#include "palpa/design/cohort.hpp"
 #include "palpa/design/filter.hpp"
 #include "palpa/design/score.hpp"
 #include "palpa/rest/rest.hpp"
@@ -135,6 +137,9 @@ struct DesignOptions {
   int threads = 0;                    // simulations evaluated at once; 0: min(#moves, cores)
   int post_smoothing = 0;             // Taubin rounds on the design vertices after the run
   double pose_to_seat_threshold = 2e-3;  // contact distance of the estimate without elasticity [m]
+  // Several bodies on one support: φ's score term aggregates their ζ, each
+  // normalized by its value on the initial shape. Unset: one body, its ζ.
+  std::optional<CohortObjective> cohort;
   std::filesystem::path checkpoint;   // empty: none
   bool resume = false;                // continue from `checkpoint`
 };
@@ -142,15 +147,22 @@ struct DesignOptions {
 // φ and everything measured at one support shape.
 struct Evaluation {
   bool ok = false;
-  std::string failure;            // why not ok (the equilibrium failed)
+  std::string failure;            // why not ok (an equilibrium failed: the body is named in a cohort)
+  // φ = zeta + γ psi. zeta: one body's ζ, or a cohort's aggregate of its
+  // bodies' normalized ζ (design/cohort.hpp).
   double phi = 0.0, zeta = 0.0, psi = 0.0;
   Eigen::MatrixX3d support;       // X [m]
   Eigen::MatrixX3d gradient;      // dφ/dX (#V×3), when asked for
-  rest::RestState state;
-  rest::RestResult rest;
-  Score score;
+  std::vector<BodyEvaluation> bodies;  // one per body, in the design's order
   double seconds = 0.0;
   double adjoint_seconds = 0.0;
+
+  // The (first) body's: a one-body design's whole story.
+  BodyEvaluation& body(std::size_t i = 0) { return bodies.at(i); }
+  const BodyEvaluation& body(std::size_t i = 0) const { return bodies.at(i); }
+  // Each body's equilibrium: where the next evaluation is warm-started.
+  std::vector<rest::RestState> states() const;
+  int newton_iterations() const;
 };
 
 struct IterationRecord {
@@ -196,6 +208,11 @@ class ShapeOptimizer {
   // design_vertices: rows of support.V that may move.
   ShapeOptimizer(const rest::RestBody& body, const SurfaceMesh& support, const rest::RestOptions& rest,
                  std::vector<int> design_vertices, DesignOptions options);
+  // The same for several bodies on one support (options.cohort says how
+  // their scores add up; set, it may hold one body). Each body's initial
+  // equilibrium and contact model are its own.
+  ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh& support, std::vector<int> design_vertices,
+                 DesignOptions options);
   ~ShapeOptimizer();
 
   const DesignSpace& space() const noexcept { return *space_; }
@@ -204,37 +221,48 @@ class ShapeOptimizer {
   // The support of the last accepted iteration (empty before the first): what
   // an interrupted run has to show.
   const Eigen::MatrixX3d& last_accepted() const noexcept { return accepted_; }
-  rest::RestSimulation& simulation(int slot = 0) { return *sims_[static_cast<std::size_t>(slot)]; }
+  std::size_t num_bodies() const noexcept { return bodies_.size(); }
+  BodyProblem& body(std::size_t i = 0) { return *bodies_.at(i); }
+  const BodyProblem& body(std::size_t i = 0) const { return *bodies_.at(i); }
+  // The first body's simulation `slot`.
+  rest::RestSimulation& simulation(int slot = 0) { return body().simulation(slot); }
+  // Each body's ζ on the initial shape: what a cohort normalizes by.
+  const Eigen::VectorXd& initial_zeta() const noexcept { return zeta0_; }
 
-  // φ at X, warm-started from `warm`, on simulation `slot`; with dφ/dX when
-  // `gradient`. A failed equilibrium gives ok = false; Ctrl-C propagates.
-  Evaluation evaluate(const Eigen::MatrixX3d& X, const rest::RestState& warm, bool gradient, int slot = 0);
+  // φ at X, warm-started from `warm` (one state per body), on simulation
+  // `slot` of each body; with dφ/dX when `gradient`. A failed equilibrium
+  // gives ok = false; Ctrl-C propagates.
+  Evaluation evaluate(const Eigen::MatrixX3d& X, const std::vector<rest::RestState>& warm, bool gradient, int slot = 0);
 
-  // solve_from_scratch (above) with the scene's contact settings: how every
+  // solve_from_scratch (above) with body i's contact settings: how every
   // reported result is checked (the initial and optimized shapes, the
   // baselines).
   Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support,
-                                std::unique_ptr<rest::RestSimulation>* keep = nullptr) const {
-    return design::solve_from_scratch(body, support, rest_options_, options_.score, keep);
+                                std::unique_ptr<rest::RestSimulation>* keep = nullptr, std::size_t i = 0) const {
+    return design::solve_from_scratch(body, support, bodies_.at(i)->rest_options(), options_.score, keep);
   }
 
   // The optimization. progress: called after every iteration.
   DesignResult run(const std::function<void(const IterationRecord&)>& progress = {});
 
  private:
-  DesignResult run_lbfgs(DesignResult result, const std::function<void(const IterationRecord&)>& progress);
-  std::vector<Evaluation> evaluate_all(const std::vector<Eigen::MatrixX3d>& shapes, const rest::RestState& warm);
+  // evaluate, leaving the BLAS's threads as they are (a caller running in
+  // parallel has set them).
+  Evaluation evaluate_on(const Eigen::MatrixX3d& X, const std::vector<rest::RestState>& warm, bool gradient, int slot);
+  std::vector<Evaluation> evaluate_all(const std::vector<Eigen::MatrixX3d>& shapes,
+                                       const std::vector<rest::RestState>& warm);
+  // zeta, phi and the gradient of e from its bodies' (ok when all are).
+  void combine(Evaluation& e, const Eigen::MatrixX3d* dpsi) const;
 
   DesignOptions options_;
-  std::vector<std::unique_ptr<rest::RestSimulation>> sims_;
-  std::unique_ptr<ErgonomicScore> score_;
+  std::vector<std::unique_ptr<BodyProblem>> bodies_;
   std::unique_ptr<Smoothness> smoothness_;
   std::unique_ptr<DesignSpace> space_;
+  Eigen::VectorXd zeta0_;
   Evaluation initial_;
   Eigen::MatrixX3d accepted_;
   double gamma_ = 0.0;
   double equilibrium_seconds_ = 0.0;
-  rest::RestOptions rest_options_;  // the scene's, as `palpa rest` takes them
   double unit_move_ = 1.5e-4;  // L-BFGS: the largest vertex move of a unit step along −∇ [m]
 };
 

@@ -33,27 +33,27 @@ Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
 Json evaluation_json(const Evaluation& e, double gamma) {
   Json j = {{"phi", e.phi},
           {"zeta", e.zeta},
-          {"zeta_body", e.score.zeta_body},
-          {"zeta_support", e.score.zeta_support},
+          {"zeta_body", e.body().score.zeta_body},
+          {"zeta_support", e.body().score.zeta_support},
           {"gamma_psi", gamma * e.psi},
-          {"peak_pressure_Pa", {{"body", e.score.body_pressure.maxCoeff()}, {"support", e.score.support_pressure.maxCoeff()}}},
+          {"peak_pressure_Pa", {{"body", e.body().score.body_pressure.maxCoeff()}, {"support", e.body().score.support_pressure.maxCoeff()}}},
           {"peak_smoothed_pressure_Pa",
-           {{"body", e.score.body_smoothed.maxCoeff()}, {"support", e.score.support_smoothed.maxCoeff()}}},
-          {"contacts", {{"body_vertices", e.score.body_contacts}, {"support_vertices", e.score.support_contacts}}},
+           {{"body", e.body().score.body_smoothed.maxCoeff()}, {"support", e.body().score.support_smoothed.maxCoeff()}}},
+          {"contacts", {{"body_vertices", e.body().score.body_contacts}, {"support_vertices", e.body().score.support_contacts}}},
           {"pressure_map_force_N",
-           {{"body", e.rest.body_map_force}, {"support", e.rest.support_map_force}, {"load", e.rest.load.norm()}}},
+           {{"body", e.body().rest.body_map_force}, {"support", e.body().rest.support_map_force}, {"load", e.body().rest.load.norm()}}},
           {"pressure_map",
-           {{"body", report::to_json(e.rest.body_metrics)}, {"support", report::to_json(e.rest.support_metrics)}}},
-          {"max_penetration_m", e.rest.max_penetration},
-          {"contact_force_N", vec(e.rest.contact_force)},
-          {"load_N", vec(e.rest.load)},
-          {"balance_error", e.rest.balance_error},
-          {"core_translation_m", vec(e.rest.core_translation)},
-          {"min_det_F", e.rest.min_det_f}};
-  if (e.state.support.size() > 0) {
-    j["deformable_support"] = {{"max_displacement_m", e.rest.support_max_displacement},
-                               {"min_det_F", e.rest.support_min_det_f},
-                               {"base_force_N", vec(e.rest.support_base_force)}};
+           {{"body", report::to_json(e.body().rest.body_metrics)}, {"support", report::to_json(e.body().rest.support_metrics)}}},
+          {"max_penetration_m", e.body().rest.max_penetration},
+          {"contact_force_N", vec(e.body().rest.contact_force)},
+          {"load_N", vec(e.body().rest.load)},
+          {"balance_error", e.body().rest.balance_error},
+          {"core_translation_m", vec(e.body().rest.core_translation)},
+          {"min_det_F", e.body().rest.min_det_f}};
+  if (e.body().state.support.size() > 0) {
+    j["deformable_support"] = {{"max_displacement_m", e.body().rest.support_max_displacement},
+                               {"min_det_F", e.body().rest.support_min_det_f},
+                               {"base_force_N", vec(e.body().rest.support_base_force)}};
   }
   return j;
 }
@@ -63,32 +63,32 @@ Json evaluation_json(const Evaluation& e, double gamma) {
 // figures and its comparison with palpa's support-side map.
 Json write_state(const std::filesystem::path& out, const std::string& tag, rest::RestSimulation& sim,
                  const Evaluation& e, const Eigen::MatrixX3d* displacement, double threshold) {
-  const PressureEstimate pts = pose_to_seat(sim, e.rest, threshold);
-  UnstructuredGrid body = rest::body_grid(sim, e.rest);
-  body.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.body_smoothed});
+  const PressureEstimate pts = pose_to_seat(sim, e.body().rest, threshold);
+  UnstructuredGrid body = rest::body_grid(sim, e.body().rest);
+  body.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.body().score.body_smoothed});
   body.point_data.push_back(DataArray{"pose_to_seat_Pa", pts.body_pressure});
   write_vtu(out / fmt::format("body_{}.vtu", tag), body);
-  UnstructuredGrid support = rest::support_grid(sim, e.rest);
-  support.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
+  UnstructuredGrid support = rest::support_grid(sim, e.body().rest);
+  support.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.body().score.support_smoothed});
   support.point_data.push_back(DataArray{"pose_to_seat_Pa", pts.support_pressure});
   if (displacement != nullptr) support.point_data.push_back(DataArray{"design_displacement_m", *displacement});
   write_vtu(out / fmt::format("support_{}.vtu", tag), support);
   if (sim.deformable_support()) write_vtu(out / fmt::format("support_volume_{}.vtu", tag), rest::support_volume_grid(sim));
   rest::write_skin_ply(out / fmt::format("skin_{}.ply", tag), sim,
-                       {{"pressure_Pa", e.score.body_pressure},
-                        {"pressure_smoothed_Pa", e.score.body_smoothed},
+                       {{"pressure_Pa", e.body().score.body_pressure},
+                        {"pressure_smoothed_Pa", e.body().score.body_smoothed},
                         {"pose_to_seat_Pa", pts.body_pressure}});
   PlyWriteOptions po;
-  po.vertex_scalars = {{"pressure_Pa", e.score.support_pressure},
-                       {"pressure_smoothed_Pa", e.score.support_smoothed},
+  po.vertex_scalars = {{"pressure_Pa", e.body().score.support_pressure},
+                       {"pressure_smoothed_Pa", e.body().score.support_smoothed},
                        {"pose_to_seat_Pa", pts.support_pressure}};
   const SurfaceMesh world = rest::world_support(sim);
   write_ply(out / fmt::format("support_{}.ply", tag), world, po);
   Json j = {{"contacts", pts.contacts}, {"peak_Pa", pts.body_pressure.maxCoeff()}};
-  if (pts.support_pressure.maxCoeff() > 0.0 || e.score.support_pressure.maxCoeff() > 0.0) {
+  if (pts.support_pressure.maxCoeff() > 0.0 || e.body().score.support_pressure.maxCoeff() > 0.0) {
     const report::MapComparison c = report::compare_pressure_maps(
         report::PressureMap{world, pts.support_pressure, "pose-to-seat"},
-        report::PressureMap{world, e.score.support_pressure, "palpa"});
+        report::PressureMap{world, e.body().score.support_pressure, "palpa"});
     j["against_palpa_on_the_support"] = {{"rms_difference_Pa", c.rms_difference},
                                          {"relative_rms", c.relative_rms},
                                          {"correlation", number_or_null(c.correlation)},
@@ -123,7 +123,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                           const DesignResult& r) {
   ensure_directory(out);
   rest::RestSimulation& sim = optimizer.simulation(0);
-  const Evaluation before = optimizer.evaluate(r.initial.support, r.initial.state, false, 0);
+  const Evaluation before = optimizer.evaluate(r.initial.support, r.initial.states(), false, 0);
   if (!before.ok) throw Error(ErrorKind::Solver, "re-solving the initial shape: " + before.failure);
   const double threshold = scene.options.pose_to_seat_threshold;
   const Json pts_before = write_state(out, "before", sim, before, nullptr, threshold);
@@ -131,9 +131,9 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   // simulation is at that state).
   std::vector<report::PressureMapPanel> body_maps, support_maps;
   const std::string start = scene.start.empty() ? std::string("initial") : "start '" + scene.start + "'";
-  body_maps.push_back(rest::body_pressure_panel(sim, before.rest, "body side, " + start + " support"));
-  support_maps.push_back(rest::support_pressure_panel(sim, before.rest, "support side, " + start + " shape"));
-  const Evaluation after = optimizer.evaluate(r.final.support, r.final.state, false, 0);
+  body_maps.push_back(rest::body_pressure_panel(sim, before.body().rest, "body side, " + start + " support"));
+  support_maps.push_back(rest::support_pressure_panel(sim, before.body().rest, "support side, " + start + " shape"));
+  const Evaluation after = optimizer.evaluate(r.final.support, r.final.states(), false, 0);
   if (!after.ok) throw Error(ErrorKind::Solver, "re-solving the optimized shape: " + after.failure);
   const Eigen::MatrixX3d displacement = r.final.support - r.initial.support;
   // A spike sticks out of the optimized surface: along its normals.
@@ -144,8 +144,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   const geometry::Spike spike_any =
       geometry::largest_spike(displacement, sim.support().triangles(), optimizer.space().vertices());
   const Json pts_after = write_state(out, "after", sim, after, &displacement, threshold);
-  body_maps.push_back(rest::body_pressure_panel(sim, after.rest, "body side, optimized support"));
-  support_maps.push_back(rest::support_pressure_panel(sim, after.rest, "support side, optimized shape"));
+  body_maps.push_back(rest::body_pressure_panel(sim, after.body().rest, "body side, optimized support"));
+  support_maps.push_back(rest::support_pressure_panel(sim, after.body().rest, "support side, optimized shape"));
 
   // The shape to make: for a deformable support its rest shape.
   const SurfaceMesh optimized{r.final.support, sim.support().triangles()};
@@ -161,8 +161,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   const Evaluation checked_final =
       scored_from_scratch(optimizer, scene.rest.body, optimized, after, &fresh, "the optimized shape");
   write_state(out, "resolved", *fresh, checked_final, nullptr, threshold);
-  body_maps.push_back(rest::body_pressure_panel(*fresh, checked_final.rest, "body side, optimized, from scratch"));
-  support_maps.push_back(rest::support_pressure_panel(*fresh, checked_final.rest, "support side, optimized, from scratch"));
+  body_maps.push_back(rest::body_pressure_panel(*fresh, checked_final.body().rest, "body side, optimized, from scratch"));
+  support_maps.push_back(rest::support_pressure_panel(*fresh, checked_final.body().rest, "support side, optimized, from scratch"));
 
   // With a start baseline, the scene's own support from scratch: what the
   // design is also reported against (its body map is the first panel).
@@ -171,9 +171,9 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
     std::unique_ptr<rest::RestSimulation> osim;
     own = optimizer.solve_from_scratch(scene.scene_support->body, scene.scene_support->support, &osim);
     if (!own->ok) throw Error(ErrorKind::Solver, "solving the scene's own support from scratch: " + own->failure);
-    body_maps.insert(body_maps.begin(), rest::body_pressure_panel(*osim, own->rest, "body side, the scene's support"));
+    body_maps.insert(body_maps.begin(), rest::body_pressure_panel(*osim, own->body().rest, "body side, the scene's support"));
     support_maps.insert(support_maps.begin(),
-                        rest::support_pressure_panel(*osim, own->rest, "support side, the scene's support"));
+                        rest::support_pressure_panel(*osim, own->body().rest, "support side, the scene's support"));
   }
 
   // Baselines, solved from scratch alike (simulation 0 is used for Sit &
@@ -196,9 +196,9 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
       // The frozen pressures: the body on the negative image.
       const Evaluation ni = optimizer.solve_from_scratch(b.body, b.support);
       if (!ni.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}' (negative image): {}", b.name, ni.failure));
-      const Evaluation at = optimizer.evaluate(r.initial.support, r.initial.state, false, 0);
+      const Evaluation at = optimizer.evaluate(r.initial.support, r.initial.states(), false, 0);
       if (!at.ok) throw Error(ErrorKind::Solver, "re-solving the initial shape: " + at.failure);
-      const SitAndRelaxFit fit = sit_and_relax(sim, optimizer.space(), ni.rest.body_pressure, b.smoothness);
+      const SitAndRelaxFit fit = sit_and_relax(sim, optimizer.space(), ni.body().rest.body_pressure, b.smoothness);
       if (fit.scale < 1.0) {
         spdlog::warn("design: baseline '{}': the full Sit & Relax fit would cross the support through itself; "
                      "made with {:.3g} of its moves",
@@ -214,15 +214,15 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
     }
     if (!e.ok) throw Error(ErrorKind::Solver, fmt::format("the baseline '{}': {}", b.name, e.failure));
     const std::string slug = baseline_slug(b.name);
-    UnstructuredGrid grid = rest::support_grid(*bsim, e.rest);
-    grid.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.score.support_smoothed});
+    UnstructuredGrid grid = rest::support_grid(*bsim, e.body().rest);
+    grid.point_data.push_back(DataArray{"pressure_smoothed_Pa", e.body().score.support_smoothed});
     write_vtu(out / fmt::format("baseline_{}_support.vtu", slug), grid);
-    write_vtu(out / fmt::format("baseline_{}_body.vtu", slug), rest::body_grid(*bsim, e.rest));
+    write_vtu(out / fmt::format("baseline_{}_body.vtu", slug), rest::body_grid(*bsim, e.body().rest));
     j.update(evaluation_json(e, 0.0));
     j["name"] = b.name;
     j["source"] = b.sit_and_relax ? "Sit & Relax fit to the pressures on " + b.source : b.source;
-    const double zeta_body = e.score.zeta_body / checked_final.score.zeta_body;
-    const double body_peak = e.score.body_pressure.maxCoeff() / checked_final.score.body_pressure.maxCoeff();
+    const double zeta_body = e.body().score.zeta_body / checked_final.body().score.zeta_body;
+    const double body_peak = e.body().score.body_pressure.maxCoeff() / checked_final.body().score.body_pressure.maxCoeff();
     j["zeta_over_optimized"] = e.zeta / checked_final.zeta;
     j["zeta_body_over_optimized"] = zeta_body;
     j["body_peak_over_optimized"] = body_peak;
@@ -287,8 +287,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
 
   // Pressures before and after from scratch, body and support together.
   auto both = [](const Evaluation& e) {
-    Eigen::VectorXd v(e.score.body_pressure.size() + e.score.support_pressure.size());
-    v << e.score.body_pressure, e.score.support_pressure;
+    Eigen::VectorXd v(e.body().score.body_pressure.size() + e.body().score.support_pressure.size());
+    v << e.body().score.body_pressure, e.body().score.support_pressure;
     return v;
   };
   const Eigen::VectorXd pb = both(checked_initial), pa = both(checked_final);
@@ -304,7 +304,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   report::write_svg(out / "pressure_histogram.svg", hist_fig);
 
   // The maps as pictures, before beside after on one colour scale per side.
-  const Eigen::Vector3d toward_body = rest::support_to_body(before.rest);
+  const Eigen::Vector3d toward_body = rest::support_to_body(before.body().rest);
   report::PressureMapOptions body_view = rest::body_pressure_view(toward_body);
   body_view.title = "contact pressure on the body: initial and optimized support";
   report::write_pressure_map_svg(out / "body_pressure.svg", body_maps, body_view);
@@ -347,12 +347,12 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                         {"taubin_iterations", o.taubin_iterations},
                         {"moves_m", o.moves},
                         {"post_smoothing", o.post_smoothing}}},
-            {"stiffness_N_per_m", r.initial.state.stiffness},
+            {"stiffness_N_per_m", r.initial.body().state.stiffness},
             {"initial", evaluation_json(checked_initial, r.gamma)},
             {"final", evaluation_json(checked_final, r.gamma)},
             {"zeta_reduction_percent", 100.0 * (1.0 - checked_final.zeta / checked_initial.zeta)},
-            {"zeta_body_reduction_percent", 100.0 * (1.0 - checked_final.score.zeta_body / checked_initial.score.zeta_body)},
-            {"body_peak_ratio", checked_initial.score.body_pressure.maxCoeff() / checked_final.score.body_pressure.maxCoeff()},
+            {"zeta_body_reduction_percent", 100.0 * (1.0 - checked_final.body().score.zeta_body / checked_initial.body().score.zeta_body)},
+            {"body_peak_ratio", checked_initial.body().score.body_pressure.maxCoeff() / checked_final.body().score.body_pressure.maxCoeff()},
             {"worse_than_baselines", worse_than},
             {"optimizer",
              {{"note", "the optimizer's own view: the contact model frozen, chosen anew where the penetration left its band, warm-started from the accepted shape"},
@@ -361,8 +361,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
               {"zeta_reduction_percent", 100.0 * (1.0 - after.zeta / before.zeta)},
               {"from_scratch_over_optimizer",
                {{"zeta", checked_final.zeta / after.zeta},
-                {"zeta_body", checked_final.score.zeta_body / after.score.zeta_body},
-                {"body_peak", checked_final.score.body_pressure.maxCoeff() / after.score.body_pressure.maxCoeff()}}}}},
+                {"zeta_body", checked_final.body().score.zeta_body / after.body().score.zeta_body},
+                {"body_peak", checked_final.body().score.body_pressure.maxCoeff() / after.body().score.body_pressure.maxCoeff()}}}}},
             {"max_design_displacement_m", displacement.rowwise().norm().maxCoeff()},
             {"largest_spike", {{"note", "a design vertex's move from its neighbours' mean move, along the optimized surface's normal (any_direction: the whole difference, sideways sliding included)"},
                                {"distance_m", spike.distance},
@@ -391,8 +391,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                   {"scene_support", evaluation_json(*own, 0.0)},
                   {"scene_support_source", scene.scene_support->source},
                   {"zeta_reduction_percent", 100.0 * (1.0 - checked_final.zeta / own->zeta)},
-                  {"zeta_body_reduction_percent", 100.0 * (1.0 - checked_final.score.zeta_body / own->score.zeta_body)},
-                  {"body_peak_ratio", own->score.body_pressure.maxCoeff() / checked_final.score.body_pressure.maxCoeff()}};
+                  {"zeta_body_reduction_percent", 100.0 * (1.0 - checked_final.body().score.zeta_body / own->body().score.zeta_body)},
+                  {"body_peak_ratio", own->body().score.body_pressure.maxCoeff() / checked_final.body().score.body_pressure.maxCoeff()}};
   }
   // The report first: summary.json marks the run as finished.
   design_report_html(out, s).write(out / "report.html");

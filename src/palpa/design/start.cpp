@@ -28,7 +28,7 @@ void fit_sit_and_relax_start(DesignScene& scene) {
     throw Error(ErrorKind::Solver, fmt::format("the start '{}': the body on the scene's support: {}", b.name, e.what()));
   }
   const DesignSpace space(sim.support_rest_vertices(), sim.support().triangles(), scene.design_vertices, true);
-  const SitAndRelaxFit fit = sit_and_relax(sim, space, ni.rest.body_pressure, b.smoothness);
+  const SitAndRelaxFit fit = sit_and_relax(sim, space, ni.body().rest.body_pressure, b.smoothness);
   if (fit.scale < 1.0) {
     spdlog::warn("design: the start '{}': the full Sit & Relax fit would cross the support through itself; made with "
                  "{:.3g} of its moves",

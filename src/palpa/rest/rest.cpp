@@ -22,18 +22,11 @@
 #include "palpa/rest/coupled.hpp"
 #include "palpa/rest/measurements.hpp"
 #include "palpa/solve/adjoint.hpp"
+#include "palpa/core/stopwatch.hpp"
 #include "palpa/solve/equilibrium.hpp"
 #include "palpa/tet/mesh.hpp"
 
 namespace palpa::rest {
-
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 Eigen::MatrixX3i skin_faces(const TetMesh& mesh, const std::vector<int>& attached) {
   const geometry::Boundary boundary = geometry::boundary_of(mesh);

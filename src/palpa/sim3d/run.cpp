@@ -10,6 +10,7 @@
 
 #include "palpa/body/area_updates.hpp"
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/stopwatch.hpp"
 #include "palpa/core/checkpoint.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
@@ -25,10 +26,6 @@ namespace palpa::sim3d {
 namespace fs = std::filesystem;
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Regularization K + αM of a body held by nothing but contact (before it
 // touches): α = 1/T² with T = 10 ms, so an unsupported body falls about
