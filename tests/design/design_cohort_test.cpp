@@ -162,6 +162,22 @@ TEST(CohortAdjoint, EachBodyBesideTheOthersIsAsAlone) {
   }
 }
 
+// A body whose equilibrium cannot be solved is named, and nothing runs.
+TEST(CohortAdjoint, ABodyThatFailsIsNamed) {
+  const SurfaceMesh s = slab();
+  DesignOptions o;
+  o.threads = 1;
+  o.cohort = CohortObjective{};
+  std::vector<DesignBody> bodies = two_bodies();
+  bodies[1].rest.max_iterations = 1;
+  EXPECT_TRUE(test::throws_error([&] { ShapeOptimizer(bodies, s, top_inside(s), o); }, ErrorKind::Solver,
+                                 {"the body 'stiff'"}));
+  // Several bodies need a cohort objective.
+  o.cohort.reset();
+  EXPECT_TRUE(test::throws_error([&] { ShapeOptimizer(two_bodies(), s, top_inside(s), o); }, ErrorKind::Input,
+                                 {"2 bodies", "cohort objective"}));
+}
+
 TEST(CohortCheckpoint, KeepsEachBodyAndRefusesAnotherCohort) {
   test::ScratchDir dir;
   DesignCheckpoint c;

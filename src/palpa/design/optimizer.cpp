@@ -220,9 +220,17 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
   threads = std::min(threads, static_cast<int>(options_.moves.size()));
 
   // Each body's initial equilibrium, with the automatic contact stiffness.
+  const bool several = bodies.size() > 1;
   for (DesignBody& b : bodies) {
-    bodies_.push_back(std::make_unique<BodyProblem>(std::move(b), support, options_.score, threads,
-                                                    kTrialNewtonIterations));
+    const std::string name = b.name;
+    try {
+      bodies_.push_back(std::make_unique<BodyProblem>(std::move(b), support, options_.score, threads,
+                                                      kTrialNewtonIterations));
+    } catch (const Error& e) {
+      // A cohort's failure names its body; the run stops there.
+      if (!several || e.kind() == ErrorKind::Interrupted) throw;
+      throw Error(e.kind(), fmt::format("the body '{}': {}", name, e.what()));
+    }
     equilibrium_seconds_ += bodies_.back()->equilibrium_seconds();
   }
   BodyProblem& first = *bodies_.front();

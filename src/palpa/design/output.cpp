@@ -30,6 +30,8 @@ namespace {
 
 Json vec(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
 
+}  // namespace
+
 Json evaluation_json(const Evaluation& e, double gamma) {
   Json j = {{"phi", e.phi},
           {"zeta", e.zeta},
@@ -58,10 +60,7 @@ Json evaluation_json(const Evaluation& e, double gamma) {
   return j;
 }
 
-// Writes one side (before/after) from simulation 0 at evaluation e, with the
-// Pose-to-Seat estimate beside palpa's pressures; returns the estimate's
-// figures and its comparison with palpa's support-side map.
-Json write_state(const std::filesystem::path& out, const std::string& tag, rest::RestSimulation& sim,
+Json write_design_state(const std::filesystem::path& out, const std::string& tag, rest::RestSimulation& sim,
                  const Evaluation& e, const Eigen::MatrixX3d* displacement, double threshold) {
   const PressureEstimate pts = pose_to_seat(sim, e.body().rest, threshold);
   UnstructuredGrid body = rest::body_grid(sim, e.body().rest);
@@ -98,6 +97,8 @@ Json write_state(const std::filesystem::path& out, const std::string& tag, rest:
   return j;
 }
 
+namespace {
+
 // A shape solved from scratch (ShapeOptimizer::solve_from_scratch), its
 // smoothness taken from the optimizer's evaluation of the same shape.
 Evaluation scored_from_scratch(const ShapeOptimizer& optimizer, const rest::RestBody& body, const SurfaceMesh& shape,
@@ -126,7 +127,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   const Evaluation before = optimizer.evaluate(r.initial.support, r.initial.states(), false, 0);
   if (!before.ok) throw Error(ErrorKind::Solver, "re-solving the initial shape: " + before.failure);
   const double threshold = scene.options.pose_to_seat_threshold;
-  const Json pts_before = write_state(out, "before", sim, before, nullptr, threshold);
+  const Json pts_before = write_design_state(out, "before", sim, before, nullptr, threshold);
   // Each side's map before and after, for the pictures (taken while the
   // simulation is at that state).
   std::vector<report::PressureMapPanel> body_maps, support_maps;
@@ -143,7 +144,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
       geometry::largest_spike(displacement, sim.support().triangles(), optimizer.space().vertices(), &optimized_normals);
   const geometry::Spike spike_any =
       geometry::largest_spike(displacement, sim.support().triangles(), optimizer.space().vertices());
-  const Json pts_after = write_state(out, "after", sim, after, &displacement, threshold);
+  const Json pts_after = write_design_state(out, "after", sim, after, &displacement, threshold);
   body_maps.push_back(rest::body_pressure_panel(sim, after.body().rest, "body side, optimized support"));
   support_maps.push_back(rest::support_pressure_panel(sim, after.body().rest, "support side, optimized shape"));
 
@@ -160,7 +161,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   std::unique_ptr<rest::RestSimulation> fresh;
   const Evaluation checked_final =
       scored_from_scratch(optimizer, scene.rest.body, optimized, after, &fresh, "the optimized shape");
-  write_state(out, "resolved", *fresh, checked_final, nullptr, threshold);
+  write_design_state(out, "resolved", *fresh, checked_final, nullptr, threshold);
   body_maps.push_back(rest::body_pressure_panel(*fresh, checked_final.body().rest, "body side, optimized, from scratch"));
   support_maps.push_back(rest::support_pressure_panel(*fresh, checked_final.body().rest, "support side, optimized, from scratch"));
 
@@ -239,30 +240,8 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   }
 
   // Scores per iteration.
-  report::Plot scores;
-  scores.title = "objective per iteration";
-  scores.x.label = "iteration";
-  scores.y.label = fmt::format("score [Pa^{} m^2]", scene.options.score.exponent);
-  scores.y.log = true;
-  report::Series phi{"φ = ζ + γψ", {}, {}, report::Mark::LineDots};
-  report::Series zeta{"ζ (ergonomic score)", {}, {}, report::Mark::LineDots};
-  report::Series psi{"γψ (smoothness)", {}, {}, report::Mark::Line};
-  phi.x.push_back(0.0);
-  phi.y.push_back(r.initial.phi);
-  zeta.x.push_back(0.0);
-  zeta.y.push_back(r.initial.zeta);
-  psi.x.push_back(0.0);
-  psi.y.push_back(r.gamma * r.initial.psi);
-  for (const IterationRecord& it : r.history) {
-    phi.x.push_back(it.iteration);
-    phi.y.push_back(it.phi);
-    zeta.x.push_back(it.iteration);
-    zeta.y.push_back(it.zeta);
-    psi.x.push_back(it.iteration);
-    psi.y.push_back(r.gamma * it.psi);
-  }
-  psi.dashed = true;
-  scores.series = {phi, zeta, psi};
+  report::Plot scores = objective_plot(r, fmt::format("score [Pa^{} m^2]", scene.options.score.exponent),
+                                       "ζ (ergonomic score)");
   // What the summary reports: both shapes from scratch, and each baseline.
   const double last = r.history.empty() ? 1.0 : static_cast<double>(r.history.back().iteration);
   scores.series.push_back(report::Series{"ζ from scratch (initial, optimized)",
@@ -312,23 +291,6 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   support_view.title = "contact pressure on the support: initial and optimized shape";
   report::write_pressure_map_svg(out / "support_pressure.svg", support_maps, support_view);
 
-  Json history = Json::array();
-  for (const IterationRecord& it : r.history) {
-    history.push_back({{"iteration", it.iteration},
-                       {"phi", it.phi},
-                       {"zeta", it.zeta},
-                       {"gamma_psi", r.gamma * it.psi},
-                       {"move_m", it.move},
-                       {"evaluations", it.evaluations},
-                       {"restarted", it.restarted},
-                       {"stiffness_N_per_m", it.stiffness},
-                       {"refrozen", it.refrozen},
-                       {"seconds", it.seconds}});
-  }
-  double iteration_seconds = 0.0;
-  for (const IterationRecord& it : r.history) iteration_seconds += it.seconds;
-  const double per_iteration = r.history.empty() ? 0.0 : iteration_seconds / static_cast<double>(r.history.size());
-  const DesignOptions& o = scene.options;
   Json s = {{"palpa_design", 1},
             {"scene", scene.rest.file.string()},
             {"body", {{"source", scene.rest.body_source},
@@ -337,16 +299,7 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                       {"element", sim3d::element_json(sim.model())},
                       {"skin_vertices", sim.surface_vertices().size()}}},
             {"support", {{"source", scene.rest.support_source}, {"vertices", r.initial.support.rows()}}},
-            {"design", {{"region", scene.region},
-                        {"variables", optimizer.space().size()},
-                        {"direction", o.normal_only ? "normal" : "free"},
-                        {"filter_radius_m", optimizer.space().filter_radius()},
-                        {"exponent", o.score.exponent},
-                        {"gamma", r.gamma},
-                        {"smoothing_exponent", o.gamma ? Json() : Json(o.smoothing_exponent)},
-                        {"taubin_iterations", o.taubin_iterations},
-                        {"moves_m", o.moves},
-                        {"post_smoothing", o.post_smoothing}}},
+            {"design", design_settings_json(scene, optimizer, r)},
             {"stiffness_N_per_m", r.initial.body().state.stiffness},
             {"initial", evaluation_json(checked_initial, r.gamma)},
             {"final", evaluation_json(checked_final, r.gamma)},
@@ -369,20 +322,9 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
                                {"vertex", spike.vertex},
                                {"any_direction_m", spike_any.distance},
                                {"any_direction_vertex", spike_any.vertex}}},
-            {"iterations", r.iterations},
-            {"equilibrium_solves", r.evaluations},
-            {"newton_iterations", r.newton_iterations},
-            {"seconds", r.seconds},
-            {"seconds_per_iteration", per_iteration},
-            {"initial_equilibrium_seconds", r.equilibrium_seconds},
-            {"iteration_per_equilibrium", r.equilibrium_seconds > 0.0 ? per_iteration / r.equilibrium_seconds : 0.0},
-            {"termination", std::string(to_string(r.stop.termination))},
-            {"stop_reason", r.stop.detail},
             {"pose_to_seat", {{"threshold_m", threshold}, {"before", pts_before}, {"after", pts_after}}},
-            {"baselines", baselines},
-            {"resumed", r.resumed},
-            {"refreezes", r.refreezes},
-            {"history", history}};
+            {"baselines", baselines}};
+  s.update(run_json(r));
   if (r.before_post_smoothing) s["zeta_before_post_smoothing"] = r.before_post_smoothing->zeta;
   if (own) {
     // `initial` is the start; these figures are against the scene's own support.
@@ -398,6 +340,79 @@ Json write_design_outputs(const std::filesystem::path& out, const DesignScene& s
   design_report_html(out, s).write(out / "report.html");
   write_json_file(out / "summary.json", s);
   return s;
+}
+
+Json design_settings_json(const DesignScene& scene, const ShapeOptimizer& optimizer, const DesignResult& r) {
+  const DesignOptions& o = scene.options;
+  return {{"region", scene.region},
+          {"variables", optimizer.space().size()},
+          {"direction", o.normal_only ? "normal" : "free"},
+          {"filter_radius_m", optimizer.space().filter_radius()},
+          {"exponent", o.score.exponent},
+          {"gamma", r.gamma},
+          {"smoothing_exponent", o.gamma ? Json() : Json(o.smoothing_exponent)},
+          {"taubin_iterations", o.taubin_iterations},
+          {"moves_m", o.moves},
+          {"post_smoothing", o.post_smoothing}};
+}
+
+Json run_json(const DesignResult& r) {
+  Json history = Json::array();
+  for (const IterationRecord& it : r.history) {
+    history.push_back({{"iteration", it.iteration},
+                       {"phi", it.phi},
+                       {"zeta", it.zeta},
+                       {"gamma_psi", r.gamma * it.psi},
+                       {"move_m", it.move},
+                       {"evaluations", it.evaluations},
+                       {"restarted", it.restarted},
+                       {"stiffness_N_per_m", it.stiffness},
+                       {"refrozen", it.refrozen},
+                       {"seconds", it.seconds}});
+  }
+  double iteration_seconds = 0.0;
+  for (const IterationRecord& it : r.history) iteration_seconds += it.seconds;
+  const double per_iteration = r.history.empty() ? 0.0 : iteration_seconds / static_cast<double>(r.history.size());
+  return {{"iterations", r.iterations},
+          {"equilibrium_solves", r.evaluations},
+          {"newton_iterations", r.newton_iterations},
+          {"seconds", r.seconds},
+          {"seconds_per_iteration", per_iteration},
+          {"initial_equilibrium_seconds", r.equilibrium_seconds},
+          {"iteration_per_equilibrium", r.equilibrium_seconds > 0.0 ? per_iteration / r.equilibrium_seconds : 0.0},
+          {"termination", std::string(to_string(r.stop.termination))},
+          {"stop_reason", r.stop.detail},
+          {"resumed", r.resumed},
+          {"refreezes", r.refreezes},
+          {"history", history}};
+}
+
+report::Plot objective_plot(const DesignResult& r, const std::string& unit_label, const std::string& zeta_label) {
+  report::Plot scores;
+  scores.title = "objective per iteration";
+  scores.x.label = "iteration";
+  scores.y.label = unit_label;
+  scores.y.log = true;
+  report::Series phi{"φ = ζ + γψ", {}, {}, report::Mark::LineDots};
+  report::Series zeta{zeta_label, {}, {}, report::Mark::LineDots};
+  report::Series psi{"γψ (smoothness)", {}, {}, report::Mark::Line};
+  phi.x.push_back(0.0);
+  phi.y.push_back(r.initial.phi);
+  zeta.x.push_back(0.0);
+  zeta.y.push_back(r.initial.zeta);
+  psi.x.push_back(0.0);
+  psi.y.push_back(r.gamma * r.initial.psi);
+  for (const IterationRecord& it : r.history) {
+    phi.x.push_back(it.iteration);
+    phi.y.push_back(it.phi);
+    zeta.x.push_back(it.iteration);
+    zeta.y.push_back(it.zeta);
+    psi.x.push_back(it.iteration);
+    psi.y.push_back(r.gamma * it.psi);
+  }
+  psi.dashed = true;
+  scores.series = {phi, zeta, psi};
+  return scores;
 }
 
 void add_design_sections(report::HtmlReport& h, const std::filesystem::path& out, const Json& s) {

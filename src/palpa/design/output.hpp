@@ -27,6 +27,7 @@
 #include "palpa/design/optimizer.hpp"
 #include "palpa/design/scene.hpp"
 #include "palpa/report/html.hpp"
+#include "palpa/report/plot.hpp"
 
 namespace palpa::design {
 
@@ -46,5 +47,22 @@ void add_design_sections(report::HtmlReport& h, const std::filesystem::path& out
 std::string design_headline_text(const Json& summary);
 
 void write_support_shape(const std::filesystem::path& out, const std::string& stem, const SurfaceMesh& shape);
+
+// A summary's parts every design run has: the design's settings; the run's
+// iterations, solves, times, termination and history.
+Json design_settings_json(const DesignScene& scene, const ShapeOptimizer& optimizer, const DesignResult& r);
+Json run_json(const DesignResult& r);
+// φ, the score term (labelled zeta_label) and γψ per iteration, on a log axis.
+report::Plot objective_plot(const DesignResult& r, const std::string& unit_label, const std::string& zeta_label);
+// An evaluation's figures for a summary (its first body's): scores, peaks,
+// contacts, the maps' forces and metrics, penetration, balance.
+Json evaluation_json(const Evaluation& e, double gamma);
+// One state (tag: before, after, resolved) of `sim` at evaluation e into
+// out: body_<tag>.vtu, support_<tag>.vtu/.ply, skin_<tag>.ply, with the
+// Pose-to-Seat estimate beside palpa's pressures (and `displacement`, the
+// design's moves, on the support). Returns the estimate's figures and its
+// comparison with palpa's support-side map.
+Json write_design_state(const std::filesystem::path& out, const std::string& tag, rest::RestSimulation& sim,
+                        const Evaluation& e, const Eigen::MatrixX3d* displacement, double threshold);
 
 }  // namespace palpa::design

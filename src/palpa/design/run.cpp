@@ -9,6 +9,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/termination.hpp"
+#include "palpa/design/cohort_output.hpp"
 #include "palpa/design/output.hpp"
 #include "palpa/design/scene.hpp"
 #include "palpa/design/start.hpp"
@@ -82,17 +83,39 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
     std::filesystem::remove(finished, ec);
   }
   fit_sit_and_relax_start(scene);
+  const bool cohort = !scene.cohort.empty();
   if (!scene.start.empty()) {
     spdlog::info("design: starting from the baseline '{}' (the scene's own support, {}, is scored beside it)",
                  scene.start, scene.scene_support->source);
   }
-  spdlog::info("design: {}: body from {} ({} vertices, {} tetrahedra), support {} ({} vertices), {}",
-               run.scene.string(), scene.rest.body_source, scene.rest.body.mesh.V.rows(),
-               scene.rest.body.mesh.T.rows(), scene.rest.support_source, scene.rest.support.V.rows(), scene.region);
-  ShapeOptimizer optimizer(scene.rest.body, scene.rest.support, scene.rest.options, scene.design_vertices,
-                           scene.options);
-  spdlog::info("design: initial shape: ζ = {:.6g}, γ = {:.4g}, φ = {:.6g}; {} design variables",
-               optimizer.initial().zeta, optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
+  std::vector<DesignBody> bodies;
+  if (cohort) {
+    for (const CohortMember& m : scene.cohort) {
+      spdlog::info("design: {}: body '{}' from {} ({} vertices, {} tetrahedra)", run.scene.string(), m.name,
+                   m.rest.body_source, m.rest.body.mesh.V.rows(), m.rest.body.mesh.T.rows());
+      bodies.push_back(DesignBody{m.name, m.rest.body, m.rest.options});
+    }
+    spdlog::info("design: one support for {} bodies ({} of their scores): support {} ({} vertices), {}",
+                 bodies.size(), to_string(scene.options.cohort->aggregate), scene.rest.support_source,
+                 scene.rest.support.V.rows(), scene.region);
+  } else {
+    spdlog::info("design: {}: body from {} ({} vertices, {} tetrahedra), support {} ({} vertices), {}",
+                 run.scene.string(), scene.rest.body_source, scene.rest.body.mesh.V.rows(),
+                 scene.rest.body.mesh.T.rows(), scene.rest.support_source, scene.rest.support.V.rows(), scene.region);
+    bodies.push_back(DesignBody{{}, scene.rest.body, scene.rest.options});
+  }
+  ShapeOptimizer optimizer(std::move(bodies), scene.rest.support, scene.design_vertices, scene.options);
+  if (cohort) {
+    std::vector<std::string> each;
+    for (std::size_t i = 0; i < optimizer.num_bodies(); ++i) {
+      each.push_back(fmt::format("{} {:.6g}", optimizer.body(i).name(), optimizer.initial_zeta()[static_cast<Eigen::Index>(i)]));
+    }
+    spdlog::info("design: initial shape: each body's ζ {}; γ = {:.4g}, φ = {:.6g}; {} design variables",
+                 fmt::join(each, ", "), optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
+  } else {
+    spdlog::info("design: initial shape: ζ = {:.6g}, γ = {:.4g}, φ = {:.6g}; {} design variables",
+                 optimizer.initial().zeta, optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
+  }
   // Only now: bad input leaves nothing behind.
   OutputFolder folder(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
                       resume ? OutputFolder::Start::Resumed : OutputFolder::Start::Fresh);
@@ -120,7 +143,7 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
   const std::size_t written_before = folder.written_count();
   Json s;
   try {
-    s = write_design_outputs(out, scene, optimizer, r);
+    s = cohort ? write_cohort_outputs(out, scene, optimizer, r) : write_design_outputs(out, scene, optimizer, r);
   } catch (...) {
     folder.remove_written_since(written_before);
     throw;
@@ -135,6 +158,9 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
 }
 
 std::string design_headline(const Json& s) {
+  if (s.contains("cohort")) {
+    return fmt::format("design: {}, {:.1f} s", cohort_headline_text(s), s["seconds"].get<double>());
+  }
   const Json& initial = s["initial"];
   const Json& optimized = s["final"];
   std::string verdict;

@@ -12,6 +12,7 @@
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/design/cohort.hpp"
 #include "palpa/geometry/surface_operators.hpp"
 #include "palpa/sim3d/scene_json.hpp"
 
@@ -64,7 +65,110 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
   return read_design_scene(read_json_file(path), path, baselines);
 }
 
+namespace {
+
+CohortObjective read_cohort_objective(const JsonView& c) {
+  c.expect_only({"objective", "quantile", "sharpness"});
+  CohortObjective o;
+  if (const auto a = c.find("objective")) {
+    const std::string name = a->as_string();
+    try {
+      o.aggregate = parse_cohort_aggregate(name, "cohort.objective");
+    } catch (const Error&) {
+      a->fail(fmt::format("unknown cohort objective '{}'", name), "\"mean\", \"quantile\" or \"max\"");
+    }
+  }
+  if (const auto q = c.find("quantile")) {
+    if (o.aggregate != CohortAggregate::Quantile) q->fail("a quantile for another objective", "\"objective\": \"quantile\"");
+    o.quantile = q->as_number();
+    if (!(o.quantile >= 0.0 && o.quantile < 1.0)) q->fail("out of range", "a fraction in [0, 1)");
+  }
+  if (const auto t = c.find("sharpness")) {
+    if (o.aggregate != CohortAggregate::SmoothMax) t->fail("a sharpness for another objective", "\"objective\": \"max\"");
+    o.sharpness = t->as_number();
+    if (!(o.sharpness > 0.0 && o.sharpness <= 10.0)) t->fail("out of range", "τ in (0, 10] (of the scores normalized to 1)");
+  }
+  return o;
+}
+
+// A cohort scene: each body read as a one-body scene of its own (its body and
+// core, the cohort's everything else), on one support.
+DesignScene read_cohort_scene(const Json& doc, const std::filesystem::path& path) {
+  const JsonView root(doc, path.string());
+  if (const auto b = root.find("body")) b->fail("a body beside \"bodies\"", "every body of the cohort in \"bodies\"");
+  if (const auto b = root.find("baselines")) {
+    b->fail("baselines in a cohort scene", "none: a cohort's support is compared body by body with the flat start");
+  }
+  if (const auto d = root.find("design")) {
+    if (const auto st = d->find("start")) st->fail("a start baseline in a cohort scene", "none: a cohort starts from the scene's support");
+  }
+  const JsonView list = root.at("bodies");
+  if (list.size() == 0) list.fail("no body", "at least one body");
+  Json base = doc;
+  base.erase("bodies");
+  base.erase("cohort");
+  DesignScene s;
+  std::map<std::string, std::string> slugs;  // file-name form -> the first name that has it
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const JsonView e = list.at(i);
+    e.expect_only({"name", "scene", "body", "core"});
+    const JsonView n = e.at("name");
+    const std::string name = n.as_string();
+    if (name.empty()) n.fail("an empty name", "a name for the body's files and the summary");
+    if (const auto [at, fresh] = slugs.emplace(baseline_slug(name), name); !fresh) {
+      n.fail(at->second == name ? fmt::format("a second body named '{}'", name)
+                                : fmt::format("'{}' and the body '{}' would write the same files (bodies/{}/)", name,
+                                              at->second, at->first),
+             "body names that differ in a letter or digit");
+    }
+    if (e.has("scene") == e.has("body")) e.fail("give either scene or body", "one of them");
+    Json member = base;
+    std::string source = "inline";
+    if (const auto sc = e.find("scene")) {
+      const std::filesystem::path file = sim3d::resolve_scene_path(path, sc->as_string());
+      const Json other = read_json_file(file);
+      const JsonView ov(other, file.string());
+      if (!ov.is_object()) ov.fail("is not a JSON object", "a scene object with a \"body\"");
+      Json body = ov.at("body").json();
+      sim3d::absolutize_scene_paths(body, file);
+      member["body"] = body;
+      if (ov.has("core")) member["core"] = ov.at("core").json();
+      source = file.string();
+    } else {
+      member["body"] = e.at("body").json();
+    }
+    if (const auto c = e.find("core")) member["core"] = c->json();
+    DesignScene m;
+    try {
+      m = read_design_scene(member, path, false);
+    } catch (const Error& err) {
+      if (err.kind() != ErrorKind::Input) throw;
+      throw Error(ErrorKind::Input, fmt::format("the cohort's body '{}' ({}): {}", name,
+                                                source == "inline" ? "bodies[" + std::to_string(i) + "]" : source,
+                                                err.what()));
+    }
+    if (i == 0) {
+      s.rest = m.rest;
+      s.design_vertices = m.design_vertices;
+      s.options = m.options;
+      s.region = m.region;
+    } else if (m.rest.support.V != s.rest.support.V || m.rest.support.F != s.rest.support.F) {
+      e.fail(fmt::format("a support that differs from the first body's ('{}')", s.cohort.front().name),
+             "one support for every body (not one made from the body, such as a negative image)");
+    }
+    s.cohort.push_back(CohortMember{name, std::move(m.rest), source});
+  }
+  s.options.cohort = root.has("cohort") ? read_cohort_objective(root.at("cohort")) : CohortObjective{};
+  return s;
+}
+
+}  // namespace
+
 DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path, bool baselines) {
+  if (doc.is_object() && doc.contains("bodies")) return read_cohort_scene(doc, path);
+  if (doc.is_object() && doc.contains("cohort")) {
+    JsonView(doc, path.string()).at("cohort").fail("a cohort objective for one body", "\"bodies\": the cohort's bodies");
+  }
   DesignScene s;
   s.rest = rest::read_rest_scene(doc, path, "palpa_design", {"design", "baselines"});
   const JsonView root(doc, path.string());

@@ -30,6 +30,19 @@
 //     // pressures on that support frozen and the design region fitted to the
 //     // body with them (design/baselines.hpp)
 // }
+//
+// A cohort: one support for several bodies (design/cohort.hpp). "bodies"
+// replaces "body"; each entry is a body of its own, its "body" and "core"
+// from a scene file (each subject's design.json from `palpa subject body`) or
+// given inline, everything else (support, contact, design) the cohort's:
+//
+// {
+//   "palpa_design": 1,
+//   "bodies": [{"name": "tiny-a", "scene": "out/tiny-a/body/design.json"},
+//              {"name": "small", "body": {...}, "core": {...}}],  // "core": overrides the scene's
+//   "cohort": {"objective": "mean"},   // or "quantile" (with "quantile": 0.9), or "max" (with "sharpness": 0.05)
+//   "support": {...}, "contact": {...}, "design": {...}
+// }
 
 #include <filesystem>
 #include <optional>
@@ -66,8 +79,16 @@ struct SitAndRelaxStart {
   double zeta_negative_image = 0.0; // ζ on the negative image the frozen pressures come from
 };
 
+// One body of a cohort scene, as its own rest scene (its body and core from
+// its entry, everything else the cohort's).
+struct CohortMember {
+  std::string name;
+  rest::RestScene rest;
+  std::string source;  // the scene file its body came from, or "inline"
+};
+
 struct DesignScene {
-  rest::RestScene rest;  // with `design.start`, the start baseline's body and support
+  rest::RestScene rest;  // with `design.start`, the start baseline's body and support; a cohort's first body
   std::string start;     // the baseline the design starts from; empty: the scene's support
   // A Sit & Relax start is fitted to solved equilibria, after the scene is
   // read (fit_sit_and_relax_start): until then `rest` holds the scene's own
@@ -80,6 +101,9 @@ struct DesignScene {
   std::vector<int> design_vertices;  // rows of rest.support.V
   DesignOptions options;
   std::string region;                // how the design vertices were chosen, for the summary
+  // A cohort scene's bodies, in its order (empty: one body, `rest`);
+  // options.cohort holds its objective.
+  std::vector<CohortMember> cohort;
 };
 
 // Makes a baseline's support, with the body as placed for it, where the
@@ -89,7 +113,8 @@ struct DesignScene {
 // lifts it (s.start_lift, logged).
 void begin_on_start(DesignScene& s, const rest::RestBody& body, const SurfaceMesh& support, const std::string& source);
 
-// A baseline's name as it appears in file names (baseline_<slug>.obj, …):
+// A baseline's or a cohort body's name as it appears in file names
+// (baseline_<slug>.obj, bodies/<slug>/, …):
 // every character other than a letter or digit becomes '_'.
 std::string baseline_slug(const std::string& name);
 

@@ -67,27 +67,6 @@ LocationFit read_fit(const Subject& s, const Location& l, const fs::path& folder
   return f;
 }
 
-// Relative paths in a scene template made absolute (they resolve against the
-// template's folder, and the scene is written elsewhere): every string member
-// that names a file by its key.
-void absolutize_paths(Json& j, const fs::path& template_file) {
-  if (j.is_object()) {
-    for (auto& [key, value] : j.items()) {
-      const bool path_key =
-          key == "file" || key == "grid" || key == "surface" || key == "samples" || key == "layer";
-      if (path_key && value.is_string()) {
-        value = sim3d::resolve_scene_path(template_file, value.get<std::string>())
-                    .lexically_normal()
-                    .string();
-      } else {
-        absolutize_paths(value, template_file);
-      }
-    }
-  } else if (j.is_array()) {
-    for (Json& v : j) absolutize_paths(v, template_file);
-  }
-}
-
 CsvTable samples_table(const BodyFields& f, const std::string& value, const std::string& unit,
                        Dimension d, const std::string& comment) {
   CsvTable t;
@@ -160,9 +139,9 @@ void write_body_fields(const Subject& s, const BodyFields& f, const fs::path& ou
   const JsonView dv(design, s.design.string());
   if (!dv.is_object() || !dv.has("palpa_design"))
     dv.fail("not a design scene", "a palpa design scene (\"palpa_design\": 1)");
-  absolutize_paths(design, s.design);
+  sim3d::absolutize_scene_paths(design, s.design);
   Json body = s.doc.at("body");
-  absolutize_paths(body, s.file);
+  sim3d::absolutize_scene_paths(body, s.file);
   body["depth"] = {{"samples", "depths.csv"}, {"column", "depth"}};
   body["stiffness"] = {{"samples", "moduli.csv"}, {"column", "youngs_modulus"}};
   body["material"] = "material.json";

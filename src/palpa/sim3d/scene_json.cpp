@@ -35,6 +35,21 @@ std::filesystem::path resolve_scene_path(const std::filesystem::path& scene_file
   return q.is_absolute() ? q : scene_file.parent_path() / q;
 }
 
+void absolutize_scene_paths(Json& j, const std::filesystem::path& scene_file) {
+  if (j.is_object()) {
+    for (auto& [key, value] : j.items()) {
+      const bool path_key = key == "file" || key == "grid" || key == "surface" || key == "samples" || key == "layer";
+      if (path_key && value.is_string()) {
+        value = resolve_scene_path(scene_file, value.get<std::string>()).lexically_normal().string();
+      } else {
+        absolutize_scene_paths(value, scene_file);
+      }
+    }
+  } else if (j.is_array()) {
+    for (Json& v : j) absolutize_scene_paths(v, scene_file);
+  }
+}
+
 LineSearchKind read_line_search(const JsonView& v) {
   const std::string n = v.as_string();
   if (n == "backtracking") return LineSearchKind::Backtracking;

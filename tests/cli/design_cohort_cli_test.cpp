@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+// `palpa design` on a cohort: one support for several bodies, each body's
+// maps and the cohort's spread from scratch, resuming after SIGKILL, bad
+// cohort scenes refused.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <functional>
+#include <vector>
+#include <filesystem>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "common/test_support.hpp"
+#include "report/pressure_map_check.hpp"
+
+namespace palpa {
+namespace {
+
+using test::run_palpa;
+using test::ScratchDir;
+
+nlohmann::json read_json(const std::filesystem::path& p) { return nlohmann::json::parse(test::read_text(p)); }
+
+// The bundled cohort of three soft spheres on a seat.
+TEST(DesignCohortCli, OneSupportLowersEveryBodysScoreAndDrawsEachBody) {
+  ScratchDir dir;
+  const std::string scene = test::shell_quote(test::source_path("examples/design/cohort/scene.json"));
+  const auto r = run_palpa("design " + scene + " -o out --iterations 5", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::filesystem::path out = dir / "out";
+  for (const char* f : {"support.obj", "support_mm.stl", "cohort.csv", "cohort.svg", "score.svg", "report.html",
+                        "summary.json", "checkpoint.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
+  }
+  const auto s = read_json(out / "summary.json");
+  EXPECT_EQ(s["cohort"]["objective"], "mean");
+  ASSERT_EQ(s["bodies"].size(), 3u);
+  EXPECT_TRUE(s["every_body_lower"].get<bool>());
+  double mean = 0.0, objective = 0.0;
+  for (const auto& b : s["bodies"]) {
+    const std::string name = b["name"].get<std::string>();
+    // Every body feels less than on the flat seat, from scratch.
+    const double ratio = b["zeta_body_ratio"].get<double>();
+    EXPECT_LT(ratio, 0.85) << name;
+    EXPECT_NEAR(ratio, b["final"]["zeta_body"].get<double>() / b["initial"]["zeta_body"].get<double>(), 1e-12) << name;
+    EXPECT_GT(b["body_peak_ratio"].get<double>(), 1.0) << name;
+    // Each body carries its own load on the one support.
+    const double load = b["final"]["pressure_map_force_N"]["load"].get<double>();
+    EXPECT_NEAR(b["final"]["pressure_map_force_N"]["body"].get<double>(), load, 0.05 * load) << name;
+    mean += ratio / 3.0;
+    objective += b["zeta_ratio"].get<double>() / 3.0;
+    // Its maps: the initial support beside the cohort's, the captions' map
+    // force its own.
+    const std::filesystem::path folder = out / b["folder"].get<std::string>();
+    for (const char* f : {"body_before.vtu", "body_after.vtu", "skin_after.ply", "support_after.vtu", "summary.json"}) {
+      EXPECT_TRUE(std::filesystem::exists(folder / f)) << name << ": " << f;
+    }
+    const std::string svg = test::read_text(folder / "body_pressure.svg");
+    const auto pic = test::read_pressure_map_picture(svg);
+    ASSERT_TRUE(pic.doc.ok()) << name << ": " << pic.doc.error;
+    EXPECT_EQ(pic.frames.size(), 2u) << name;
+    EXPECT_NE(svg.find("the body &apos;" + name + "&apos;"), std::string::npos) << name;
+    const double force = b["initial"]["pressure_map"]["body"]["force_N"].get<double>();
+    EXPECT_NEAR(test::number_after(pic.caption_text(), "map force "), force, 5e-3 * force) << pic.caption_text();
+  }
+  EXPECT_NEAR(s["mean_zeta_body_ratio"].get<double>(), mean, 1e-12);
+  EXPECT_NEAR(s["objective_final"].get<double>(), objective, 1e-12);
+  // The optimizer's view and the solves from scratch agree within 5%.
+  EXPECT_NEAR(s["optimizer"]["objective_final"].get<double>() / s["objective_final"].get<double>(), 1.0, 0.05);
+  // The table across the cohort, one row per body, named in its comments.
+  const std::string csv = test::read_text(out / "cohort.csv");
+  EXPECT_NE(csv.find("# bodies: 1 small, 2 medium, 3 large"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("body,zeta_body_initial,zeta_body_final,zeta_body_ratio,peak_initial_kPa"), std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("\n3,"), std::string::npos) << csv;
+  const std::string spread = test::read_text(out / "cohort.svg");
+  EXPECT_NE(spread.find("body (1 small, 2 medium, 3 large)"), std::string::npos);
+  EXPECT_NE(spread.find(fmt::format("mean {:.3f}", mean)), std::string::npos);
+  EXPECT_NE(test::read_text(out / "report.html").find("The body 'large'"), std::string::npos);
+  EXPECT_NE(r.err.find("one support for 3 bodies (mean objective"), std::string::npos) << r.err;
+  std::printf("[cohort] mean ζ_body ratio %.3f (each: %.3f %.3f %.3f) after %d iterations\n", mean,
+              s["bodies"][0]["zeta_body_ratio"].get<double>(), s["bodies"][1]["zeta_body_ratio"].get<double>(),
+              s["bodies"][2]["zeta_body_ratio"].get<double>(), s["iterations"].get<int>());
+}
+
+// Two of the cohort, shaped with the thesis's ladder (deterministic: a
+// resumed run ends where an uninterrupted one ends).
+std::string two_body_scene() {
+  auto doc = read_json(test::source_path("examples/design/cohort/scene.json"));
+  doc["bodies"].erase(2);
+  doc["cohort"] = {{"objective", "max"}, {"sharpness", 0.1}};
+  doc["design"]["method"] = "cg";
+  doc["design"]["iterations"] = 2;
+  return doc.dump(2);
+}
+
+// Killed with SIGKILL once its first iteration is checkpointed, the cohort
+// design resumes from each body's saved state to the uninterrupted result,
+// to the last bit.
+TEST(DesignCohortCli, ResumesAfterSigkillToTheSameResult) {
+  ScratchDir dir;
+  dir.write("scene.json", two_body_scene());
+  ASSERT_EQ(run_palpa("design scene.json -o straight", dir.path()).exit_code, 0);
+  const auto straight = read_json(dir / "straight" / "summary.json");
+  const auto reached = [&] {
+    try {
+      return read_json(dir / "killed" / "checkpoint.json")["iteration"].get<int>() >= 1;
+    } catch (const std::exception&) {
+      return false;
+    }
+  };
+  const int code = test::run_palpa_signalled_when("design scene.json -o killed", dir.path(), reached, SIGKILL);
+  EXPECT_EQ(code, 128 + SIGKILL) << "the kill should land inside the run";
+  EXPECT_FALSE(std::filesystem::exists(dir / "killed" / "summary.json"));
+  const auto checkpoint = read_json(dir / "killed" / "checkpoint.json");
+  ASSERT_EQ(checkpoint["bodies"].size(), 2u);
+  EXPECT_EQ(checkpoint["bodies"][1]["name"], "medium");
+  const auto r = run_palpa("design scene.json -o killed --resume", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("resuming after iteration"), std::string::npos) << r.err;
+  const auto resumed = read_json(dir / "killed" / "summary.json");
+  EXPECT_EQ(resumed["objective_final"].get<double>(), straight["objective_final"].get<double>());
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(resumed["bodies"][i]["final"]["zeta_body"].get<double>(),
+              straight["bodies"][i]["final"]["zeta_body"].get<double>());
+  }
+  EXPECT_EQ(straight["cohort"]["sharpness"].get<double>(), 0.1);
+}
+
+TEST(DesignCohortCli, RefusesBadCohortsWithoutWritingAnything) {
+  ScratchDir dir;
+  const auto base = read_json(test::source_path("examples/design/cohort/scene.json"));
+  dir.write("medium.json", nlohmann::json{{"palpa_design", 1}, {"body", base["bodies"][1]["body"]}}.dump());
+  struct Case {
+    std::string name;
+    std::function<void(nlohmann::json&)> change;
+    std::vector<std::string> fragments;
+  };
+  const std::vector<Case> cases{
+      {"no body", [](auto& d) { d["bodies"] = nlohmann::json::array(); }, {"'bodies'", "at least one body"}},
+      {"twice", [](auto& d) { d["bodies"][1]["name"] = "small"; }, {"'bodies[1].name'", "a second body named 'small'"}},
+      {"both", [](auto& d) { d["bodies"][0]["scene"] = "medium.json"; }, {"'bodies[0]'", "either scene or body"}},
+      {"no scene", [](auto& d) { d["bodies"][0] = {{"name", "gone"}, {"scene", "gone.json"}}; }, {"gone.json"}},
+      {"objective", [](auto& d) { d["cohort"] = {{"objective", "median"}}; }, {"'cohort.objective'", "median"}},
+      {"quantile", [](auto& d) { d["cohort"] = {{"quantile", 0.9}}; }, {"'cohort.quantile'", "\"objective\": \"quantile\""}},
+      {"beside", [](auto& d) { d["body"] = d["bodies"][0]["body"]; }, {"'body'", "beside \"bodies\""}},
+      {"baselines", [](auto& d) { d["baselines"] = nlohmann::json::array(); }, {"'baselines'", "cohort"}},
+      {"member", [](auto& d) { d["bodies"][2]["body"]["edge"] = "-1 mm"; }, {"the cohort's body 'large'", "edge"}},
+      {"one body", [](auto& d) { d["body"] = d["bodies"][0]["body"]; d.erase("bodies"); }, {"'cohort'", "one body"}},
+  };
+  for (const Case& c : cases) {
+    auto doc = base;
+    c.change(doc);
+    dir.write("bad.json", doc.dump());
+    const auto r = run_palpa("design bad.json -o out", dir.path());
+    EXPECT_EQ(r.exit_code, 2) << c.name << ": " << r.err;
+    for (const std::string& f : c.fragments) EXPECT_NE(r.err.find(f), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out")) << c.name;
+  }
+  // A body from a scene file: its body and core, the cohort's support.
+  auto doc = base;
+  doc["bodies"][1] = {{"name", "medium"}, {"scene", "medium.json"}, {"core", base["bodies"][1]["core"]}};
+  doc["bodies"].erase(2);
+  doc["design"]["iterations"] = 0;
+  dir.write("from-file.json", doc.dump());
+  const auto r = run_palpa("design from-file.json -o out", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto s = read_json(dir / "out" / "summary.json");
+  EXPECT_NE(s["bodies"][1]["source"].get<std::string>().find("medium.json"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace palpa
