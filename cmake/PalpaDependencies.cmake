@@ -25,7 +25,7 @@ macro(palpa_require_found what)
   endforeach()
 endmacro()
 
-set(PALPA_PACKAGE_DEPENDENCIES Eigen CHOLMOD TBB Json Fmt Spdlog Ceres CGAL TetGen ZLIB)
+set(PALPA_PACKAGE_DEPENDENCIES Eigen CHOLMOD TBB Json Fmt Spdlog Ceres CGAL TetGen ZLIB MPI)
 foreach(_palpa_dep IN LISTS PALPA_PACKAGE_DEPENDENCIES)
   include(deps/${_palpa_dep})
 endforeach()

@@ -11,6 +11,7 @@
 # fresh clone or worktree reuses what an earlier build of the same sources
 # compiled.
 # pybind11, numpy and pytest: the Python module (`make python`) and its tests.
+# Open MPI spreads a cohort design over processes (mpirun, or srun on Slurm).
 # Snakemake runs the subject pipeline (workflow/Snakefile); Chromium (and PIL,
 # to look at its screenshots) opens the HTML reports in the tests.
 set -euo pipefail
@@ -23,6 +24,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libceres-dev zlib1g-dev
+  libopenmpi-dev openmpi-bin
   libopenblas0-pthread
   python3 python3-meshio
   python3-dev pybind11-dev python3-numpy python3-pytest

@@ -17,12 +17,15 @@
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/log.hpp"
+#include "palpa/core/ranks.hpp"
 #include "palpa/core/version.hpp"
 #include "palpa/solve/blas.hpp"
 
 namespace {
 
 int report(const palpa::Error& e) {
+  // Spread over processes, each says it once: rank 0.
+  if (!palpa::ranks::is_root()) return palpa::exit_code(e.kind());
   switch (e.kind()) {
     case palpa::ErrorKind::Input:
       fmt::print(stderr, "palpa: error: {}\n", e.what());
@@ -40,9 +43,26 @@ int report(const palpa::Error& e) {
   return palpa::exit_code(e.kind());
 }
 
+int run(int argc, char** argv);
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Launched by mpirun or srun: one of several processes (a cohort design
+  // spreads its bodies over them); otherwise no MPI at all.
+  try {
+    palpa::ranks::init(argc, argv);
+  } catch (const palpa::Error& e) {
+    return report(e);
+  }
+  const int code = run(argc, argv);
+  palpa::ranks::finalize(code);
+  return code;
+}
+
+namespace {
+
+int run(int argc, char** argv) {
   palpa::set_default_blas_threads();
   // No output of a run replaces a file it read as an input (input_file.hpp).
   palpa::guard_inputs(true);
@@ -92,6 +112,9 @@ int main(int argc, char** argv) {
       if (verbose == 1) v = palpa::Verbosity::Verbose;
       if (verbose >= 2) v = palpa::Verbosity::Trace;
       palpa::configure_logging(v);
+      // The other processes of an MPI run log only their errors: rank 0
+      // tells the story.
+      if (!palpa::ranks::is_root()) spdlog::set_level(spdlog::level::err);
       if (threads > 0) {
         thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                              static_cast<std::size_t>(threads));
@@ -116,3 +139,5 @@ int main(int argc, char** argv) {
   }
   return palpa::kExitOk;
 }
+
+}  // namespace

@@ -130,6 +130,52 @@ TEST(DesignCohortCli, ResumesAfterSigkillToTheSameResult) {
   EXPECT_EQ(straight["cohort"]["sharpness"].get<double>(), 0.1);
 }
 
+// Spread over two processes with MPI (body i on rank i mod 2), the design is
+// the one process's to the last bit: every number of the summary but the
+// times, and the shape to make.
+TEST(DesignCohortCli, TwoProcessesGiveTheSameDesignToTheLastBit) {
+  ScratchDir dir;
+  const std::string scene = test::shell_quote(test::source_path("examples/design/cohort/scene.json"));
+  const auto one = run_palpa("design " + scene + " -o one --iterations 2", dir.path());
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const auto two = test::run_palpa_mpi(2, "design " + scene + " -o two --iterations 2", dir.path());
+  ASSERT_EQ(two.exit_code, 0) << two.out << two.err;
+  EXPECT_NE(two.err.find("over 2 processes"), std::string::npos) << two.err;
+  EXPECT_EQ(test::read_text(dir / "two" / "support.obj"), test::read_text(dir / "one" / "support.obj"));
+  EXPECT_EQ(test::read_text(dir / "two" / "cohort.csv"), test::read_text(dir / "one" / "cohort.csv"));
+  // Every figure but the times.
+  const std::function<void(const nlohmann::json&, const nlohmann::json&, const std::string&)> same =
+      [&](const nlohmann::json& a, const nlohmann::json& b, const std::string& at) {
+        if (a.is_object()) {
+          for (const auto& [k, v] : a.items()) {
+            if (k.find("seconds") != std::string::npos || k == "iteration_per_equilibrium") continue;
+            ASSERT_TRUE(b.contains(k)) << at << "." << k;
+            same(v, b[k], at + "." + k);
+          }
+        } else if (a.is_array()) {
+          ASSERT_EQ(a.size(), b.size()) << at;
+          for (std::size_t i = 0; i < a.size(); ++i) same(a[i], b[i], fmt::format("{}[{}]", at, i));
+        } else {
+          EXPECT_EQ(a, b) << at;
+        }
+      };
+  same(read_json(dir / "one" / "summary.json"), read_json(dir / "two" / "summary.json"), "");
+  // More processes than bodies: refused, said once.
+  dir.write("one-body.json", R"({"palpa_design": 1,
+    "body": {"generate": {"shape": "sphere", "length": "60 mm"}, "edge": "7 mm", "depth": "8 mm",
+             "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
+             "position": ["0 mm", "0 mm", "31 mm"]},
+    "core": {"mass": "0.5 kg", "free": ["z"]},
+    "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 30}}})");
+  const auto refused = test::run_palpa_mpi(2, "design one-body.json -o three", dir.path());
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  const std::string said = "2 processes for 1 body";
+  const auto at = refused.err.find(said);
+  EXPECT_NE(at, std::string::npos) << refused.err;
+  EXPECT_EQ(refused.err.find(said, at + 1), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "three"));
+}
+
 TEST(DesignCohortCli, RefusesBadCohortsWithoutWritingAnything) {
   ScratchDir dir;
   const auto base = read_json(test::source_path("examples/design/cohort/scene.json"));

@@ -109,6 +109,13 @@ CommandResult run_palpa(const std::string& args, const std::filesystem::path& cw
   return run_shell(fmt::format("'{}' {}", palpa_binary(), args), cwd);
 }
 
+CommandResult run_palpa_mpi(int processes, const std::string& args, const std::filesystem::path& cwd) {
+  return run_shell(fmt::format("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np {} "
+                               "'{}' {}",
+                               processes, palpa_binary(), args),
+                   cwd);
+}
+
 CommandResult check_page_in_browser(const std::filesystem::path& page) {
   return run_shell(fmt::format("/usr/bin/python3 {} {}", shell_quote(source_path("tests/browser/check_page.py")),
                                shell_quote(page)),

@@ -66,6 +66,9 @@ struct CommandResult {
 };
 // Runs `palpa <args>` (args are passed to /bin/sh, quote as needed) in `cwd`.
 CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd = {});
+// Runs `mpirun -np <processes> palpa <args>` (Open MPI; allowed as root, as
+// CI runs).
+CommandResult run_palpa_mpi(int processes, const std::string& args, const std::filesystem::path& cwd = {});
 
 // Starts `palpa <args>` in `cwd` (output discarded) and kills it with SIGKILL
 // `seconds` after the start, as a crash or an out-of-memory killer would.

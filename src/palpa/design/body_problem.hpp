@@ -17,9 +17,11 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "palpa/core/error.hpp"
 #include "palpa/design/score.hpp"
 #include "palpa/rest/rest.hpp"
 
@@ -36,7 +38,20 @@ struct BodyEvaluation {
   Score score;
   double seconds = 0.0;
   double adjoint_seconds = 0.0;
+  // An error other than a failed equilibrium (Ctrl-C, a bad input), kept to
+  // be raised on every rank once the ranks have shared their bodies.
+  std::optional<ErrorKind> error;
 };
+
+// What the other ranks need of a body's evaluation, as bytes: ok, failure,
+// error, ζ and its parts, the deepest penetration, Newton iterations, the
+// stiffness, the times and (with `gradient`) dζ/dX. The state, the fields
+// and the pressures stay with the rank that solved it.
+std::string pack_shared(const BodyEvaluation& e, bool gradient);
+BodyEvaluation unpack_shared(const std::string& bytes);
+// A body's equilibrium as bytes (for the checkpoint, which rank 0 writes).
+std::string pack_state(const rest::RestState& s);
+rest::RestState unpack_state(const std::string& bytes);
 
 // A body as one member of a design: its name (empty for a one-body design),
 // as placed, and the rest settings it is solved with.

@@ -76,7 +76,8 @@ bool one_body(const DesignCheckpoint& c) { return c.bodies.size() == 1 && c.bodi
 
 BodyCheckpoint body_of(const JsonView& j, const BodyCheckpoint& like) {
   BodyCheckpoint b = like;
-  b.state = state_of(j.at("state"), like.state);
+  // (A body another rank holds: its state is that rank's to read.)
+  if (like.state.x.size() > 0) b.state = state_of(j.at("state"), like.state);
   if (const auto p = j.find("max_penetration")) b.max_penetration = p->as_number();
   if (const auto rf = j.find("refreeze_failed")) b.refreeze_failed = rf->as_bool();
   return b;

@@ -20,6 +20,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/core/ranks.hpp"
 #include "palpa/core/stopwatch.hpp"
 #include "palpa/design/checkpoint.hpp"
 #include "palpa/geometry/surface_operators.hpp"
@@ -208,6 +209,14 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
     throw Error(ErrorKind::Input, fmt::format("{} bodies on one support need a cohort objective", bodies.size()));
   }
   if (options_.cohort) cohort_value(*options_.cohort, Eigen::VectorXd::Ones(1));  // refuses bad settings now
+  // Spread over ranks (core/ranks.hpp): body i on rank i mod ranks, each rank
+  // with one body at least.
+  const int ranks = ranks::size();
+  if (static_cast<std::size_t>(ranks) > bodies.size()) {
+    throw Error(ErrorKind::Input, fmt::format("{} processes for {} bod{}: each process holds one body at least", ranks,
+                                              bodies.size(), bodies.size() == 1 ? "y" : "ies"),
+                {}, fmt::format("mpirun -np {} or fewer", bodies.size()));
+  }
   unit_move_ = 0.5 * std::min_element(bodies.begin(), bodies.end(), [](const DesignBody& a, const DesignBody& b) {
                        return a.rest.target_penetration < b.rest.target_penetration;
                      })->rest.target_penetration;
@@ -219,28 +228,50 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
   }
   threads = std::min(threads, static_cast<int>(options_.moves.size()));
 
-  // Each body's initial equilibrium, with the automatic contact stiffness.
+  // Each body's initial equilibrium, with the automatic contact stiffness, on
+  // the rank that holds it.
   const bool several = bodies.size() > 1;
-  for (DesignBody& b : bodies) {
-    const std::string name = b.name;
+  std::vector<BodyEvaluation> built(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    DesignBody& b = bodies[i];
+    names_.push_back(b.name);
+    rest_.push_back(b.rest);
+    owner_.push_back(static_cast<int>(i % static_cast<std::size_t>(ranks)));
+    if (owner_.back() != ranks::rank()) {
+      bodies_.push_back(nullptr);
+      continue;
+    }
+    built[i].ok = true;
     try {
       bodies_.push_back(std::make_unique<BodyProblem>(std::move(b), support, options_.score, threads,
                                                       kTrialNewtonIterations));
+      equilibrium_seconds_ += bodies_.back()->equilibrium_seconds();
     } catch (const Error& e) {
-      // A cohort's failure names its body; the run stops there.
-      if (!several || e.kind() == ErrorKind::Interrupted) throw;
-      throw Error(e.kind(), fmt::format("the body '{}': {}", name, e.what()));
+      if (ranks == 1) {
+        // A cohort's failure names its body; the run stops there.
+        if (!several || e.kind() == ErrorKind::Interrupted) throw;
+        throw Error(e.kind(), fmt::format("the body '{}': {}", names_.back(), e.what()));
+      }
+      built[i].error = e.kind();
+      built[i].failure = e.what();
+      bodies_.push_back(nullptr);
     }
-    equilibrium_seconds_ += bodies_.back()->equilibrium_seconds();
   }
-  BodyProblem& first = *bodies_.front();
+  if (ranks > 1) {
+    share(built, false);
+    for (std::size_t i = 0; i < built.size(); ++i) {
+      if (built[i].error) throw Error(*built[i].error, fmt::format("the body '{}': {}", names_[i], built[i].failure));
+    }
+  }
+  BodyProblem& first = *bodies_[static_cast<std::size_t>(ranks::rank())];
   const Eigen::MatrixX3d X0 = first.simulation().support_rest_vertices();
   // A deformable support's base stays where it is.
   std::erase_if(design_vertices, [&](int v) { return first.simulation().support_vertex_fixed(v); });
   if (design_vertices.empty()) {
     throw Error(ErrorKind::Input, "no support vertex may move: the design region holds only the support's fixed base");
   }
-  const Eigen::MatrixX3i& F = first.simulation().support().triangles();
+  F_ = first.simulation().support().triangles();
+  const Eigen::MatrixX3i& F = F_;
   const double radius = options_.filter_radius.value_or(kFilterEdges * design_edge_length(SurfaceMesh{X0, F}, design_vertices));
   space_ = std::make_unique<DesignSpace>(X0, F, std::move(design_vertices), options_.normal_only, radius);
   smoothness_ = std::make_unique<Smoothness>(F, X0.rows(), space_->vertices(), options_.taubin_iterations);
@@ -248,7 +279,7 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
   // γ: γψ = ζ on the initial shape (a cohort's aggregate: 1), times 10^j.
   const double zeta0 = options_.cohort ? 1.0 : first.score().evaluate(first.simulation(), false).zeta;
   std::vector<rest::RestState> s0;
-  for (const auto& b : bodies_) s0.push_back(b->initial_state());
+  for (const auto& b : bodies_) s0.push_back(b ? b->initial_state() : rest::RestState{});
   initial_ = evaluate(X0, s0, true, 0);
   if (!initial_.ok) throw Error(ErrorKind::Solver, "the initial shape: " + initial_.failure);
   // Each body's own ζ on the initial shape: a cohort's normalization.
@@ -258,7 +289,7 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
     if (options_.cohort && !(initial_.bodies[i].zeta > 0.0)) {
       throw Error(ErrorKind::Input, fmt::format("the body '{}' does not touch the initial support (ζ = 0): a cohort "
                                                 "normalizes each body's score by its value there",
-                                                bodies_[i]->name()));
+                                                names_[i]));
     }
   }
 
@@ -288,12 +319,26 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
 
 ShapeOptimizer::~ShapeOptimizer() = default;
 
+BodyProblem& ShapeOptimizer::body(std::size_t i) {
+  if (!bodies_.at(i)) {
+    throw Error(ErrorKind::Internal, fmt::format("the body '{}' is held by rank {}", names_[i], owner_[i]));
+  }
+  return *bodies_[i];
+}
+
+BodyProblem& ShapeOptimizer::simulation_body() {
+  for (auto& b : bodies_) {
+    if (b) return *b;
+  }
+  throw Error(ErrorKind::Internal, "this rank holds no body");
+}
+
 void ShapeOptimizer::combine(Evaluation& ev, const Eigen::MatrixX3d* dpsi) const {
   ev.ok = true;
   for (std::size_t i = 0; i < ev.bodies.size(); ++i) {
     if (ev.bodies[i].ok) continue;
     ev.ok = false;
-    ev.failure = bodies_.size() > 1 ? fmt::format("body '{}': {}", bodies_[i]->name(), ev.bodies[i].failure)
+    ev.failure = bodies_.size() > 1 ? fmt::format("body '{}': {}", names_[i], ev.bodies[i].failure)
                                     : ev.bodies[i].failure;
     return;
   }
@@ -327,39 +372,84 @@ Evaluation ShapeOptimizer::evaluate(const Eigen::MatrixX3d& X, const std::vector
   // would oversubscribe the cores.
   std::optional<ScopedBlasThreads> blas;
   if (bodies_.size() > 1) blas.emplace(1);
-  return evaluate_on(X, warm, gradient, slot);
+  Pending p = evaluate_local(X, warm, gradient, slot);
+  finish(p);
+  return std::move(p.ev);
 }
 
-Evaluation ShapeOptimizer::evaluate_on(const Eigen::MatrixX3d& X, const std::vector<rest::RestState>& warm,
-                                       bool gradient, int slot) {
+ShapeOptimizer::Pending ShapeOptimizer::evaluate_local(const Eigen::MatrixX3d& X,
+                                                       const std::vector<rest::RestState>& warm, bool gradient,
+                                                       int slot) {
   const auto t0 = Clock::now();
-  Evaluation ev;
+  Pending p;
+  p.gradient = gradient;
+  Evaluation& ev = p.ev;
   ev.support = X;
   if (warm.size() != bodies_.size()) {
     throw Error(ErrorKind::Internal, fmt::format("{} warm starts for {} bodies", warm.size(), bodies_.size()));
   }
   // A shape that crosses itself cannot be made (nor solved from scratch):
-  // the trial fails, and a shorter step is tried.
-  if (const auto crossing = contact::detail::self_intersections(X, simulation().support().triangles(), 1); crossing.pairs > 0) {
+  // the trial fails, and a shorter step is tried. (Every rank finds the same.)
+  if (const auto crossing = contact::detail::self_intersections(X, F_, 1); crossing.pairs > 0) {
     ev.failure = fmt::format("the support would cross itself (triangles {} and {})", crossing.first, crossing.second);
+    p.crossed = true;
     ev.seconds = seconds_since(t0);
-    return ev;
+    return p;
   }
   ev.bodies.resize(bodies_.size());
-  if (bodies_.size() == 1) {
-    ev.bodies[0] = bodies_[0]->evaluate(X, warm[0], gradient, slot);
+  // This rank's bodies at once, each on its own simulation; each body's
+  // result does not depend on how many are solved beside it. Spread over
+  // ranks, an error is kept and raised once every rank has shared its bodies.
+  const bool spread = ranks::size() > 1;
+  std::vector<std::size_t> mine;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (bodies_[i]) mine.push_back(i);
+  }
+  const auto one = [&](std::size_t i) {
+    if (!spread) {
+      ev.bodies[i] = bodies_[i]->evaluate(X, warm[i], gradient, slot);
+      return;
+    }
+    try {
+      ev.bodies[i] = bodies_[i]->evaluate(X, warm[i], gradient, slot);
+    } catch (const Error& e) {
+      ev.bodies[i].error = e.kind();
+      ev.bodies[i].failure = e.what();
+    } catch (const std::exception& e) {
+      ev.bodies[i].error = ErrorKind::Internal;
+      ev.bodies[i].failure = e.what();
+    }
+  };
+  if (mine.size() == 1) {
+    one(mine.front());
   } else {
-    // The bodies at once, each on its own simulation; each body's result does
-    // not depend on how many are solved beside it.
-    tbb::parallel_for(std::size_t{0}, bodies_.size(),
-                      [&](std::size_t i) { ev.bodies[i] = bodies_[i]->evaluate(X, warm[i], gradient, slot); });
+    tbb::parallel_for(std::size_t{0}, mine.size(), [&](std::size_t k) { one(mine[k]); });
+  }
+  ev.psi = smoothness_ ? smoothness_->evaluate(X, gradient ? &p.dpsi : nullptr) : 0.0;
+  ev.seconds = seconds_since(t0);
+  return p;
+}
+
+void ShapeOptimizer::share(std::vector<BodyEvaluation>& bodies, bool gradient) const {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    std::string bytes;
+    if (bodies_[i]) bytes = pack_shared(bodies[i], gradient);
+    ranks::broadcast(bytes, owner_[i]);
+    if (!bodies_[i]) bodies[i] = unpack_shared(bytes);
+  }
+}
+
+void ShapeOptimizer::finish(Pending& p) const {
+  Evaluation& ev = p.ev;
+  if (p.crossed) return;
+  if (ranks::size() > 1) {
+    share(ev.bodies, p.gradient);
+    for (std::size_t i = 0; i < ev.bodies.size(); ++i) {
+      if (ev.bodies[i].error) throw Error(*ev.bodies[i].error, ev.bodies[i].failure);
+    }
   }
   for (const BodyEvaluation& b : ev.bodies) ev.adjoint_seconds += b.adjoint_seconds;
-  Eigen::MatrixX3d dpsi;
-  ev.psi = smoothness_ ? smoothness_->evaluate(X, gradient ? &dpsi : nullptr) : 0.0;
-  combine(ev, gradient ? &dpsi : nullptr);
-  ev.seconds = seconds_since(t0);
-  return ev;
+  combine(ev, p.gradient ? &p.dpsi : nullptr);
 }
 
 Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support, const rest::RestOptions& rest,
@@ -394,16 +484,23 @@ Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& sup
 
 std::vector<Evaluation> ShapeOptimizer::evaluate_all(const std::vector<Eigen::MatrixX3d>& shapes,
                                                      const std::vector<rest::RestState>& warm) {
-  std::vector<Evaluation> out(shapes.size());
-  const int slots = bodies_.front()->slots();
+  std::vector<Pending> pending(shapes.size());
+  const int slots = simulation_body().slots();
   // The trials factor concurrently, one per core: a multi-threaded BLAS under
   // each of them would oversubscribe the cores.
   const ScopedBlasThreads one_blas_thread(slots > 1 || bodies_.size() > 1 ? 1 : blas_threads());
   tbb::parallel_for(0, slots, [&](int s) {
     for (std::size_t i = static_cast<std::size_t>(s); i < shapes.size(); i += static_cast<std::size_t>(slots)) {
-      out[i] = evaluate_on(shapes[i], warm, true, s);
+      pending[i] = evaluate_local(shapes[i], warm, true, s);
     }
   });
+  // Shared between the ranks, one shape after another, from this thread.
+  std::vector<Evaluation> out;
+  out.reserve(shapes.size());
+  for (Pending& p : pending) {
+    finish(p);
+    out.push_back(std::move(p.ev));
+  }
   return out;
 }
 
@@ -439,7 +536,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     c.gradient = g;
     c.steepest = steepest;
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
-      c.bodies.push_back({bodies_[i]->name(), base.bodies[i].state, base.bodies[i].rest.max_penetration,
+      c.bodies.push_back({names_[i], base.bodies[i].state, base.bodies[i].rest.max_penetration,
                           refreeze_failed[i]});
     }
     c.phi = base.phi;
@@ -480,7 +577,16 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   auto save = [&](int iteration) {
     accepted_ = base.support;
     if (options_.checkpoint.empty()) return;
-    write_json_file(options_.checkpoint, checkpoint_json(checkpoint(iteration)));
+    DesignCheckpoint c = checkpoint(iteration);
+    // Rank 0 writes it, with every body's state from the rank that holds it.
+    for (std::size_t i = 0; i < bodies_.size() && ranks::size() > 1; ++i) {
+      if (owner_[i] == 0) continue;
+      std::string bytes;
+      if (bodies_[i]) bytes = pack_state(c.bodies[i].state);
+      ranks::broadcast(bytes, owner_[i]);
+      if (ranks::is_root()) c.bodies[i].state = unpack_state(bytes);
+    }
+    if (ranks::is_root()) write_json_file(options_.checkpoint, checkpoint_json(c));
   };
 
   // The contact model follows the design: when an accepted shape's deepest
@@ -489,8 +595,11 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   // them, and φ and its gradient are measured again with them; the search
   // direction restarts. So the optimizer's φ stays the from-scratch φ within
   // that band, and it cannot gain by letting the frozen springs sink deeper.
+  // (Each body's band is its own rank's to judge.)
   auto out_of_band_body = [&](const Evaluation& e, std::size_t i) {
-    return !refreeze_failed[i] && bodies_[i]->out_of_band(e.bodies[i].rest.max_penetration);
+    if (refreeze_failed[i]) return false;
+    const bool out = bodies_[i] && bodies_[i]->out_of_band(e.bodies[i].rest.max_penetration);
+    return ranks::broadcast_flag(out, owner_[i]);
   };
   auto out_of_band = [&](const Evaluation& e) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -499,24 +608,40 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     return false;
   };
   auto named = [&](std::size_t i) {
-    return bodies_.size() > 1 ? fmt::format(" (body '{}')", bodies_[i]->name()) : std::string();
+    return bodies_.size() > 1 ? fmt::format(" (body '{}')", names_[i]) : std::string();
   };
   auto refreeze = [&](int it) {
     std::vector<rest::RestState> warm = base.states();
     std::vector<std::size_t> chosen;
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
       if (!out_of_band_body(base, i)) continue;
-      try {
-        const rest::RestResult r = bodies_[i]->refreeze(base.support, base.bodies[i].state);
+      // On the rank that holds the body; what came of it, to every rank:
+      // its Newton iterations, or why it failed (an error other than a
+      // failed solve is raised on every rank).
+      std::string outcome;
+      if (bodies_[i]) {
+        try {
+          const rest::RestResult r = bodies_[i]->refreeze(base.support, base.bodies[i].state);
+          warm[i] = bodies_[i]->simulation().state();
+          outcome = fmt::format("ok {}", r.newton_iterations);
+        } catch (const Error& e) {
+          if (ranks::size() == 1 && e.kind() != ErrorKind::Solver) throw;
+          outcome = e.kind() == ErrorKind::Solver ? fmt::format("failed {}", e.what())
+                                                  : fmt::format("error{} {}", static_cast<int>(e.kind()), e.what());
+        }
+      }
+      ranks::broadcast(outcome, owner_[i]);
+      if (outcome.starts_with("ok ")) {
         ++result.evaluations;
-        result.newton_iterations += r.newton_iterations;
-        warm[i] = bodies_[i]->simulation().state();
+        result.newton_iterations += std::stoi(outcome.substr(3));
         chosen.push_back(i);
-      } catch (const Error& e) {
-        if (e.kind() != ErrorKind::Solver) throw;
+      } else if (outcome.starts_with("failed ")) {
         spdlog::warn("design: the contact model could not be chosen anew at iteration {}{} ({}); it stays frozen", it,
-                     named(i), e.what());
+                     named(i), outcome.substr(7));
         refreeze_failed[i] = true;
+      } else {
+        const std::size_t space = outcome.find(' ');
+        throw Error(static_cast<ErrorKind>(std::stoi(outcome.substr(5, space - 5))), outcome.substr(space + 1));
       }
     }
     if (chosen.empty()) return;
@@ -531,7 +656,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     for (std::size_t i : chosen) {
       spdlog::info("design: iteration {}{}: penetration {:.2f}× the target, contact stiffness chosen anew: "
                    "k {:.4g} → {:.4g}",
-                   it, named(i), base.bodies[i].rest.max_penetration / bodies_[i]->rest_options().target_penetration,
+                   it, named(i), base.bodies[i].rest.max_penetration / rest_[i].target_penetration,
                    base.bodies[i].state.stiffness, again.bodies[i].state.stiffness);
     }
     spdlog::info("design: iteration {}: φ {:.6g} → {:.6g} with the contact model chosen anew", it, base.phi, again.phi);
@@ -749,7 +874,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   ++result.evaluations;
   if (!result.final.ok) throw Error(ErrorKind::Solver, "the optimized shape: " + result.final.failure);
   if (options_.post_smoothing > 0) {
-    SurfaceMesh m{base.support, simulation().support().triangles()};
+    SurfaceMesh m{base.support, F_};
     std::vector<bool> movable(static_cast<std::size_t>(m.V.rows()), false);
     for (int v : space_->vertices()) movable[static_cast<std::size_t>(v)] = true;
     mesh::taubin_smooth(m, options_.post_smoothing, &movable);

@@ -221,11 +221,14 @@ class ShapeOptimizer {
   // The support of the last accepted iteration (empty before the first): what
   // an interrupted run has to show.
   const Eigen::MatrixX3d& last_accepted() const noexcept { return accepted_; }
-  std::size_t num_bodies() const noexcept { return bodies_.size(); }
-  BodyProblem& body(std::size_t i = 0) { return *bodies_.at(i); }
-  const BodyProblem& body(std::size_t i = 0) const { return *bodies_.at(i); }
-  // The first body's simulation `slot`.
-  rest::RestSimulation& simulation(int slot = 0) { return body().simulation(slot); }
+  std::size_t num_bodies() const noexcept { return names_.size(); }
+  const std::string& body_name(std::size_t i) const { return names_.at(i); }
+  // Whether this rank holds body i (every body without MPI), and it.
+  bool holds(std::size_t i) const { return bodies_.at(i) != nullptr; }
+  BodyProblem& body(std::size_t i = 0);
+  // Simulation `slot` of the first body this rank holds (rank 0: the first
+  // body).
+  rest::RestSimulation& simulation(int slot = 0) { return simulation_body().simulation(slot); }
   // Each body's ζ on the initial shape: what a cohort normalizes by.
   const Eigen::VectorXd& initial_zeta() const noexcept { return zeta0_; }
 
@@ -239,23 +242,40 @@ class ShapeOptimizer {
   // baselines).
   Evaluation solve_from_scratch(const rest::RestBody& body, const SurfaceMesh& support,
                                 std::unique_ptr<rest::RestSimulation>* keep = nullptr, std::size_t i = 0) const {
-    return design::solve_from_scratch(body, support, bodies_.at(i)->rest_options(), options_.score, keep);
+    rest::RestOptions o = rest_.at(i);
+    o.log_solves = false;
+    return design::solve_from_scratch(body, support, o, options_.score, keep);
   }
 
   // The optimization. progress: called after every iteration.
   DesignResult run(const std::function<void(const IterationRecord&)>& progress = {});
 
  private:
-  // evaluate, leaving the BLAS's threads as they are (a caller running in
-  // parallel has set them).
-  Evaluation evaluate_on(const Eigen::MatrixX3d& X, const std::vector<rest::RestState>& warm, bool gradient, int slot);
+  // An evaluation as this rank solves it (its bodies), before the ranks
+  // share their bodies (finish): evaluate in two steps, so that the solves
+  // of several shapes run at once and MPI is called from one thread.
+  struct Pending {
+    Evaluation ev;
+    Eigen::MatrixX3d dpsi;
+    bool gradient = false;
+    bool crossed = false;  // the shape crosses itself: failed on every rank
+  };
+  Pending evaluate_local(const Eigen::MatrixX3d& X, const std::vector<rest::RestState>& warm, bool gradient, int slot);
+  void finish(Pending& p) const;
+  // Every body's shared figures from the rank that holds it (pack_shared).
+  void share(std::vector<BodyEvaluation>& bodies, bool gradient) const;
+  BodyProblem& simulation_body();
   std::vector<Evaluation> evaluate_all(const std::vector<Eigen::MatrixX3d>& shapes,
                                        const std::vector<rest::RestState>& warm);
   // zeta, phi and the gradient of e from its bodies' (ok when all are).
   void combine(Evaluation& e, const Eigen::MatrixX3d* dpsi) const;
 
   DesignOptions options_;
-  std::vector<std::unique_ptr<BodyProblem>> bodies_;
+  std::vector<std::string> names_;        // every body's
+  std::vector<rest::RestOptions> rest_;   // every body's rest settings (solves from scratch)
+  std::vector<int> owner_;                // the rank that holds each body
+  std::vector<std::unique_ptr<BodyProblem>> bodies_;  // null where another rank holds it
+  Eigen::MatrixX3i F_;                    // the support's triangles
   std::unique_ptr<Smoothness> smoothness_;
   std::unique_ptr<DesignSpace> space_;
   Eigen::VectorXd zeta0_;

@@ -7,6 +7,7 @@
 
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/ranks.hpp"
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/termination.hpp"
 #include "palpa/design/cohort_output.hpp"
@@ -35,20 +36,9 @@ bool can_go_on(const std::filesystem::path& summary, const std::filesystem::path
   return false;
 }
 
-}  // namespace
-
-std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
-  const std::filesystem::path& out = run.out;
-  const std::filesystem::path checkpoint = out / "checkpoint.json";
-  const std::filesystem::path finished = out / "summary.json";
-  bool resume = run.resume;
-  // --resume where there is nothing to resume starts afresh, so that a
-  // workflow can always pass it.
-  if (resume && !std::filesystem::exists(checkpoint)) {
-    spdlog::info("design: no checkpoint in {}: starting afresh", out.string());
-    resume = false;
-  }
-  if (!resume && !run.overwrite) require_empty_output(out, "design run");
+// The scene as the run takes it: with --start, --iterations, --threads and
+// --method applied.
+DesignScene read_run_scene(const DesignRun& run) {
   std::optional<Json> doc = run.scene_json;
   if (run.start) {
     if (!doc) doc = read_json_file(run.scene);
@@ -69,12 +59,30 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
   if (run.iterations) scene.options.max_iterations = *run.iterations;
   if (run.threads) scene.options.threads = *run.threads;
   if (run.method) scene.options.method = *run.method;
+  scene.options.checkpoint = run.out / "checkpoint.json";
+  return scene;
+}
+
+// The output folder made ready and the scene read: whether the run resumes,
+// or nothing (a finished run left as it is).
+std::optional<DesignScene> prepare(const DesignRun& run) {
+  const std::filesystem::path& out = run.out;
+  const std::filesystem::path checkpoint = out / "checkpoint.json";
+  const std::filesystem::path finished = out / "summary.json";
+  bool resume = run.resume;
+  // --resume where there is nothing to resume starts afresh, so that a
+  // workflow can always pass it.
+  if (resume && !std::filesystem::exists(checkpoint)) {
+    spdlog::info("design: no checkpoint in {}: starting afresh", out.string());
+    resume = false;
+  }
+  if (!resume && !run.overwrite) require_empty_output(out, "design run");
+  DesignScene scene = read_run_scene(run);
   // A finished run is resumed only to go on past the iteration limit it
   // stopped at; otherwise it is left exactly as it is.
   if (resume && std::filesystem::exists(finished) && !can_go_on(finished, out, scene.options.max_iterations)) {
     return std::nullopt;
   }
-  scene.options.checkpoint = checkpoint;
   scene.options.resume = resume;
   if (!resume) {
     // A fresh run leaves no result of an earlier one that could pass for its own.
@@ -83,6 +91,47 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
     std::filesystem::remove(finished, ec);
   }
   fit_sit_and_relax_start(scene);
+  return scene;
+}
+
+// prepare() on rank 0, which alone touches the output folder; the other
+// ranks learn how it went (fresh, resumed, finished, or its error) and read
+// the scene themselves.
+std::optional<DesignScene> prepare_on_ranks(const DesignRun& run) {
+  if (ranks::size() == 1) return prepare(run);
+  std::string status;
+  std::optional<DesignScene> scene;
+  if (ranks::is_root()) {
+    try {
+      scene = prepare(run);
+      status = !scene ? "done" : scene->options.resume ? "resume" : "fresh";
+    } catch (const Error& e) {
+      status = fmt::format("error{} {}", static_cast<int>(e.kind()), e.what());
+      ranks::broadcast(status, 0);
+      throw;
+    }
+  }
+  ranks::broadcast(status, 0);
+  if (ranks::is_root()) return scene;
+  if (status.starts_with("error")) {
+    const std::size_t space = status.find(' ');
+    throw Error(static_cast<ErrorKind>(std::stoi(status.substr(5, space - 5))), status.substr(space + 1));
+  }
+  if (status == "done") return std::nullopt;
+  scene = read_run_scene(run);
+  scene->options.resume = status == "resume";
+  return scene;
+}
+
+}  // namespace
+
+std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
+  const std::filesystem::path& out = run.out;
+  const std::filesystem::path checkpoint = out / "checkpoint.json";
+  std::optional<DesignScene> prepared = prepare_on_ranks(run);
+  if (!prepared) return std::nullopt;
+  DesignScene& scene = *prepared;
+  const bool resume = scene.options.resume;
   const bool cohort = !scene.cohort.empty();
   if (!scene.start.empty()) {
     spdlog::info("design: starting from the baseline '{}' (the scene's own support, {}, is scored beside it)",
@@ -95,9 +144,10 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
                    m.rest.body_source, m.rest.body.mesh.V.rows(), m.rest.body.mesh.T.rows());
       bodies.push_back(DesignBody{m.name, m.rest.body, m.rest.options});
     }
-    spdlog::info("design: one support for {} bodies ({} of their scores): support {} ({} vertices), {}",
-                 bodies.size(), to_string(scene.options.cohort->aggregate), scene.rest.support_source,
-                 scene.rest.support.V.rows(), scene.region);
+    spdlog::info("design: one support for {} bodies ({} of their scores{}): support {} ({} vertices), {}",
+                 bodies.size(), to_string(scene.options.cohort->aggregate),
+                 ranks::size() > 1 ? fmt::format(", over {} processes", ranks::size()) : std::string(),
+                 scene.rest.support_source, scene.rest.support.V.rows(), scene.region);
   } else {
     spdlog::info("design: {}: body from {} ({} vertices, {} tetrahedra), support {} ({} vertices), {}",
                  run.scene.string(), scene.rest.body_source, scene.rest.body.mesh.V.rows(),
@@ -108,13 +158,19 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
   if (cohort) {
     std::vector<std::string> each;
     for (std::size_t i = 0; i < optimizer.num_bodies(); ++i) {
-      each.push_back(fmt::format("{} {:.6g}", optimizer.body(i).name(), optimizer.initial_zeta()[static_cast<Eigen::Index>(i)]));
+      each.push_back(fmt::format("{} {:.6g}", optimizer.body_name(i), optimizer.initial_zeta()[static_cast<Eigen::Index>(i)]));
     }
     spdlog::info("design: initial shape: each body's ζ {}; γ = {:.4g}, φ = {:.6g}; {} design variables",
                  fmt::join(each, ", "), optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
   } else {
     spdlog::info("design: initial shape: ζ = {:.6g}, γ = {:.4g}, φ = {:.6g}; {} design variables",
                  optimizer.initial().zeta, optimizer.gamma(), optimizer.initial().phi, optimizer.space().size());
+  }
+  // The other ranks solve their bodies with rank 0 until the run ends; rank
+  // 0 alone writes (the checkpoint during the run, then the outputs).
+  if (!ranks::is_root()) {
+    optimizer.run();
+    return std::nullopt;
   }
   // Only now: bad input leaves nothing behind.
   OutputFolder folder(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
