@@ -9,6 +9,10 @@ for b in "$build"/bench/palpa_bench_*; do
   found=1
   "$b"
 done
+# A cohort design on one process and over MPI ranks (whole commands).
+if [[ -x "$build/apps/palpa/palpa" ]] && command -v mpirun >/dev/null; then
+  /usr/bin/python3 "$(dirname "$0")/cohort_ranks.py" --palpa "$build/apps/palpa/palpa"
+fi
 # The Python module's call overhead, when the module was built.
 if [[ -d "$build/python/palpa" ]]; then
   PYTHONPATH="$build/python" /usr/bin/python3 "$(dirname "$0")/python_overhead.py"

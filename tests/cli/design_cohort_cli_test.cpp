@@ -176,6 +176,34 @@ TEST(DesignCohortCli, TwoProcessesGiveTheSameDesignToTheLastBit) {
   EXPECT_FALSE(std::filesystem::exists(dir / "three"));
 }
 
+// The Slurm example, with srun standing in as mpirun over the job's tasks:
+// it runs the design over them, and submitted again it finds the run
+// finished and leaves it as it is.
+TEST(DesignCohortCli, TheSlurmExampleRunsUnderSrunAndResumes) {
+  ScratchDir dir;
+  auto doc = read_json(test::source_path("examples/design/cohort/scene.json"));
+  doc["bodies"].erase(2);
+  doc["design"]["iterations"] = 1;
+  dir.write("cohort.json", doc.dump());
+  std::filesystem::create_directories(dir / "bin");
+  dir.write("bin/srun", "#!/bin/sh\nexec mpirun --oversubscribe -np \"$SLURM_NTASKS\" \"$@\"\n");
+  std::filesystem::permissions(dir / "bin" / "srun", std::filesystem::perms::owner_all);
+  const std::string job = fmt::format(
+      "cd {} && PATH={}:$PATH PALPA={} SLURM_NTASKS=2 SLURM_CPUS_PER_TASK=1 OMPI_ALLOW_RUN_AS_ROOT=1 "
+      "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 bash {} cohort.json designed",
+      test::shell_quote(dir.path()), test::shell_quote(dir / "bin"), test::shell_quote(test::palpa_binary()),
+      test::shell_quote(test::source_path("workflow/slurm/cohort-design.sbatch")));
+  const auto first = test::run_shell(job, dir.path());
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_NE(first.err.find("over 2 processes"), std::string::npos) << first.err;
+  const auto s = read_json(dir / "designed" / "summary.json");
+  EXPECT_EQ(s["bodies"].size(), 2u);
+  EXPECT_EQ(s["iterations"], 1);
+  const auto again = test::run_shell(job, dir.path());
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("is finished (1 iterations"), std::string::npos) << again.err;
+}
+
 TEST(DesignCohortCli, RefusesBadCohortsWithoutWritingAnything) {
   ScratchDir dir;
   const auto base = read_json(test::source_path("examples/design/cohort/scene.json"));

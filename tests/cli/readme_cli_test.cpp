@@ -144,7 +144,7 @@ bool long_example(const std::string& command) {
        {"--mesh-level 3 --vtu frames", "examples/sim3d/punch/scene.json",
         "examples/rest/chair/flat.json", "examples/rest/foot/negative-image.json",
         "examples/rest/mouse/", "examples/design/thigh/scene.json", "examples/design/chair/",
-        "examples/design/shoe/", "examples/design/mouse/", "examples/design/deformable-chair/",
+        "examples/design/shoe/", "examples/design/mouse/", "examples/design/deformable-chair/", "examples/design/cohort/",
         "-full/scene.json"}) {
     if (command.find(scene) != std::string::npos) return true;
   }

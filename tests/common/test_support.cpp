@@ -86,8 +86,6 @@ std::string read_text(const std::filesystem::path& path) {
   return s.str();
 }
 
-namespace {
-
 CommandResult run_shell(const std::string& command, const std::filesystem::path& cwd) {
   ScratchDir capture;
   const auto out = capture / "stdout";
@@ -102,8 +100,6 @@ CommandResult run_shell(const std::string& command, const std::filesystem::path&
   r.err = read_text(err);
   return r;
 }
-
-}  // namespace
 
 CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd) {
   return run_shell(fmt::format("'{}' {}", palpa_binary(), args), cwd);

@@ -64,6 +64,8 @@ struct CommandResult {
   std::string out;
   std::string err;
 };
+// Runs a /bin/sh command line in `cwd`.
+CommandResult run_shell(const std::string& command, const std::filesystem::path& cwd = {});
 // Runs `palpa <args>` (args are passed to /bin/sh, quote as needed) in `cwd`.
 CommandResult run_palpa(const std::string& args, const std::filesystem::path& cwd = {});
 // Runs `mpirun -np <processes> palpa <args>` (Open MPI; allowed as root, as

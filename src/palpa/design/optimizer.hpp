@@ -35,6 +35,19 @@
 // (tet::ElasticModel::rest_gradient_product). Its fixed base never moves.
 // Both cases live in rest::RestSimulation::shape_derivative().
 //
+// A cohort (DesignOptions::cohort): several bodies on one support, each a
+// BodyProblem (design/body_problem.hpp) with its own simulations, contact
+// model and refreezes; φ's score term is the cohort's aggregate of each
+// body's ζ over its value on the initial shape (design/cohort.hpp), and
+// dφ/dX the weighted sum of the bodies' adjoint gradients, summed in the
+// bodies' order. Bodies are solved at once, and across MPI ranks
+// (core/ranks.hpp) body i lives on rank i mod ranks: each rank solves its
+// bodies and sends the others what φ and dφ/dX need (pack_shared), so that
+// every rank takes the same steps on the same numbers; rank 0 writes the
+// checkpoint, with every body's state. A body's result does not depend on
+// where or beside what it was solved: the design is bit for bit the same on
+// any number of ranks.
+//
 // Design variables θ: moves of the design vertices (a region of the
 // support), either free in 3D (3 per vertex) or only along their initial
 // normals (1 per vertex, so the outline stays put), smoothed by the design
