@@ -28,7 +28,7 @@ nlohmann::json read_json(const std::filesystem::path& p) { return nlohmann::json
 TEST(DesignCohortCli, OneSupportLowersEveryBodysScoreAndDrawsEachBody) {
   ScratchDir dir;
   const std::string scene = test::shell_quote(test::source_path("examples/design/cohort/scene.json"));
-  const auto r = run_palpa("design " + scene + " -o out --iterations 5", dir.path());
+  const auto r = run_palpa("design " + scene + " -o out --iterations 4", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::filesystem::path out = dir / "out";
   for (const char* f : {"support.obj", "support_mm.stl", "cohort.csv", "cohort.svg", "score.svg", "report.html",
@@ -67,11 +67,23 @@ TEST(DesignCohortCli, OneSupportLowersEveryBodysScoreAndDrawsEachBody) {
     EXPECT_NEAR(test::number_after(pic.caption_text(), "map force "), force, 5e-3 * force) << pic.caption_text();
   }
   EXPECT_NEAR(s["mean_zeta_body_ratio"].get<double>(), mean, 1e-12);
+  // Each body's own design beside it (the scene asks for them): the price of
+  // one support for all, each figure from scratch.
+  double own = 0.0;
+  for (const auto& b : s["bodies"]) {
+    const double alone = b["own_design"]["zeta_body_ratio"].get<double>();
+    EXPECT_LT(alone, 0.85) << b["name"];
+    EXPECT_EQ(b["own_design"]["iterations"], 4) << b["name"];
+    own += alone / 3.0;
+  }
+  EXPECT_NEAR(s["own_designs"]["mean_zeta_body_ratio"].get<double>(), own, 1e-12);
+  EXPECT_NEAR(s["own_designs"]["price_of_one_support"].get<double>(), mean / own, 1e-12);
   EXPECT_NEAR(s["objective_final"].get<double>(), objective, 1e-12);
   // The optimizer's view and the solves from scratch agree within 5%.
   EXPECT_NEAR(s["optimizer"]["objective_final"].get<double>() / s["objective_final"].get<double>(), 1.0, 0.05);
   // The table across the cohort, one row per body, named in its comments.
   const std::string csv = test::read_text(out / "cohort.csv");
+  EXPECT_NE(csv.find("zeta_body_ratio_own_design"), std::string::npos) << csv;
   EXPECT_NE(csv.find("# bodies: 1 small, 2 medium, 3 large"), std::string::npos) << csv;
   EXPECT_NE(csv.find("body,zeta_body_initial,zeta_body_final,zeta_body_ratio,peak_initial_kPa"), std::string::npos)
       << csv;
@@ -81,9 +93,10 @@ TEST(DesignCohortCli, OneSupportLowersEveryBodysScoreAndDrawsEachBody) {
   EXPECT_NE(spread.find(fmt::format("mean {:.3f}", mean)), std::string::npos);
   EXPECT_NE(test::read_text(out / "report.html").find("The body 'large'"), std::string::npos);
   EXPECT_NE(r.err.find("one support for 3 bodies (mean objective"), std::string::npos) << r.err;
-  std::printf("[cohort] mean ζ_body ratio %.3f (each: %.3f %.3f %.3f) after %d iterations\n", mean,
-              s["bodies"][0]["zeta_body_ratio"].get<double>(), s["bodies"][1]["zeta_body_ratio"].get<double>(),
-              s["bodies"][2]["zeta_body_ratio"].get<double>(), s["iterations"].get<int>());
+  std::printf("[cohort] mean ζ_body ratio %.3f (each: %.3f %.3f %.3f) after %d iterations; their own designs %.3f "
+              "(one support costs %+.1f%%)\n",
+              mean, s["bodies"][0]["zeta_body_ratio"].get<double>(), s["bodies"][1]["zeta_body_ratio"].get<double>(),
+              s["bodies"][2]["zeta_body_ratio"].get<double>(), s["iterations"].get<int>(), own, 100.0 * (mean / own - 1.0));
 }
 
 // Two of the cohort, shaped with the thesis's ladder (deterministic: a
@@ -135,10 +148,14 @@ TEST(DesignCohortCli, ResumesAfterSigkillToTheSameResult) {
 // times, and the shape to make.
 TEST(DesignCohortCli, TwoProcessesGiveTheSameDesignToTheLastBit) {
   ScratchDir dir;
-  const std::string scene = test::shell_quote(test::source_path("examples/design/cohort/scene.json"));
-  const auto one = run_palpa("design " + scene + " -o one --iterations 2", dir.path());
+  auto doc = read_json(test::source_path("examples/design/cohort/scene.json"));
+  doc["bodies"].erase(2);
+  ASSERT_TRUE(doc["cohort"]["single_designs"].get<bool>());  // each on its own rank too
+  dir.write("cohort.json", doc.dump());
+  const std::string scene = "cohort.json";
+  const auto one = run_palpa("design " + scene + " -o one --iterations 1", dir.path());
   ASSERT_EQ(one.exit_code, 0) << one.err;
-  const auto two = test::run_palpa_mpi(2, "design " + scene + " -o two --iterations 2", dir.path());
+  const auto two = test::run_palpa_mpi(2, "design " + scene + " -o two --iterations 1", dir.path());
   ASSERT_EQ(two.exit_code, 0) << two.out << two.err;
   EXPECT_NE(two.err.find("over 2 processes"), std::string::npos) << two.err;
   EXPECT_EQ(test::read_text(dir / "two" / "support.obj"), test::read_text(dir / "one" / "support.obj"));

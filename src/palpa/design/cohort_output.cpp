@@ -88,7 +88,8 @@ BodyOutcome solve_body(const std::filesystem::path& out, const CohortMember& m, 
   return b;
 }
 
-void write_cohort_table(const std::filesystem::path& file, const std::vector<BodyOutcome>& bodies) {
+void write_cohort_table(const std::filesystem::path& file, const std::vector<BodyOutcome>& bodies,
+                        const std::vector<Json>& singles) {
   CsvTable t(file.string());
   std::vector<std::string> names;
   std::vector<double> index;
@@ -122,12 +123,18 @@ void write_cohort_table(const std::filesystem::path& file, const std::vector<Bod
                column([](const BodyOutcome& b) { return b.before.body().rest.body_metrics.contact_area; }));
   t.add_column("contact_area_final_m2",
                column([](const BodyOutcome& b) { return b.after.body().rest.body_metrics.contact_area; }));
+  if (!singles.empty()) {
+    std::vector<double> own;
+    for (const Json& j : singles) own.push_back(j.at("zeta_body_ratio").get<double>());
+    t.add_column("zeta_body_ratio_own_design", own);
+  }
   write_csv(file, t);
 }
 
 // The cohort's spread: each body's ζ_body over its initial value, and its
 // peak, before and after.
-void write_cohort_plot(const std::filesystem::path& file, const std::vector<BodyOutcome>& bodies) {
+void write_cohort_plot(const std::filesystem::path& file, const std::vector<BodyOutcome>& bodies,
+                       const std::vector<Json>& singles) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < bodies.size(); ++i) names.push_back(fmt::format("{} {}", i + 1, bodies[i].name));
   const std::string axis = bodies.size() <= 6 ? fmt::format("body ({})", fmt::join(names, ", ")) : "body (cohort.csv)";
@@ -158,6 +165,15 @@ void write_cohort_plot(const std::filesystem::path& file, const std::vector<Body
   ratios.x = {axis, false, 0.5, n + 0.5};
   ratios.y = {"ζ_body / initial ζ_body", false, 0.0, std::nullopt};
   ratios.series = {ratio_before, ratio_after, mean_line};
+  if (!singles.empty()) {
+    report::Series own{"each body's own design", {}, {}, report::Mark::Dots};
+    own.color = 2;
+    for (std::size_t i = 0; i < singles.size(); ++i) {
+      own.x.push_back(static_cast<double>(i + 1));
+      own.y.push_back(singles[i].at("zeta_body_ratio").get<double>());
+    }
+    ratios.series.push_back(own);
+  }
   report::Plot peaks;
   peaks.title = "the body's peak pressure (from scratch)";
   peaks.x = {axis, false, 0.5, n + 0.5};
@@ -173,7 +189,7 @@ void write_cohort_plot(const std::filesystem::path& file, const std::vector<Body
 }  // namespace
 
 Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& scene, ShapeOptimizer& optimizer,
-                          const DesignResult& r) {
+                          const DesignResult& r, const std::vector<Json>& singles) {
   ensure_directory(out);
   const Eigen::MatrixX3i& F = optimizer.simulation().support().triangles();
   const SurfaceMesh initial{r.initial.support, F}, optimized{r.final.support, F};
@@ -183,8 +199,14 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
   for (std::size_t i = 0; i < scene.cohort.size(); ++i) {
     bodies.push_back(solve_body(out, scene.cohort[i], i, optimizer, initial, optimized, threshold));
   }
-  write_cohort_table(out / "cohort.csv", bodies);
-  write_cohort_plot(out / "cohort.svg", bodies);
+  if (!singles.empty()) {
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      bodies[i].summary["own_design"] = singles[i];
+      write_json_file(out / "bodies" / bodies[i].slug / "summary.json", bodies[i].summary);
+    }
+  }
+  write_cohort_table(out / "cohort.csv", bodies, singles);
+  write_cohort_plot(out / "cohort.svg", bodies, singles);
   report::Figure score_fig;
   score_fig.plots.push_back(
       objective_plot(r, "objective [1]", fmt::format("J: the {} of the bodies' ζ / their initial ζ",
@@ -224,6 +246,16 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
               {"objective_initial", r.initial.zeta},
               {"objective_final", r.final.zeta}}},
             {"max_design_displacement_m", (optimized.V - initial.V).rowwise().norm().maxCoeff()}};
+  if (!singles.empty()) {
+    double own = 0.0;
+    for (const Json& j : singles) own += j.at("zeta_body_ratio").get<double>() / static_cast<double>(singles.size());
+    // The price of one support for all: the cohort's mean ζ_body ratio over
+    // the mean of the bodies' own designs'.
+    s["own_designs"] = {{"mean_zeta_body_ratio", own},
+                        {"price_of_one_support", ratio_body.mean() / own},
+                        {"note", "each body's own design: the same settings, the body alone on the support, "
+                                 "re-solved from scratch"}};
+  }
   s.update(run_json(r));
   cohort_report_html(out, s).write(out / "report.html");
   write_json_file(out / "summary.json", s);
@@ -236,11 +268,17 @@ std::string cohort_headline_text(const Json& s) {
     each.push_back(fmt::format("{} {:+.1f}%", b.at("name").get<std::string>(),
                                100.0 * (b.at("zeta_body_ratio").get<double>() - 1.0)));
   }
+  std::string own;
+  if (s.contains("own_designs")) {
+    own = fmt::format(" (each body's own design: {:.3f}; one support for all costs {:+.1f}%)",
+                      s.at("own_designs").at("mean_zeta_body_ratio").get<double>(),
+                      100.0 * (s.at("own_designs").at("price_of_one_support").get<double>() - 1.0));
+  }
   return fmt::format("one support for {} bodies ({} objective {:.4g} from 1), re-solved from scratch: ζ_body {}; "
-                     "mean ζ_body ratio {:.3f}{}; {} iterations ({})",
+                     "mean ζ_body ratio {:.3f}{}{}; {} iterations ({})",
                      s.at("bodies").size(), s.at("cohort").at("objective").get<std::string>(),
                      s.at("objective_final").get<double>(), fmt::join(each, ", "),
-                     s.at("mean_zeta_body_ratio").get<double>(),
+                     s.at("mean_zeta_body_ratio").get<double>(), own,
                      s.at("every_body_lower").get<bool>() ? "" : "; NOT every body's ζ_body is lower",
                      s.at("iterations").get<int>(), s.at("termination").get<std::string>());
 }
@@ -256,12 +294,16 @@ report::HtmlReport cohort_report_html(const std::filesystem::path& out, const Js
     rows.push_back({b.at("name").get<std::string>(), fmt::format("{:.4g}", i.at("zeta_body").get<double>()),
                     fmt::format("{:.4g}", f.at("zeta_body").get<double>()),
                     fmt::format("{:.3f}", b.at("zeta_body_ratio").get<double>()),
+                    b.contains("own_design") ? fmt::format("{:.3f}", b.at("own_design").at("zeta_body_ratio").get<double>())
+                                             : std::string("—"),
                     fmt::format("{} → {}", kpa(i.at("peak_pressure_Pa").at("body").get<double>()),
                                 kpa(f.at("peak_pressure_Pa").at("body").get<double>())),
                     fmt::format("{} → {}", kpa(i.at("pressure_map").at("body").at("peak_pressure_index_Pa").get<double>()),
                                 kpa(f.at("pressure_map").at("body").at("peak_pressure_index_Pa").get<double>()))});
   }
-  h.table({"body", "ζ body, initial", "ζ body, the cohort's support", "ratio", "body peak", "body PPI"}, rows);
+  h.table({"body", "ζ body, initial", "ζ body, the cohort's support", "ratio", "ratio, its own design", "body peak",
+           "body PPI"},
+          rows);
   h.paragraph("Every body is re-solved from scratch on the initial and on the cohort's support (the automatic "
               "contact stiffness, no warm start). ζ_body: the ergonomic score of what the body feels; PPI: the peak "
               "pressure index, the highest mean pressure over 9 cm².");

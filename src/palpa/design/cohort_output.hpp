@@ -9,7 +9,7 @@
 //                                 pressure, contact area, before and after
 //   cohort.svg                    the cohort's spread: each body's ζ_body
 //                                 over its own initial value, and its peak,
-//                                 before and after
+//                                 before and after (and with its own design)
 //   score.svg                     the objective per iteration
 //   bodies/<name>/                per body: body_pressure.svg and
 //                                 support_pressure.svg (initial beside
@@ -19,6 +19,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "palpa/core/json.hpp"
 #include "palpa/design/optimizer.hpp"
@@ -27,10 +28,12 @@
 
 namespace palpa::design {
 
-// Returns the summary. Throws palpa::Error (Solver) naming the body whose
+// Returns the summary. `singles`: each body's own design's figures (empty
+// when the scene asks for none), reported beside the cohort's as the price
+// of one support for all. Throws palpa::Error (Solver) naming the body whose
 // from-scratch solve fails.
 Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& scene, ShapeOptimizer& optimizer,
-                          const DesignResult& result);
+                          const DesignResult& result, const std::vector<Json>& singles = {});
 
 // report.html of a cohort design folder (from its summary.json figures and
 // the pictures beside it).

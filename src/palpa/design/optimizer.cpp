@@ -211,7 +211,9 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
   if (options_.cohort) cohort_value(*options_.cohort, Eigen::VectorXd::Ones(1));  // refuses bad settings now
   // Spread over ranks (core/ranks.hpp): body i on rank i mod ranks, each rank
   // with one body at least.
-  const int ranks = ranks::size();
+  ranks_ = options_.local ? 1 : ranks::size();
+  rank_ = options_.local ? 0 : ranks::rank();
+  const int ranks = ranks_;
   if (static_cast<std::size_t>(ranks) > bodies.size()) {
     throw Error(ErrorKind::Input, fmt::format("{} processes for {} bod{}: each process holds one body at least", ranks,
                                               bodies.size(), bodies.size() == 1 ? "y" : "ies"),
@@ -237,7 +239,7 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
     names_.push_back(b.name);
     rest_.push_back(b.rest);
     owner_.push_back(static_cast<int>(i % static_cast<std::size_t>(ranks)));
-    if (owner_.back() != ranks::rank()) {
+    if (owner_.back() != rank_) {
       bodies_.push_back(nullptr);
       continue;
     }
@@ -263,7 +265,7 @@ ShapeOptimizer::ShapeOptimizer(std::vector<DesignBody> bodies, const SurfaceMesh
       if (built[i].error) throw Error(*built[i].error, fmt::format("the body '{}': {}", names_[i], built[i].failure));
     }
   }
-  BodyProblem& first = *bodies_[static_cast<std::size_t>(ranks::rank())];
+  BodyProblem& first = *bodies_[static_cast<std::size_t>(rank_)];
   const Eigen::MatrixX3d X0 = first.simulation().support_rest_vertices();
   // A deformable support's base stays where it is.
   std::erase_if(design_vertices, [&](int v) { return first.simulation().support_vertex_fixed(v); });
@@ -400,7 +402,7 @@ ShapeOptimizer::Pending ShapeOptimizer::evaluate_local(const Eigen::MatrixX3d& X
   // This rank's bodies at once, each on its own simulation; each body's
   // result does not depend on how many are solved beside it. Spread over
   // ranks, an error is kept and raised once every rank has shared its bodies.
-  const bool spread = ranks::size() > 1;
+  const bool spread = ranks_ > 1;
   std::vector<std::size_t> mine;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (bodies_[i]) mine.push_back(i);
@@ -430,11 +432,15 @@ ShapeOptimizer::Pending ShapeOptimizer::evaluate_local(const Eigen::MatrixX3d& X
   return p;
 }
 
+void ShapeOptimizer::broadcast(std::string& bytes, int root) const {
+  if (ranks_ > 1) ranks::broadcast(bytes, root);
+}
+
 void ShapeOptimizer::share(std::vector<BodyEvaluation>& bodies, bool gradient) const {
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     std::string bytes;
     if (bodies_[i]) bytes = pack_shared(bodies[i], gradient);
-    ranks::broadcast(bytes, owner_[i]);
+    broadcast(bytes, owner_[i]);
     if (!bodies_[i]) bodies[i] = unpack_shared(bytes);
   }
 }
@@ -442,7 +448,7 @@ void ShapeOptimizer::share(std::vector<BodyEvaluation>& bodies, bool gradient) c
 void ShapeOptimizer::finish(Pending& p) const {
   Evaluation& ev = p.ev;
   if (p.crossed) return;
-  if (ranks::size() > 1) {
+  if (ranks_ > 1) {
     share(ev.bodies, p.gradient);
     for (std::size_t i = 0; i < ev.bodies.size(); ++i) {
       if (ev.bodies[i].error) throw Error(*ev.bodies[i].error, ev.bodies[i].failure);
@@ -579,14 +585,14 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
     if (options_.checkpoint.empty()) return;
     DesignCheckpoint c = checkpoint(iteration);
     // Rank 0 writes it, with every body's state from the rank that holds it.
-    for (std::size_t i = 0; i < bodies_.size() && ranks::size() > 1; ++i) {
+    for (std::size_t i = 0; i < bodies_.size() && ranks_ > 1; ++i) {
       if (owner_[i] == 0) continue;
       std::string bytes;
       if (bodies_[i]) bytes = pack_state(c.bodies[i].state);
-      ranks::broadcast(bytes, owner_[i]);
-      if (ranks::is_root()) c.bodies[i].state = unpack_state(bytes);
+      broadcast(bytes, owner_[i]);
+      if (rank_ == 0) c.bodies[i].state = unpack_state(bytes);
     }
-    if (ranks::is_root()) write_json_file(options_.checkpoint, checkpoint_json(c));
+    if (rank_ == 0) write_json_file(options_.checkpoint, checkpoint_json(c));
   };
 
   // The contact model follows the design: when an accepted shape's deepest
@@ -599,7 +605,7 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
   auto out_of_band_body = [&](const Evaluation& e, std::size_t i) {
     if (refreeze_failed[i]) return false;
     const bool out = bodies_[i] && bodies_[i]->out_of_band(e.bodies[i].rest.max_penetration);
-    return ranks::broadcast_flag(out, owner_[i]);
+    return ranks_ > 1 ? ranks::broadcast_flag(out, owner_[i]) : out;
   };
   auto out_of_band = [&](const Evaluation& e) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -625,12 +631,12 @@ DesignResult ShapeOptimizer::run(const std::function<void(const IterationRecord&
           warm[i] = bodies_[i]->simulation().state();
           outcome = fmt::format("ok {}", r.newton_iterations);
         } catch (const Error& e) {
-          if (ranks::size() == 1 && e.kind() != ErrorKind::Solver) throw;
+          if (ranks_ == 1 && e.kind() != ErrorKind::Solver) throw;
           outcome = e.kind() == ErrorKind::Solver ? fmt::format("failed {}", e.what())
                                                   : fmt::format("error{} {}", static_cast<int>(e.kind()), e.what());
         }
       }
-      ranks::broadcast(outcome, owner_[i]);
+      broadcast(outcome, owner_[i]);
       if (outcome.starts_with("ok ")) {
         ++result.evaluations;
         result.newton_iterations += std::stoi(outcome.substr(3));

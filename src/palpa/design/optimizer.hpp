@@ -153,6 +153,9 @@ struct DesignOptions {
   // Several bodies on one support: φ's score term aggregates their ζ, each
   // normalized by its value on the initial shape. Unset: one body, its ζ.
   std::optional<CohortObjective> cohort;
+  // This process alone, even under MPI (a body's own design beside a
+  // cohort's, on the rank that holds the body).
+  bool local = false;
   std::filesystem::path checkpoint;   // empty: none
   bool resume = false;                // continue from `checkpoint`
 };
@@ -238,6 +241,8 @@ class ShapeOptimizer {
   const std::string& body_name(std::size_t i) const { return names_.at(i); }
   // Whether this rank holds body i (every body without MPI), and it.
   bool holds(std::size_t i) const { return bodies_.at(i) != nullptr; }
+  // The rank that holds body i.
+  int owner(std::size_t i) const { return owner_.at(i); }
   BodyProblem& body(std::size_t i = 0);
   // Simulation `slot` of the first body this rank holds (rank 0: the first
   // body).
@@ -277,6 +282,8 @@ class ShapeOptimizer {
   void finish(Pending& p) const;
   // Every body's shared figures from the rank that holds it (pack_shared).
   void share(std::vector<BodyEvaluation>& bodies, bool gradient) const;
+  // ranks::broadcast among this design's ranks (none when it is local).
+  void broadcast(std::string& bytes, int root) const;
   BodyProblem& simulation_body();
   std::vector<Evaluation> evaluate_all(const std::vector<Eigen::MatrixX3d>& shapes,
                                        const std::vector<rest::RestState>& warm);
@@ -287,6 +294,7 @@ class ShapeOptimizer {
   std::vector<std::string> names_;        // every body's
   std::vector<rest::RestOptions> rest_;   // every body's rest settings (solves from scratch)
   std::vector<int> owner_;                // the rank that holds each body
+  int ranks_ = 1, rank_ = 0;              // the ranks this design is spread over, and this one's
   std::vector<std::unique_ptr<BodyProblem>> bodies_;  // null where another rank holds it
   Eigen::MatrixX3i F_;                    // the support's triangles
   std::unique_ptr<Smoothness> smoothness_;

@@ -12,6 +12,7 @@
 #include "palpa/core/termination.hpp"
 #include "palpa/design/cohort_output.hpp"
 #include "palpa/design/output.hpp"
+#include "palpa/core/termination.hpp"
 #include "palpa/design/scene.hpp"
 #include "palpa/design/start.hpp"
 
@@ -123,6 +124,57 @@ std::optional<DesignScene> prepare_on_ranks(const DesignRun& run) {
   return scene;
 }
 
+// Each body's own design beside the cohort's: the same settings, the body
+// alone on the support, on the rank that holds it; what it reaches (from
+// scratch, on the initial and on its own optimized support) to every rank.
+std::vector<Json> single_designs(const DesignScene& scene, const ShapeOptimizer& cohort) {
+  std::vector<Json> out;
+  for (std::size_t i = 0; i < scene.cohort.size(); ++i) {
+    const CohortMember& m = scene.cohort[i];
+    std::string bytes;
+    if (cohort.holds(i)) {
+      try {
+        spdlog::info("design: the body '{}' alone: its own design, to compare with", m.name);
+        DesignOptions o = scene.options;
+        o.cohort.reset();
+        o.local = true;
+        o.checkpoint.clear();
+        o.resume = false;
+        ShapeOptimizer single(std::vector<DesignBody>{DesignBody{{}, m.rest.body, m.rest.options}}, scene.rest.support,
+                              scene.design_vertices, o);
+        const DesignResult r = single.run();
+        const Eigen::MatrixX3i& F = single.simulation().support().triangles();
+        const Evaluation before = single.solve_from_scratch(m.rest.body, SurfaceMesh{r.initial.support, F});
+        const Evaluation after = single.solve_from_scratch(m.rest.body, SurfaceMesh{r.final.support, F});
+        if (!before.ok || !after.ok) {
+          throw Error(ErrorKind::Solver, fmt::format("the body '{}''s own design, from scratch: {}", m.name,
+                                                     before.ok ? after.failure : before.failure));
+        }
+        const double zb = after.body().score.zeta_body / before.body().score.zeta_body;
+        spdlog::info("design: the body '{}' alone, from scratch: ζ_body {:.1f}% lower in {} iterations", m.name,
+                     100.0 * (1.0 - zb), r.iterations);
+        bytes = Json{{"zeta_body_ratio", zb},
+                     {"zeta_ratio", after.zeta / before.zeta},
+                     {"body_peak_ratio", before.body().score.body_pressure.maxCoeff() /
+                                             after.body().score.body_pressure.maxCoeff()},
+                     {"final", evaluation_json(after, 0.0)},
+                     {"iterations", r.iterations},
+                     {"termination", std::string(to_string(r.stop.termination))},
+                     {"seconds", r.seconds}}
+                    .dump();
+      } catch (const Error& e) {
+        if (ranks::size() == 1) throw;
+        bytes = Json{{"error", static_cast<int>(e.kind())}, {"message", e.what()}}.dump();
+      }
+    }
+    if (ranks::size() > 1) ranks::broadcast(bytes, cohort.owner(i));
+    Json j = Json::parse(bytes);
+    if (j.contains("error")) throw Error(static_cast<ErrorKind>(j["error"].get<int>()), j["message"].get<std::string>());
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
@@ -170,14 +222,17 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
   // 0 alone writes (the checkpoint during the run, then the outputs).
   if (!ranks::is_root()) {
     optimizer.run();
+    if (cohort && scene.single_designs) single_designs(scene, optimizer);
     return std::nullopt;
   }
   // Only now: bad input leaves nothing behind.
   OutputFolder folder(out, OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::Exclusive,
                       resume ? OutputFolder::Start::Resumed : OutputFolder::Start::Fresh);
   DesignResult r;
+  std::vector<Json> singles;
   try {
     r = optimizer.run();
+    if (cohort && scene.single_designs) singles = single_designs(scene, optimizer);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::Interrupted) {
       // The best shape so far, as a shape to look at or make; no summary (the
@@ -199,7 +254,7 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
   const std::size_t written_before = folder.written_count();
   Json s;
   try {
-    s = cohort ? write_cohort_outputs(out, scene, optimizer, r) : write_design_outputs(out, scene, optimizer, r);
+    s = cohort ? write_cohort_outputs(out, scene, optimizer, r, singles) : write_design_outputs(out, scene, optimizer, r);
   } catch (...) {
     folder.remove_written_since(written_before);
     throw;

@@ -68,7 +68,7 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
 namespace {
 
 CohortObjective read_cohort_objective(const JsonView& c) {
-  c.expect_only({"objective", "quantile", "sharpness"});
+  c.expect_only({"objective", "quantile", "sharpness", "single_designs"});
   CohortObjective o;
   if (const auto a = c.find("objective")) {
     const std::string name = a->as_string();
@@ -159,6 +159,9 @@ DesignScene read_cohort_scene(const Json& doc, const std::filesystem::path& path
     s.cohort.push_back(CohortMember{name, std::move(m.rest), source});
   }
   s.options.cohort = root.has("cohort") ? read_cohort_objective(root.at("cohort")) : CohortObjective{};
+  if (const auto c = root.find("cohort")) {
+    if (const auto sd = c->find("single_designs")) s.single_designs = sd->as_bool();
+  }
   return s;
 }
 

@@ -40,7 +40,8 @@
 //   "palpa_design": 1,
 //   "bodies": [{"name": "tiny-a", "scene": "out/tiny-a/body/design.json"},
 //              {"name": "small", "body": {...}, "core": {...}}],  // "core": overrides the scene's
-//   "cohort": {"objective": "mean"},   // or "quantile" (with "quantile": 0.9), or "max" (with "sharpness": 0.05)
+//   "cohort": {"objective": "mean",    // or "quantile" (with "quantile": 0.9), or "max" (with "sharpness": 0.05)
+//              "single_designs": true}, // also each body's own design, to compare with
 //   "support": {...}, "contact": {...}, "design": {...}
 // }
 
@@ -104,6 +105,9 @@ struct DesignScene {
   // A cohort scene's bodies, in its order (empty: one body, `rest`);
   // options.cohort holds its objective.
   std::vector<CohortMember> cohort;
+  // "single_designs": also shape each body's own support with the same
+  // settings, the price of one support for all (design/cohort_output.hpp).
+  bool single_designs = false;
 };
 
 // Makes a baseline's support, with the body as placed for it, where the
