@@ -13,6 +13,7 @@
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/units.hpp"
 #include "palpa/pipeline/body_fields.hpp"
+#include "palpa/pipeline/cohort_design.hpp"
 #include "palpa/pipeline/report.hpp"
 #include "palpa/pipeline/subject.hpp"
 
@@ -44,6 +45,17 @@ void plan(const std::string& file, const std::string& output) {
   } else {
     write_file_atomic(output, [&](std::ostream& o) { o << format_json(p, output); });
   }
+}
+
+// The cohort's design scene: one support for every subject's body.
+void cohort(const std::string& file, const std::string& results, const std::string& output) {
+  const std::vector<pipeline::Subject> subjects = pipeline::read_subjects(file);
+  const Json scene = pipeline::cohort_design_scene(subjects, results);
+  const fs::path out(output);
+  if (out.has_parent_path()) fs::create_directories(out.parent_path());
+  write_file_atomic(out, [&](std::ostream& o) { o << format_json(scene, out); });
+  spdlog::info("cohort {}: one support for {} bodies; wrote {} (run it with palpa design)", file, subjects.size(),
+               output);
 }
 
 struct DatasetArgs {
@@ -118,6 +130,20 @@ void add_subject_command(CLI::App& app) {
   plan_cmd->add_option("-o,--output", plan_args->second, "Plan file (default: print it)");
   declare_paths(*plan_cmd, {"subject"}, {"-o"});
   plan_cmd->callback([plan_args] { plan(plan_args->first, plan_args->second); });
+
+  auto* cohort_cmd = cmd->add_subcommand(
+      "cohort",
+      "The design scene of one support for every subject of a cohort: each subject's body as palpa subject body "
+      "wrote it, on the support and design settings of their common template, with each body's own design beside "
+      "(run it with palpa design).\n  palpa subject cohort cohort.json --results out -o out/cohort/scene.json");
+  auto ca = std::make_shared<std::array<std::string, 3>>();
+  cohort_cmd->add_option("cohort", (*ca)[0], "Cohort file {\"palpa_cohort\": 1, \"subjects\": [subject files]}")
+      ->required();
+  cohort_cmd->add_option("--results", (*ca)[1], "The results folder (one folder per subject, each with body/)")
+      ->required();
+  cohort_cmd->add_option("-o,--output", (*ca)[2], "The cohort's design scene (JSON)")->required();
+  declare_paths(*cohort_cmd, {"cohort"}, {"-o"});
+  cohort_cmd->callback([ca] { cohort((*ca)[0], (*ca)[1], (*ca)[2]); });
 
   auto* ds_cmd = cmd->add_subcommand(
       "dataset",

@@ -248,5 +248,48 @@ TEST(SubjectCli, ACohortPlansEverySubjectAndRefusesADuplicateName) {
       << dup.err;
 }
 
+// `palpa subject cohort`: the scene of one support for every subject, from
+// their bodies' scenes; a missing body scene, a lone subject and subjects of
+// different design templates are refused by name, writing nothing.
+TEST(SubjectCli, ACohortSceneHoldsEveryBodyOnTheTemplatesSupport) {
+  ScratchDir dir;
+  write_inputs(dir);
+  dir.write("b/subject.json", subject_with(kSubject, R"("name": "t01")", R"("name": "t02")"));
+  dir.write("b/design.json", kDesign);
+  for (const char* f : {"r2.csv", "r6.csv", "force.csv", "laser.csv", "cal.csv", "us-force.csv", "fat.csv", "bone.csv"}) {
+    dir.write(std::string("b/") + f, "# a log\n");
+  }
+  dir.write("cohort.json", R"({"palpa_cohort": 1, "subjects": ["subject.json", "b/subject.json"]})");
+  // Another template for the second subject: refused, both named.
+  const auto other = run_palpa("subject cohort cohort.json --results out -o scene.json", dir.path());
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_NE(other.err.find("'t01' and 't02' have different design templates"), std::string::npos) << other.err;
+  // One template: the bodies' scenes must be there.
+  dir.write("b/subject.json", subject_with(subject_with(kSubject, R"("name": "t01")", R"("name": "t02")"),
+                                           R"("design": "design.json")", R"("design": "../design.json")"));
+  const auto missing = run_palpa("subject cohort cohort.json --results out -o scene.json", dir.path());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("the subject 't01' has no body scene yet"), std::string::npos) << missing.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "scene.json"));
+  for (const char* name : {"t01", "t02"}) {
+    auto design = nlohmann::json::parse(kDesign);
+    design["body"] = {{"material", "material.json"}};
+    dir.write(fmt::format("out/{}/body/design.json", name), design.dump());
+  }
+  const auto r = run_palpa("subject cohort cohort.json --results out -o scene.json", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto scene = nlohmann::json::parse(test::read_text(dir / "scene.json"));
+  ASSERT_EQ(scene["bodies"].size(), 2u);
+  EXPECT_EQ(scene["bodies"][1]["name"], "t02");
+  EXPECT_EQ(scene["bodies"][1]["scene"], (dir / "out/t02/body/design.json").string());
+  EXPECT_FALSE(scene.contains("body"));
+  EXPECT_EQ(scene["support"], nlohmann::json::parse(kDesign)["support"]);
+  EXPECT_TRUE(scene["cohort"]["single_designs"].get<bool>());
+  // A lone subject has no cohort.
+  const auto lone = run_palpa("subject cohort subject.json --results out -o lone.json", dir.path());
+  EXPECT_EQ(lone.exit_code, 2);
+  EXPECT_NE(lone.err.find("two subjects or more"), std::string::npos) << lone.err;
+}
+
 }  // namespace
 }  // namespace palpa

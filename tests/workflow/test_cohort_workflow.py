@@ -2,8 +2,10 @@
 """The workflow's bookkeeping on a cohort of three tiny subjects
 (examples/subject/cohort): run with --cores 2, a rerun does nothing,
 deleting one location's fit reruns only what depends on it (that fit, that
-subject's body, rest, design and report), and a run killed midway finishes
-when rerun."""
+subject's body, rest, design and report, and the cohort's one support), a
+run killed midway finishes when rerun, and the one support for all three
+lowers every body's score at a price of under 25% against their own
+designs."""
 
 import json
 import os
@@ -62,12 +64,22 @@ def test_a_cohort_runs_once_and_reruns_only_what_changed(tmp_path):
         assert (out / name / "report.html").is_file(), name
         fields = json.loads((out / name / "body" / "fields.json").read_text())
         assert fields["locations"][0]["name"] == "underside"
+    # One support for the three: every body's ζ_body lower than on the flat
+    # seat, and the cohort's mean within 25% of the mean of the bodies' own
+    # designs, every figure re-solved from scratch.
+    cohort = json.loads((out / "cohort.design" / "summary.json").read_text())
+    assert [b["name"] for b in cohort["bodies"]] == ["tiny-a", "tiny-b", "tiny-c"]
+    assert cohort["every_body_lower"]
+    assert all(b["zeta_body_ratio"] < 0.9 for b in cohort["bodies"]), cohort["bodies"]
+    assert cohort["own_designs"]["price_of_one_support"] < 1.25, cohort["own_designs"]
+    assert "one support for the 3 subjects" in run.stdout + run.stderr
 
     # Up to date: nothing to do.
     assert planned_jobs(out) == {}
     # One fit deleted: that fit and what depends on it, nothing else.
     (out / "tiny-b" / "fits" / "underside" / "material.json").unlink()
-    assert planned_jobs(out) == {"all": 1, "fit": 1, "body": 1, "rest": 1, "design": 1, "report": 1}
+    assert planned_jobs(out) == {"all": 1, "fit": 1, "body": 1, "rest": 1, "design": 1, "report": 1,
+                                 "cohort_scene": 1, "cohort_design": 1}
     before = {p: p.stat().st_mtime_ns for p in out.glob("tiny-[ac]/**/*") if p.is_file()}
     run = snakemake(out)
     assert run.returncode == 0, run.stderr[-4000:]

@@ -38,7 +38,8 @@ std::filesystem::path resolve_scene_path(const std::filesystem::path& scene_file
 void absolutize_scene_paths(Json& j, const std::filesystem::path& scene_file) {
   if (j.is_object()) {
     for (auto& [key, value] : j.items()) {
-      const bool path_key = key == "file" || key == "grid" || key == "surface" || key == "samples" || key == "layer";
+      const bool path_key = key == "file" || key == "grid" || key == "surface" || key == "samples" || key == "layer" ||
+                            key == "material";
       if (path_key && value.is_string()) {
         value = resolve_scene_path(scene_file, value.get<std::string>()).lexically_normal().string();
       } else {

@@ -26,7 +26,8 @@ Eigen::Matrix3d read_rotation(const JsonView& v);
 std::filesystem::path resolve_scene_path(const std::filesystem::path& scene_file, const std::string& p);
 // Relative paths in (a part of) a scene made absolute against the scene
 // file's folder, so that it can be read from elsewhere: every string member
-// that names a file by its key ("file", "grid", "surface", "samples", "layer").
+// that names a file by its key ("file", "grid", "surface", "samples",
+// "layer", "material").
 void absolutize_scene_paths(Json& j, const std::filesystem::path& scene_file);
 // "backtracking" | "golden" | "brent" | "backtracking+brent".
 LineSearchKind read_line_search(const JsonView& v);
