@@ -78,12 +78,30 @@ TEST(DesignCohortCli, OneSupportLowersEveryBodysScoreAndDrawsEachBody) {
   }
   EXPECT_NEAR(s["own_designs"]["mean_zeta_body_ratio"].get<double>(), own, 1e-12);
   EXPECT_NEAR(s["own_designs"]["price_of_one_support"].get<double>(), mean / own, 1e-12);
+  // The negative image of the average body, scored alike for every body; the
+  // summary names each body that feels less on it than on the cohort's
+  // support, and says whether it wins on the mean.
+  EXPECT_TRUE(std::filesystem::exists(out / "baseline_average_negative_image.obj"));
+  double hollow = 0.0;
+  nlohmann::json better_on_it = nlohmann::json::array();
+  for (const auto& b : s["bodies"]) {
+    const double on_it = b["average_negative_image"]["zeta_body_ratio"].get<double>();
+    EXPECT_GT(on_it, 0.0) << b["name"];
+    EXPECT_LT(on_it, 1.0) << b["name"] << ": a hollow under the bodies lowers their score too";
+    if (on_it < b["zeta_body_ratio"].get<double>()) better_on_it.push_back(b["name"]);
+    hollow += on_it / 3.0;
+  }
+  EXPECT_NEAR(s["baseline"]["mean_zeta_body_ratio"].get<double>(), hollow, 1e-12);
+  EXPECT_EQ(s["worse_than_baseline_for"], better_on_it);
+  EXPECT_EQ(s["worse_than_baseline_on_mean"].get<bool>(), hollow < mean);
+  std::printf("[cohort] the negative image of the average body: mean ζ_body ratio %.3f, better for %s\n", hollow,
+              better_on_it.dump().c_str());
   EXPECT_NEAR(s["objective_final"].get<double>(), objective, 1e-12);
   // The optimizer's view and the solves from scratch agree within 5%.
   EXPECT_NEAR(s["optimizer"]["objective_final"].get<double>() / s["objective_final"].get<double>(), 1.0, 0.05);
   // The table across the cohort, one row per body, named in its comments.
   const std::string csv = test::read_text(out / "cohort.csv");
-  EXPECT_NE(csv.find("zeta_body_ratio_own_design"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("zeta_body_ratio_own_design,zeta_body_ratio_average_negative_image"), std::string::npos) << csv;
   EXPECT_NE(csv.find("# bodies: 1 small, 2 medium, 3 large"), std::string::npos) << csv;
   EXPECT_NE(csv.find("body,zeta_body_initial,zeta_body_final,zeta_body_ratio,peak_initial_kPa"), std::string::npos)
       << csv;

@@ -9,6 +9,7 @@
 #include <memory>
 #include <random>
 
+#include "palpa/design/average_impression.hpp"
 #include "palpa/design/checkpoint.hpp"
 #include "palpa/design/cohort.hpp"
 #include "palpa/design/optimizer.hpp"
@@ -176,6 +177,57 @@ TEST(CohortAdjoint, ABodyThatFailsIsNamed) {
   o.cohort.reset();
   EXPECT_TRUE(test::throws_error([&] { ShapeOptimizer(two_bodies(), s, top_inside(s), o); }, ErrorKind::Input,
                                  {"2 bodies", "cohort objective"}));
+}
+
+// A surface's lower envelope, seen from below: the lowest crossing of the
+// line through each point, +∞ where it misses.
+TEST(AverageImpression, TheLowerEnvelopeIsTheLowestCrossing) {
+  const SurfaceMesh cube = slab(4);  // 70 × 70 × 10 mm, top at 0
+  const std::vector<Eigen::Vector3d> points{{0.0, 0.0, -1.0}, {0.01, -0.02, 5.0}, {0.2, 0.0, 0.0}};
+  const std::vector<double> h = lower_envelope(cube.V, cube.F, points, Eigen::Vector3d(0.0, 0.0, -9.81));
+  EXPECT_NEAR(h[0], -0.01, 1e-15);
+  EXPECT_NEAR(h[1], -0.01, 1e-15);
+  EXPECT_TRUE(std::isinf(h[2]) && h[2] > 0.0);
+}
+
+// Two flat-bottomed blocks pressed 2 mm into the slab: the average body's
+// hollow is 2 mm deep where both press, 1 mm where one does, 0 elsewhere.
+TEST(AverageImpression, IsTheMeanOfTheBodiesDents) {
+  const SurfaceMesh s = slab();
+  rest::RestBody a = block(), b = block();
+  b.mesh.V.col(0).array() += 12e-3;
+  const std::vector<int> region = top_inside(s);
+  AverageImpressionOptions o;
+  o.press = 2e-3;
+  o.smoothing_rounds = 0;
+  const SurfaceMesh hollow = average_impression({&a, &b}, s, region, Eigen::Vector3d(0.0, 0.0, -1.0), o);
+  const auto depth_at = [&](double x, double y) {
+    for (int v : region) {
+      if (std::abs(s.V(v, 0) - x) < 1e-9 && std::abs(s.V(v, 1) - y) < 1e-9) return s.V(v, 2) - hollow.V(v, 2);
+    }
+    ADD_FAILURE() << "no design vertex at " << x << ", " << y;
+    return 0.0;
+  };
+  EXPECT_NEAR(depth_at(0.0, 0.0), 2e-3, 1e-12);     // under both
+  EXPECT_NEAR(depth_at(-0.015, 0.0), 1e-3, 1e-12);  // under the first only
+  EXPECT_NEAR(depth_at(0.025, 0.0), 1e-3, 1e-12);   // under the second only
+  EXPECT_NEAR(depth_at(-0.025, 0.0), 0.0, 1e-15);   // under neither
+  // Off the design region nothing moves.
+  double moved_off = 0.0;
+  std::vector<bool> in(static_cast<std::size_t>(s.V.rows()), false);
+  for (int v : region) in[static_cast<std::size_t>(v)] = true;
+  for (Eigen::Index v = 0; v < s.V.rows(); ++v) {
+    if (!in[static_cast<std::size_t>(v)]) moved_off = std::max(moved_off, (hollow.V.row(v) - s.V.row(v)).norm());
+  }
+  EXPECT_EQ(moved_off, 0.0);
+  o.press = 0.0;
+  EXPECT_TRUE(test::throws_error([&] { average_impression({&a}, s, region, Eigen::Vector3d(0, 0, -1), o); },
+                                 ErrorKind::Input, {"press"}));
+  o.press = 2e-3;
+  rest::RestBody away = block();
+  away.mesh.V.col(0).array() += 0.2;
+  EXPECT_TRUE(test::throws_error([&] { average_impression({&away}, s, region, Eigen::Vector3d(0, 0, -1), o); },
+                                 ErrorKind::Input, {"reaches none"}));
 }
 
 TEST(CohortCheckpoint, KeepsEachBodyAndRefusesAnotherCohort) {

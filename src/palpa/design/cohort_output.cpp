@@ -11,7 +11,9 @@
 
 #include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/design/average_impression.hpp"
 #include "palpa/design/cohort.hpp"
+#include "palpa/io/mesh.hpp"
 #include "palpa/design/output.hpp"
 #include "palpa/io/csv.hpp"
 #include "palpa/report/plot.hpp"
@@ -80,7 +82,6 @@ BodyOutcome solve_body(const std::filesystem::path& out, const CohortMember& m, 
                {"zeta_body_ratio", b.after.body().score.zeta_body / b.before.body().score.zeta_body},
                {"body_peak_ratio", body_peak(b.before) / body_peak(b.after)},
                {"pose_to_seat", {{"threshold_m", threshold}, {"before", pts_before}, {"after", pts_after}}}};
-  write_json_file(dir / "summary.json", b.summary);
   spdlog::info("design: body '{}' from scratch: ζ_body {:.6g} → {:.6g} ({:.1f}% lower), body peak {:.3g} → {:.3g} kPa",
                m.name, b.before.body().score.zeta_body, b.after.body().score.zeta_body,
                100.0 * (1.0 - b.after.body().score.zeta_body / b.before.body().score.zeta_body),
@@ -89,7 +90,7 @@ BodyOutcome solve_body(const std::filesystem::path& out, const CohortMember& m, 
 }
 
 void write_cohort_table(const std::filesystem::path& file, const std::vector<BodyOutcome>& bodies,
-                        const std::vector<Json>& singles) {
+                        const std::vector<Json>& singles, const std::vector<double>& baseline) {
   CsvTable t(file.string());
   std::vector<std::string> names;
   std::vector<double> index;
@@ -128,13 +129,14 @@ void write_cohort_table(const std::filesystem::path& file, const std::vector<Bod
     for (const Json& j : singles) own.push_back(j.at("zeta_body_ratio").get<double>());
     t.add_column("zeta_body_ratio_own_design", own);
   }
+  if (!baseline.empty()) t.add_column("zeta_body_ratio_average_negative_image", baseline);
   write_csv(file, t);
 }
 
 // The cohort's spread: each body's ζ_body over its initial value, and its
 // peak, before and after.
 void write_cohort_plot(const std::filesystem::path& file, const std::vector<BodyOutcome>& bodies,
-                       const std::vector<Json>& singles) {
+                       const std::vector<Json>& singles, const std::vector<double>& baseline) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < bodies.size(); ++i) names.push_back(fmt::format("{} {}", i + 1, bodies[i].name));
   const std::string axis = bodies.size() <= 6 ? fmt::format("body ({})", fmt::join(names, ", ")) : "body (cohort.csv)";
@@ -174,6 +176,15 @@ void write_cohort_plot(const std::filesystem::path& file, const std::vector<Body
     }
     ratios.series.push_back(own);
   }
+  if (!baseline.empty()) {
+    report::Series hollow{"negative image of the average body", {}, {}, report::Mark::Dots};
+    hollow.color = 3;
+    for (std::size_t i = 0; i < baseline.size(); ++i) {
+      hollow.x.push_back(static_cast<double>(i + 1));
+      hollow.y.push_back(baseline[i]);
+    }
+    ratios.series.push_back(hollow);
+  }
   report::Plot peaks;
   peaks.title = "the body's peak pressure (from scratch)";
   peaks.x = {axis, false, 0.5, n + 0.5};
@@ -199,14 +210,49 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
   for (std::size_t i = 0; i < scene.cohort.size(); ++i) {
     bodies.push_back(solve_body(out, scene.cohort[i], i, optimizer, initial, optimized, threshold));
   }
-  if (!singles.empty()) {
+  for (std::size_t i = 0; i < singles.size(); ++i) bodies[i].summary["own_design"] = singles[i];
+  // The negative image of the average body, as a workshop would make one
+  // support for all: each body on it from scratch.
+  std::vector<double> baseline;
+  Json baseline_json;
+  Json worse_than = Json::array();
+  if (scene.cohort_baseline) {
+    std::vector<const rest::RestBody*> placed;
+    for (const CohortMember& m : scene.cohort) placed.push_back(&m.rest.body);
+    const SurfaceMesh hollow = average_impression(placed, initial, optimizer.space().vertices(),
+                                                  scene.rest.options.gravity, *scene.cohort_baseline);
+    write_surface_mesh(out / "baseline_average_negative_image.obj", hollow);
     for (std::size_t i = 0; i < bodies.size(); ++i) {
-      bodies[i].summary["own_design"] = singles[i];
-      write_json_file(out / "bodies" / bodies[i].slug / "summary.json", bodies[i].summary);
+      const Evaluation e = optimizer.solve_from_scratch(scene.cohort[i].rest.body, hollow, nullptr, i);
+      if (!e.ok) {
+        throw Error(ErrorKind::Solver, fmt::format("the body '{}' on the negative image of the average body, from "
+                                                   "scratch: {}",
+                                                   bodies[i].name, e.failure));
+      }
+      const double on_it = e.body().score.zeta_body / bodies[i].before.body().score.zeta_body;
+      baseline.push_back(on_it);
+      bodies[i].summary["average_negative_image"] = {{"zeta_body_ratio", on_it},
+                                                     {"peak_pressure_Pa", body_peak(e)},
+                                                     {"final", evaluation_json(e, 0.0)}};
+      const double cohort_ratio = bodies[i].after.body().score.zeta_body / bodies[i].before.body().score.zeta_body;
+      if (on_it < cohort_ratio) worse_than.push_back(bodies[i].name);
+      spdlog::info("design: body '{}' on the negative image of the average body, from scratch: ζ_body {:.1f}% lower "
+                   "(the cohort's support: {:.1f}%)",
+                   bodies[i].name, 100.0 * (1.0 - on_it), 100.0 * (1.0 - cohort_ratio));
     }
+    double mean = 0.0;
+    for (double x : baseline) mean += x / static_cast<double>(baseline.size());
+    baseline_json = {{"name", "negative image of the average body"},
+                     {"file", "baseline_average_negative_image.obj"},
+                     {"press_m", scene.cohort_baseline->press},
+                     {"smoothing_rounds", scene.cohort_baseline->smoothing_rounds},
+                     {"mean_zeta_body_ratio", mean},
+                     {"note", "each body pressed into the support until its lowest point is press below the top; "
+                              "the mean of their dents at each design vertex, smoothed"}};
   }
-  write_cohort_table(out / "cohort.csv", bodies, singles);
-  write_cohort_plot(out / "cohort.svg", bodies, singles);
+  for (const BodyOutcome& b : bodies) write_json_file(out / "bodies" / b.slug / "summary.json", b.summary);
+  write_cohort_table(out / "cohort.csv", bodies, singles, baseline);
+  write_cohort_plot(out / "cohort.svg", bodies, singles, baseline);
   report::Figure score_fig;
   score_fig.plots.push_back(
       objective_plot(r, "objective [1]", fmt::format("J: the {} of the bodies' ζ / their initial ζ",
@@ -256,6 +302,12 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
                         {"note", "each body's own design: the same settings, the body alone on the support, "
                                  "re-solved from scratch"}};
   }
+  if (!baseline_json.is_null()) {
+    s["baseline"] = baseline_json;
+    // The bodies that feel less on the baseline than on the cohort's support.
+    s["worse_than_baseline_for"] = worse_than;
+    s["worse_than_baseline_on_mean"] = baseline_json["mean_zeta_body_ratio"].get<double>() < ratio_body.mean();
+  }
   s.update(run_json(r));
   cohort_report_html(out, s).write(out / "report.html");
   write_json_file(out / "summary.json", s);
@@ -269,8 +321,16 @@ std::string cohort_headline_text(const Json& s) {
                                100.0 * (b.at("zeta_body_ratio").get<double>() - 1.0)));
   }
   std::string own;
+  if (s.contains("baseline")) {
+    own += fmt::format(" (the negative image of the average body: {:.3f}{})",
+                       s.at("baseline").at("mean_zeta_body_ratio").get<double>(),
+                       s.at("worse_than_baseline_for").empty()
+                           ? ""
+                           : fmt::format("; WORSE than it for {}",
+                                         fmt::join(s.at("worse_than_baseline_for").get<std::vector<std::string>>(), ", ")));
+  }
   if (s.contains("own_designs")) {
-    own = fmt::format(" (each body's own design: {:.3f}; one support for all costs {:+.1f}%)",
+    own += fmt::format(" (each body's own design: {:.3f}; one support for all costs {:+.1f}%)",
                       s.at("own_designs").at("mean_zeta_body_ratio").get<double>(),
                       100.0 * (s.at("own_designs").at("price_of_one_support").get<double>() - 1.0));
   }
@@ -296,13 +356,16 @@ report::HtmlReport cohort_report_html(const std::filesystem::path& out, const Js
                     fmt::format("{:.3f}", b.at("zeta_body_ratio").get<double>()),
                     b.contains("own_design") ? fmt::format("{:.3f}", b.at("own_design").at("zeta_body_ratio").get<double>())
                                              : std::string("—"),
+                    b.contains("average_negative_image")
+                        ? fmt::format("{:.3f}", b.at("average_negative_image").at("zeta_body_ratio").get<double>())
+                        : std::string("—"),
                     fmt::format("{} → {}", kpa(i.at("peak_pressure_Pa").at("body").get<double>()),
                                 kpa(f.at("peak_pressure_Pa").at("body").get<double>())),
                     fmt::format("{} → {}", kpa(i.at("pressure_map").at("body").at("peak_pressure_index_Pa").get<double>()),
                                 kpa(f.at("pressure_map").at("body").at("peak_pressure_index_Pa").get<double>()))});
   }
-  h.table({"body", "ζ body, initial", "ζ body, the cohort's support", "ratio", "ratio, its own design", "body peak",
-           "body PPI"},
+  h.table({"body", "ζ body, initial", "ζ body, the cohort's support", "ratio", "ratio, its own design",
+           "ratio, negative image of the average body", "body peak", "body PPI"},
           rows);
   h.paragraph("Every body is re-solved from scratch on the initial and on the cohort's support (the automatic "
               "contact stiffness, no warm start). ζ_body: the ergonomic score of what the body feels; PPI: the peak "

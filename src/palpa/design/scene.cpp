@@ -68,7 +68,7 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
 namespace {
 
 CohortObjective read_cohort_objective(const JsonView& c) {
-  c.expect_only({"objective", "quantile", "sharpness", "single_designs"});
+  c.expect_only({"objective", "quantile", "sharpness", "single_designs", "baseline"});
   CohortObjective o;
   if (const auto a = c.find("objective")) {
     const std::string name = a->as_string();
@@ -161,6 +161,18 @@ DesignScene read_cohort_scene(const Json& doc, const std::filesystem::path& path
   s.options.cohort = root.has("cohort") ? read_cohort_objective(root.at("cohort")) : CohortObjective{};
   if (const auto c = root.find("cohort")) {
     if (const auto sd = c->find("single_designs")) s.single_designs = sd->as_bool();
+  }
+  s.cohort_baseline = AverageImpressionOptions{};
+  if (const auto c = root.find("cohort")) {
+    if (const auto b = c->find("baseline")) {
+      if (b->json().is_boolean()) {
+        if (!b->as_bool()) s.cohort_baseline.reset();
+      } else {
+        b->expect_only({"press", "smoothing"});
+        if (const auto p = b->find("press")) s.cohort_baseline->press = sim3d::read_positive(*p, Dimension::Length);
+        if (const auto r = b->find("smoothing")) s.cohort_baseline->smoothing_rounds = sim3d::read_count(*r, 0, 1000);
+      }
+    }
   }
   return s;
 }

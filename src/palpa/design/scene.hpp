@@ -41,7 +41,9 @@
 //   "bodies": [{"name": "tiny-a", "scene": "out/tiny-a/body/design.json"},
 //              {"name": "small", "body": {...}, "core": {...}}],  // "core": overrides the scene's
 //   "cohort": {"objective": "mean",    // or "quantile" (with "quantile": 0.9), or "max" (with "sharpness": 0.05)
-//              "single_designs": true}, // also each body's own design, to compare with
+//              "single_designs": true,  // also each body's own design, to compare with
+//              "baseline": {"press": "10 mm", "smoothing": 5}},  // the negative image of the average
+//                                       // body, scored beside (the default; false: none)
 //   "support": {...}, "contact": {...}, "design": {...}
 // }
 
@@ -50,6 +52,7 @@
 #include <string>
 #include <vector>
 
+#include "palpa/design/average_impression.hpp"
 #include "palpa/design/optimizer.hpp"
 #include "palpa/rest/scene.hpp"
 
@@ -108,6 +111,9 @@ struct DesignScene {
   // "single_designs": also shape each body's own support with the same
   // settings, the price of one support for all (design/cohort_output.hpp).
   bool single_designs = false;
+  // "baseline": the negative image of the average body, scored beside the
+  // cohort's support (design/average_impression.hpp); false: none.
+  std::optional<AverageImpressionOptions> cohort_baseline;
 };
 
 // Makes a baseline's support, with the body as placed for it, where the
