@@ -99,14 +99,20 @@ std::vector<DesignBody> two_bodies() {
   return {DesignBody{"block", on_linear_tets(block()), options()}, DesignBody{"stiff", on_linear_tets(other), heavy}};
 }
 
+// A cohort's design on one thread.
+DesignOptions cohort_options(CohortAggregate aggregate = CohortAggregate::Mean) {
+  DesignOptions o;
+  o.threads = 1;
+  o.cohort = CohortObjective{aggregate, 0.9, 0.05};
+  return o;
+}
+
 // φ of the cohort along a random direction by central differences, against
 // the sum of the bodies' adjoints; on a bumpy slab.
 void check_cohort_adjoint(CohortAggregate aggregate) {
   const SurfaceMesh s = slab();
-  DesignOptions o;
-  o.threads = 1;
+  DesignOptions o = cohort_options(aggregate);
   o.normal_only = true;
-  o.cohort = CohortObjective{aggregate, 0.9, 0.05};
   ShapeOptimizer opt(two_bodies(), s, top_inside(s), o);
   ASSERT_EQ(opt.num_bodies(), 2u);
   EXPECT_DOUBLE_EQ(opt.initial().zeta, 1.0);  // every body at its own initial value
@@ -150,9 +156,7 @@ TEST(CohortAdjoint, SmoothMaxGradientMatchesFiniteDifferences) { check_cohort_ad
 // how its bodies are shared out.
 TEST(CohortAdjoint, EachBodyBesideTheOthersIsAsAlone) {
   const SurfaceMesh s = slab();
-  DesignOptions o;
-  o.threads = 1;
-  o.cohort = CohortObjective{};
+  const DesignOptions o = cohort_options();
   std::vector<DesignBody> bodies = two_bodies();
   ShapeOptimizer both(bodies, s, top_inside(s), o);
   for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -166,9 +170,7 @@ TEST(CohortAdjoint, EachBodyBesideTheOthersIsAsAlone) {
 // A body whose equilibrium cannot be solved is named, and nothing runs.
 TEST(CohortAdjoint, ABodyThatFailsIsNamed) {
   const SurfaceMesh s = slab();
-  DesignOptions o;
-  o.threads = 1;
-  o.cohort = CohortObjective{};
+  DesignOptions o = cohort_options();
   std::vector<DesignBody> bodies = two_bodies();
   bodies[1].rest.max_iterations = 1;
   EXPECT_TRUE(test::throws_error([&] { ShapeOptimizer(bodies, s, top_inside(s), o); }, ErrorKind::Solver,
