@@ -68,3 +68,25 @@ def test_bad_design_options_are_refused():
     scene["design"]["method"] = "simplex"
     with pytest.raises(palpa.InputError, match="simplex"):
         palpa.design(scene)
+
+
+def test_a_cohort_design_gives_each_body_and_the_one_support(tmp_path):
+    """Two of the bundled cohort on one seat, from a dict: the summary's bodies
+    and the one support as arrays."""
+    with open(os.path.join(SOURCE, "examples", "design", "cohort", "scene.json")) as f:
+        scene = json.load(f)
+    scene["bodies"] = scene["bodies"][:2]
+    scene["cohort"] = {"objective": "quantile", "quantile": 0.5, "baseline": False}
+    palpa.set_log_level("warning")
+    try:
+        r = palpa.design(scene, out=str(tmp_path / "cohort"), iterations=1)
+    finally:
+        palpa.set_log_level("info")
+    s = r.summary
+    assert s["cohort"] == {"objective": "quantile", "quantile": 0.5, "bodies": 2}
+    assert [b["name"] for b in s["bodies"]] == ["small", "medium"]
+    assert all(b["zeta_body_ratio"] < 1.0 for b in s["bodies"])
+    assert "own_designs" not in s and "baseline" not in s
+    assert r.support_vertices.shape[1] == 3
+    V, _ = palpa.read_mesh(str(tmp_path / "cohort" / "support.obj"))
+    np.testing.assert_allclose(r.support_vertices, V, rtol=0, atol=1e-12)
