@@ -285,6 +285,7 @@ TEST(SubjectCli, ACohortSceneHoldsEveryBodyOnTheTemplatesSupport) {
   EXPECT_FALSE(scene.contains("body"));
   EXPECT_EQ(scene["support"], nlohmann::json::parse(kDesign)["support"]);
   EXPECT_TRUE(scene["cohort"]["single_designs"].get<bool>());
+  EXPECT_EQ(scene["cohort"]["start"], "baseline");
   // A lone subject has no cohort.
   const auto lone = run_palpa("subject cohort subject.json --results out -o lone.json", dir.path());
   EXPECT_EQ(lone.exit_code, 2);

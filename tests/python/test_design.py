@@ -83,7 +83,7 @@ def test_a_cohort_design_gives_each_body_and_the_one_support(tmp_path):
     finally:
         palpa.set_log_level("info")
     s = r.summary
-    assert s["cohort"] == {"objective": "quantile", "quantile": 0.5, "bodies": 2}
+    assert s["cohort"] == {"objective": "quantile", "quantile": 0.5, "bodies": 2, "start": "scene"}
     assert [b["name"] for b in s["bodies"]] == ["small", "medium"]
     assert all(b["zeta_body_ratio"] < 1.0 for b in s["bodies"])
     assert "own_designs" not in s and "baseline" not in s

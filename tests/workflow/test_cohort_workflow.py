@@ -72,6 +72,9 @@ def test_a_cohort_runs_once_and_reruns_only_what_changed(tmp_path):
     assert cohort["every_body_lower"]
     assert all(b["zeta_body_ratio"] < 0.9 for b in cohort["bodies"]), cohort["bodies"]
     assert cohort["own_designs"]["price_of_one_support"] < 1.25, cohort["own_designs"]
+    # Begun on the negative image of the average body, it beats it on the mean.
+    assert cohort["cohort"]["start"] == "negative image of the average body"
+    assert not cohort["worse_than_baseline_on_mean"], cohort["baseline"]
     assert "one support for the 3 subjects" in run.stdout + run.stderr
 
     # Up to date: nothing to do.

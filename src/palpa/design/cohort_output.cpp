@@ -203,7 +203,9 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
                           const DesignResult& r, const std::vector<Json>& singles) {
   ensure_directory(out);
   const Eigen::MatrixX3i& F = optimizer.simulation().support().triangles();
-  const SurfaceMesh initial{r.initial.support, F}, optimized{r.final.support, F};
+  // Every figure against the scene's support (where the design began, or
+  // the flat seat a start on the baseline was made from).
+  const SurfaceMesh initial{scene.rest.support.V, F}, optimized{r.final.support, F};
   write_support_shape(out, "support", optimized);
   const double threshold = scene.options.pose_to_seat_threshold;
   std::vector<BodyOutcome> bodies;
@@ -214,6 +216,7 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
   // The negative image of the average body, as a workshop would make one
   // support for all: each body on it from scratch.
   std::vector<double> baseline;
+  Eigen::VectorXd baseline_zeta(static_cast<Eigen::Index>(bodies.size()));  // ζ on it, from scratch
   Json baseline_json;
   Json worse_than = Json::array();
   if (scene.cohort_baseline) {
@@ -231,6 +234,7 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
       }
       const double on_it = e.body().score.zeta_body / bodies[i].before.body().score.zeta_body;
       baseline.push_back(on_it);
+      baseline_zeta[static_cast<Eigen::Index>(i)] = e.zeta;
       bodies[i].summary["average_negative_image"] = {{"zeta_body_ratio", on_it},
                                                      {"peak_pressure_Pa", body_peak(e)},
                                                      {"final", evaluation_json(e, 0.0)}};
@@ -273,7 +277,9 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
     per_body.push_back(b.summary);
   }
   const CohortObjective& objective = *scene.options.cohort;
-  Json cohort = {{"objective", to_string(objective.aggregate)}, {"bodies", n}};
+  Json cohort = {{"objective", to_string(objective.aggregate)},
+                 {"bodies", n},
+                 {"start", scene.cohort_start_on_baseline ? "negative image of the average body" : "scene"}};
   if (objective.aggregate == CohortAggregate::Quantile) cohort["quantile"] = objective.quantile;
   if (objective.aggregate == CohortAggregate::SmoothMax) cohort["sharpness"] = objective.sharpness;
   Json s = {{"palpa_design", 1},
@@ -302,6 +308,13 @@ Json write_cohort_outputs(const std::filesystem::path& out, const DesignScene& s
                         {"note", "each body's own design: the same settings, the body alone on the support, "
                                  "re-solved from scratch"}};
   }
+  // The optimizer normalizes by each body's ζ where the design began: the
+  // same objective from scratch, to compare with its own view.
+  Eigen::VectorXd from_start = ratio;
+  if (scene.cohort_start_on_baseline) {
+    for (Eigen::Index i = 0; i < n; ++i) from_start[i] = bodies[static_cast<std::size_t>(i)].after.zeta / baseline_zeta[i];
+  }
+  s["optimizer"]["objective_final_from_scratch"] = cohort_value(objective, from_start);
   if (!baseline_json.is_null()) {
     s["baseline"] = baseline_json;
     // The bodies that feel less on the baseline than on the cohort's support.

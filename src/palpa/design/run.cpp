@@ -10,6 +10,7 @@
 #include "palpa/core/ranks.hpp"
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/termination.hpp"
+#include "palpa/design/average_impression.hpp"
 #include "palpa/design/cohort_output.hpp"
 #include "palpa/design/output.hpp"
 #include "palpa/core/termination.hpp"
@@ -140,11 +141,21 @@ std::vector<Json> single_designs(const DesignScene& scene, const ShapeOptimizer&
         o.local = true;
         o.checkpoint.clear();
         o.resume = false;
-        ShapeOptimizer single(std::vector<DesignBody>{DesignBody{{}, m.rest.body, m.rest.options}}, scene.rest.support,
+        // It begins where the cohort's does: the scene's support, or the
+        // body's own negative image where the cohort begins on the average's.
+        rest::RestBody body = m.rest.body;
+        SurfaceMesh start = scene.rest.support;
+        if (scene.cohort_start_on_baseline) {
+          start = average_impression({&m.rest.body}, scene.rest.support, scene.design_vertices,
+                                     scene.rest.options.gravity, *scene.cohort_baseline);
+          rest::place_clear_of(body, start, -m.rest.options.gravity, 1e-3);
+        }
+        ShapeOptimizer single(std::vector<DesignBody>{DesignBody{{}, body, m.rest.options}}, start,
                               scene.design_vertices, o);
         const DesignResult r = single.run();
         const Eigen::MatrixX3i& F = single.simulation().support().triangles();
-        const Evaluation before = single.solve_from_scratch(m.rest.body, SurfaceMesh{r.initial.support, F});
+        // Against the scene's support, as the cohort's figures are.
+        const Evaluation before = single.solve_from_scratch(m.rest.body, scene.rest.support);
         const Evaluation after = single.solve_from_scratch(m.rest.body, SurfaceMesh{r.final.support, F});
         if (!before.ok || !after.ok) {
           throw Error(ErrorKind::Solver, fmt::format("the body '{}''s own design, from scratch: {}", m.name,
@@ -206,7 +217,19 @@ std::optional<Json> run_design(const DesignRun& run, SurfaceMesh* optimized) {
                  scene.rest.body.mesh.T.rows(), scene.rest.support_source, scene.rest.support.V.rows(), scene.region);
     bodies.push_back(DesignBody{{}, scene.rest.body, scene.rest.options});
   }
-  ShapeOptimizer optimizer(std::move(bodies), scene.rest.support, scene.design_vertices, scene.options);
+  // A cohort may begin on the negative image of its average body; its
+  // bodies are then lifted clear of it where they start inside.
+  SurfaceMesh start = scene.rest.support;
+  if (cohort && scene.cohort_start_on_baseline) {
+    std::vector<const rest::RestBody*> placed;
+    for (const CohortMember& m : scene.cohort) placed.push_back(&m.rest.body);
+    start = average_impression(placed, scene.rest.support, scene.design_vertices, scene.rest.options.gravity,
+                               *scene.cohort_baseline);
+    for (DesignBody& b : bodies) rest::place_clear_of(b.body, start, -b.rest.gravity, 1e-3);
+    spdlog::info("design: the cohort begins on the negative image of its average body (press {:.3g} mm)",
+                 scene.cohort_baseline->press * 1e3);
+  }
+  ShapeOptimizer optimizer(std::move(bodies), start, scene.design_vertices, scene.options);
   if (cohort) {
     std::vector<std::string> each;
     for (std::size_t i = 0; i < optimizer.num_bodies(); ++i) {

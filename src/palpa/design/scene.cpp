@@ -68,7 +68,7 @@ DesignScene read_design_scene(const std::filesystem::path& path, bool baselines)
 namespace {
 
 CohortObjective read_cohort_objective(const JsonView& c) {
-  c.expect_only({"objective", "quantile", "sharpness", "single_designs", "baseline"});
+  c.expect_only({"objective", "quantile", "sharpness", "single_designs", "baseline", "start"});
   CohortObjective o;
   if (const auto a = c.find("objective")) {
     const std::string name = a->as_string();
@@ -171,6 +171,15 @@ DesignScene read_cohort_scene(const Json& doc, const std::filesystem::path& path
         b->expect_only({"press", "smoothing"});
         if (const auto p = b->find("press")) s.cohort_baseline->press = sim3d::read_positive(*p, Dimension::Length);
         if (const auto r = b->find("smoothing")) s.cohort_baseline->smoothing_rounds = sim3d::read_count(*r, 0, 1000);
+      }
+    }
+    if (const auto st = c->find("start")) {
+      const std::string where = st->as_string();
+      if (where == "baseline") {
+        if (!s.cohort_baseline) st->fail("a start on the baseline with \"baseline\": false", "a baseline to start on");
+        s.cohort_start_on_baseline = true;
+      } else if (where != "scene") {
+        st->fail(fmt::format("unknown start '{}'", where), "\"scene\" (its support) or \"baseline\"");
       }
     }
   }

@@ -44,6 +44,7 @@
 //              "single_designs": true,  // also each body's own design, to compare with
 //              "baseline": {"press": "10 mm", "smoothing": 5}},  // the negative image of the average
 //                                       // body, scored beside (the default; false: none)
+//              "start": "baseline"}    // begin on that baseline instead of the scene's support
 //   "support": {...}, "contact": {...}, "design": {...}
 // }
 
@@ -114,6 +115,10 @@ struct DesignScene {
   // "baseline": the negative image of the average body, scored beside the
   // cohort's support (design/average_impression.hpp); false: none.
   std::optional<AverageImpressionOptions> cohort_baseline;
+  // "start": "baseline": the cohort's design begins on that baseline (and
+  // each body's own design on its own negative image); every figure is
+  // still against the scene's support.
+  bool cohort_start_on_baseline = false;
 };
 
 // Makes a baseline's support, with the body as placed for it, where the

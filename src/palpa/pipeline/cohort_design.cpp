@@ -42,7 +42,9 @@ Json cohort_design_scene(const std::vector<Subject>& subjects, const fs::path& r
   for (const char* key : {"body", "core", "baselines"}) doc.erase(key);
   if (doc.contains("design") && doc["design"].is_object()) doc["design"].erase("start");
   doc["bodies"] = bodies;
-  doc["cohort"] = {{"objective", "mean"}, {"single_designs", true}};
+  // Begun on the negative image of the average body, the baseline a workshop
+  // would make for them all, and each body's own design on its own.
+  doc["cohort"] = {{"objective", "mean"}, {"single_designs", true}, {"start", "baseline"}};
   return doc;
 }
 

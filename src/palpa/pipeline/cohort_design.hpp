@@ -14,7 +14,8 @@
 namespace palpa::pipeline {
 
 // {"palpa_design": 1, "bodies": [{"name", "scene"}...], "cohort":
-// {"objective": "mean", "single_designs": true}, and the first subject's
+// {"objective": "mean", "single_designs": true, "start": "baseline"}, and
+// the first subject's
 // design scene but its body, core and baselines (a cohort's support is
 // compared body by body) and its start}. Paths absolute. Throws palpa::Error
 // (Input) for fewer than two subjects, subjects whose design templates
