@@ -9,6 +9,7 @@
 
 #include "common/test_support.hpp"
 #include "fit/fit_fixtures.hpp"
+#include "palpa/core/interrupt.hpp"
 #include "palpa/fit/fit.hpp"
 #include "palpa/material/models.hpp"
 
@@ -109,6 +110,45 @@ TEST(DepthSearch, TheSmallIndentationsChooseTheDepthWhereTheLawCannotFollowTheDe
   RecordProperty("whole_depth_mm", std::to_string(whole.guesses[whole.best].layer_depth * 1e3));
   EXPECT_FALSE(whole.small_profile.has_value());
   EXPECT_GT(whole.guesses[whole.best].layer_depth, 5.5e-3);  // why the small indentations choose
+}
+
+// An interrupt anywhere in a depth search (the small-indentation profile runs
+// stage 1 at every depth in parallel, each over its curves in parallel; then
+// the chosen depth's stages) ends the fit with the interrupt, never a crash:
+// no loop nested in another is cancelled behind its back.
+TEST(DepthSearch, AnInterruptAnywhereEndsTheFitWithTheInterrupt) {
+  ScratchDir dir;
+  test::IndentationSpec spec;
+  spec.true_depth = 5e-3;
+  spec.layer_depth = Json{{"from", "3 mm"}, {"to", "7 mm"}, {"count", 5}};
+  spec.train_radii = {2e-3, 3e-3, 4e-3};
+  spec.max_depth = 1.5e-3;
+  spec.points = 30;
+  spec.mesh_level = 0;
+  spec.contact = axisym::PunchContact::Frictionless;
+  spec.salt = 3;
+  const test::Synthetic data = test::write_indentation_dataset(dir.path(), material::NeoHookean(20e3, 0.45), spec);
+  const Dataset d = read_dataset(data.dataset);
+  FitOptions o;
+  o.model = "neo-hookean";
+  o.fixed = {"nu"};
+  o.simulation.mesh_level = spec.mesh_level;
+  o.simulation.steps = 6;
+  int interrupted = 0;
+  for (long n : {1L, 4L, 12L, 30L, 70L, 150L, 300L}) {
+    request_interrupt_at_check(n);
+    try {
+      (void)fit_dataset(d, o);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Interrupted) << "at check " << n << ": " << e.what();
+      ++interrupted;
+    }
+    clear_interrupt();
+  }
+  EXPECT_GE(interrupted, 6);
+  const FitResult r = fit_dataset(d, o);  // and a fit after them runs as usual
+  ASSERT_TRUE(r.small_profile.has_value());
+  EXPECT_NEAR(r.guesses[r.best].layer_depth, 5e-3, 1e-12);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 
 #include <time.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -21,6 +23,7 @@ namespace {
 // communicate through a lock-free flag.
 volatile std::sig_atomic_t g_interrupted = 0;
 volatile std::sig_atomic_t g_signal = SIGINT;
+std::atomic<long> g_checks_left{0};  // request_interrupt_at_check's countdown (0: off)
 
 // When the first signal came [s, CLOCK_MONOTONIC]; written and read by the
 // handler only (clock_gettime is async-signal-safe).
@@ -123,6 +126,7 @@ void unregister_forced_exit_tidy(std::size_t handle) {
 bool interrupt_requested() noexcept { return g_interrupted != 0; }
 
 void check_interrupt() {
+  if (g_checks_left.load(std::memory_order_relaxed) > 0 && g_checks_left.fetch_sub(1) == 1) request_interrupt();
   if (g_interrupted != 0) {
     throw Error(ErrorKind::Interrupted, "interrupted");
   }
@@ -132,6 +136,10 @@ void request_interrupt() noexcept {
   g_signal = SIGINT;
   g_interrupted = 1;
 }
-void clear_interrupt() noexcept { g_interrupted = 0; }
+void clear_interrupt() noexcept {
+  g_checks_left = 0;
+  g_interrupted = 0;
+}
+void request_interrupt_at_check(long n) noexcept { g_checks_left = std::max(n, 1L); }
 
 }  // namespace palpa

@@ -48,5 +48,8 @@ void check_interrupt();
 // For tests: request or clear an interrupt as if a signal had arrived.
 void request_interrupt() noexcept;
 void clear_interrupt() noexcept;
+// For tests: request an interrupt at the n-th check_interrupt() from now (on
+// whichever thread makes it), n ≥ 1; clear_interrupt() disarms it.
+void request_interrupt_at_check(long n) noexcept;
 
 }  // namespace palpa

@@ -5,7 +5,6 @@
 #include <ceres/gradient_problem_solver.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -20,6 +19,7 @@
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/json.hpp"
+#include "palpa/core/parallel.hpp"
 #include "palpa/core/ranks.hpp"
 #include "palpa/core/stopwatch.hpp"
 #include "palpa/design/checkpoint.hpp"
@@ -425,7 +425,7 @@ ShapeOptimizer::Pending ShapeOptimizer::evaluate_local(const Eigen::MatrixX3d& X
   if (mine.size() == 1) {
     one(mine.front());
   } else {
-    tbb::parallel_for(std::size_t{0}, mine.size(), [&](std::size_t k) { one(mine[k]); });
+    parallel_for_each_index(mine.size(), [&](std::size_t k) { one(mine[k]); });
   }
   ev.psi = smoothness_ ? smoothness_->evaluate(X, gradient ? &p.dpsi : nullptr) : 0.0;
   ev.seconds = seconds_since(t0);
@@ -495,9 +495,9 @@ std::vector<Evaluation> ShapeOptimizer::evaluate_all(const std::vector<Eigen::Ma
   // The trials factor concurrently, one per core: a multi-threaded BLAS under
   // each of them would oversubscribe the cores.
   const ScopedBlasThreads one_blas_thread(slots > 1 || bodies_.size() > 1 ? 1 : blas_threads());
-  tbb::parallel_for(0, slots, [&](int s) {
-    for (std::size_t i = static_cast<std::size_t>(s); i < shapes.size(); i += static_cast<std::size_t>(slots)) {
-      pending[i] = evaluate_local(shapes[i], warm, true, s);
+  parallel_for_each_index(static_cast<std::size_t>(slots), [&](std::size_t s) {
+    for (std::size_t i = s; i < shapes.size(); i += static_cast<std::size_t>(slots)) {
+      pending[i] = evaluate_local(shapes[i], warm, true, static_cast<int>(s));
     }
   });
   // Shared between the ranks, one shape after another, from this thread.

@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
@@ -14,6 +13,7 @@
 #include <mutex>
 
 #include "palpa/core/error.hpp"
+#include "palpa/core/parallel.hpp"
 #include "palpa/fit/checkpoint.hpp"
 #include "palpa/fit/optimize.hpp"
 #include "palpa/material/models.hpp"
@@ -225,7 +225,7 @@ std::vector<std::vector<CurvePrediction>> predict_curves(
     const std::function<void(std::size_t material, std::size_t curve)>& on_curve) {
   const std::size_t n = d.curves.size();
   std::vector<std::vector<CurvePrediction>> out(materials.size(), std::vector<CurvePrediction>(n));
-  tbb::parallel_for(std::size_t{0}, materials.size() * n, [&](std::size_t k) {
+  parallel_for_each_index(materials.size() * n, [&](std::size_t k) {
     const std::size_t m = k / n, i = k % n;
     auto sim = make_curve_simulator(d, d.curves[i], layer_depth, o);
     sim->allow_partial(true);
@@ -255,7 +255,7 @@ Stage1 fit_modulus(const Dataset& d, double layer_depth, const Material& initial
     if (c.role == CurveRole::Train) train.push_back(&c);
   }
   std::vector<CurvePrediction> preds(train.size());
-  tbb::parallel_for(std::size_t{0}, train.size(), [&](std::size_t i) {
+  parallel_for_each_index(train.size(), [&](std::size_t i) {
     auto sim = make_curve_simulator(d, *train[i], layer_depth, so);
     sim->record_stretches(true);
     preds[i] = sim->predict(initial, false);
@@ -401,11 +401,9 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     if (control.on_iteration) control.on_iteration(g, r);
   };
 
-  // Each guess keeps its own error: one leaving a task would cancel the loop
-  // and with it the parallel loops the other guesses are inside
-  // (fit_modulus, TrainingProblem::evaluate), which then return with
-  // simulations that never ran. After a failure the other guesses stop at
-  // their next iteration (after an interrupt, at their next check).
+  // Each guess keeps its own error: after a failure the other guesses stop at
+  // their next iteration (after an interrupt, at their next check), and the
+  // errors are rethrown once every guess has stopped.
   // Stage 2's problem from `start` at guess r's depth: μ0 and the curvature
   // regularization (a change of a spline's curvature by μ0 at one knot costs
   // as much as `smoothing` × the stage-1 RMS error at one point) from stage 1.
@@ -427,8 +425,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
   auto try_starts = [&](std::vector<Stage2Start>& starts, GuessResult& r) {
     std::vector<StartTrial> trials(starts.size());
     std::vector<std::shared_ptr<Material>> ends(starts.size());
-    std::vector<std::exception_ptr> trial_errors(starts.size());
-    tbb::parallel_for(std::size_t{0}, starts.size(), [&](std::size_t k) {
+    parallel_for_each_index(starts.size(), [&](std::size_t k) {
       StartTrial& t = trials[k];
       t.label = starts[k].label;
       t.objective_start = t.objective_end = std::numeric_limits<double>::infinity();
@@ -448,15 +445,10 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
         ends[k] = std::shared_ptr<Material>(p->material_at(out.x));
         t.evaluations = p->evaluations();
       } catch (const Error& e) {
-        if (e.kind() != ErrorKind::Solver) trial_errors[k] = std::current_exception();
+        if (e.kind() != ErrorKind::Solver) throw;
         // (a start the simulations reject is skipped)
-      } catch (...) {
-        trial_errors[k] = std::current_exception();
       }
     });
-    for (const auto& e : trial_errors) {
-      if (e) std::rethrow_exception(e);
-    }
     std::size_t best = 0;
     for (std::size_t k = 0; k < trials.size(); ++k) {
       r.evaluations += trials[k].evaluations;
@@ -590,8 +582,9 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
   if (small) {
     for (const auto& c : small->curves) profile.points += static_cast<int>(c.y.size());
     std::vector<Stage1> s1(d.layer_depths.size());
-    tbb::parallel_for(std::size_t{0}, d.layer_depths.size(),
-                      [&](std::size_t g) { s1[g] = fit_modulus(*small, d.layer_depths[g], *initial, o.simulation); });
+    parallel_for_each_index(d.layer_depths.size(), [&](std::size_t g) {
+      s1[g] = fit_modulus(*small, d.layer_depths[g], *initial, o.simulation);
+    });
     const double young1 = material::small_strain_constants(*initial).young();
     for (std::size_t g = 0; g < s1.size(); ++g) {
       profile.objective.push_back(s1[g].objective_scaled);
@@ -616,7 +609,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
     }
     result.small_profile = std::move(profile);
   }
-  tbb::parallel_for(std::size_t{0}, d.layer_depths.size(), [&](std::size_t g) {
+  parallel_for_each_index(d.layer_depths.size(), [&](std::size_t g) {
     if (chosen && g != *chosen) return;
     try {
       fit_guess(g);
@@ -627,19 +620,7 @@ FitResult fit_dataset(const Dataset& d, const FitOptions& o, const FitControl& c
       failed = true;
     }
   });
-  // An interrupt first (the user asked to stop), else the first guess's error.
-  std::exception_ptr first;
-  for (const std::exception_ptr& e : errors) {
-    if (!e) continue;
-    if (!first) first = e;
-    try {
-      std::rethrow_exception(e);
-    } catch (const Error& x) {
-      if (x.kind() == ErrorKind::Interrupted) throw;
-    } catch (...) {
-    }
-  }
-  if (first) std::rethrow_exception(first);
+  rethrow_first(errors);  // an interrupt first (the user asked to stop), else the first guess's error
 
   if (chosen) {
     result.best = *chosen;

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "palpa/core/error.hpp"
+#include "palpa/core/parallel.hpp"
 #include "palpa/fit/optimize.hpp"
 #include "palpa/material/checks.hpp"
 #include "palpa/material/spline_material.hpp"
@@ -64,7 +64,7 @@ bool TrainingProblem::evaluate(const Eigen::VectorXd& x, Evaluation& out) {
   }
   std::vector<CurvePrediction> preds(curves_.size());
   std::vector<std::string> failures(curves_.size());
-  tbb::parallel_for(std::size_t{0}, curves_.size(), [&](std::size_t i) {
+  parallel_for_each_index(curves_.size(), [&](std::size_t i) {
     try {
       preds[i] = sims_[i]->predict(*m, true);
     } catch (const Error& e) {
