@@ -9,6 +9,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/pipeline/demo.hpp"
 
 #ifndef PALPA_EXAMPLES_DIR
@@ -25,10 +26,13 @@ void add_demo_command(CLI::App& app) {
       "  palpa demo -o stages-demo");
   auto out = std::make_shared<std::string>("stages-demo");
   auto examples = std::make_shared<std::string>(PALPA_EXAMPLES_DIR);
+  auto overwrite = std::make_shared<bool>(false);
   cmd->add_option("-o,--output", *out, "Output folder (created if missing; default stages-demo)");
   cmd->add_option("--examples", *examples, "Folder of the bundled examples");
+  cmd->add_flag("--overwrite", *overwrite, "Write into a non-empty output folder");
   declare_paths(*cmd, {"--examples"}, {"-o"});
-  cmd->callback([out, examples] {
+  cmd->callback([out, examples, overwrite] {
+    if (!*overwrite) require_empty_output(*out);
     const pipeline::DemoResult r = pipeline::run_demo(*examples, *out);
     fmt::print("{}\nwrote {} files to {}\n", r.summary, r.files, *out);
   });

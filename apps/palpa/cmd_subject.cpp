@@ -52,7 +52,7 @@ void cohort(const std::string& file, const std::string& results, const std::stri
   const std::vector<pipeline::Subject> subjects = pipeline::read_subjects(file);
   const Json scene = pipeline::cohort_design_scene(subjects, results);
   const fs::path out(output);
-  if (out.has_parent_path()) fs::create_directories(out.parent_path());
+  if (out.has_parent_path()) ensure_directory(out.parent_path());
   write_file_atomic(out, [&](std::ostream& o) { o << format_json(scene, out); });
   spdlog::info("cohort {}: one support for {} bodies; wrote {} (run it with palpa design)", file, subjects.size(),
                output);
@@ -66,7 +66,7 @@ void dataset(const DatasetArgs& a) {
   const pipeline::Subject s = pipeline::read_subject(a.subject);
   const fs::path out(a.output);
   const fs::path folder = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  fs::create_directories(folder);
+  ensure_directory(folder);
   const Json d = pipeline::location_dataset(
       s, a.location, a.curves,
       a.ultrasound.empty() ? std::nullopt : std::optional<fs::path>(a.ultrasound), folder);

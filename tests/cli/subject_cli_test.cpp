@@ -110,6 +110,12 @@ TEST(SubjectCli, PlansWritesDatasetsAndMakesTheBodyCarryTheFits) {
   EXPECT_EQ(back["layer_depth"]["count"], 3);
   EXPECT_EQ(back["curves"][1]["file"], "../curves/back/r6mm.csv");
   EXPECT_EQ(back["poisson"], 0.45);
+  // A dataset written over one of the curves it lists is refused, the curve kept.
+  r = run_palpa("subject dataset subject.json --location back --curves curves/back -o curves/back/r6mm.csv",
+                dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("r6mm.csv"), std::string::npos) << r.err;
+  EXPECT_EQ(test::read_text(dir / "curves/back/r6mm.csv"), "x\n");
   r = run_palpa(
       "subject dataset subject.json --location front --curves curves/front --ultrasound "
       "depths/front.json "
@@ -122,6 +128,16 @@ TEST(SubjectCli, PlansWritesDatasetsAndMakesTheBodyCarryTheFits) {
   // The body: the shape from the better fit (front), each location's E and depth.
   write_fit(dir, "back", 20.0, 0.015, 0.05);
   write_fit(dir, "front", 60.0, 0.021, 0.01);
+  // An output under a regular file: an input error naming it, nothing written.
+  dir.write("plain.txt", "a file\n");
+  for (const char* args : {"subject body subject.json --fits fits -o plain.txt/body",
+                           "subject dataset subject.json --location back --curves curves/back -o plain.txt/d.json"}) {
+    r = run_palpa(args, dir.path());
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("plain.txt"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("not a folder"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(test::read_text(dir / "plain.txt"), "a file\n");
   r = run_palpa("subject body subject.json --fits fits -o body", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto fields = nlohmann::json::parse(test::read_text(dir / "body/fields.json"));
@@ -212,6 +228,28 @@ TEST(SubjectCli, AFailedFitIsNamedAndNothingIsWritten) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "body/moduli.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "body")) << "a failed run leaves no folder it created";
+}
+
+// Results that are not what palpa wrote (a key missing, a number as text) are
+// input errors naming the file, and no report is written.
+TEST(SubjectCli, AReportOnMalformedResultsNamesTheFile) {
+  struct Bad {
+    const char* file;
+    const char* text;
+  };
+  for (const Bad& b : {Bad{"results/body/fields.json", R"({"locations": [{"name": 3}]})"},
+                       Bad{"results/rest/summary.json", R"({"pressure_map": {}})"},
+                       Bad{"results/design/summary.json", R"({"objective": "low"})"}}) {
+    ScratchDir dir;
+    write_inputs(dir);
+    dir.write(b.file, b.text);
+    const auto r = run_palpa("subject report subject.json --results results -o report.html", dir.path());
+    EXPECT_EQ(r.exit_code, 2) << b.file << "\n" << r.err;
+    EXPECT_NE(r.err.find(b.file), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("is not the result palpa writes there"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "report.html")) << b.file;
+  }
 }
 
 }  // namespace

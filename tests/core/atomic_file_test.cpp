@@ -14,6 +14,7 @@
 
 #include "common/test_support.hpp"
 #include "palpa/core/atomic_file.hpp"
+#include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
 
 namespace palpa {
@@ -342,6 +343,73 @@ TEST(OutputFolder, AFailedStageTakesBackTheFilesItWrote) {
   EXPECT_FALSE(std::filesystem::exists(out / "body_before.vtu"));
   EXPECT_FALSE(std::filesystem::exists(out / "skin_before.ply"));
   EXPECT_EQ(folder.written_count(), 1u);
+  folder.keep();
+}
+
+// Nothing palpa removes, appends to or writes under an output folder
+// resolves outside it through a link.
+TEST(OutputFolder, AJournalLineThroughAFolderLinkRemovesNothingOutside) {
+  test::ScratchDir dir;
+  const auto out = dir / "out";
+  dir.write("elsewhere/precious.txt", "outside");
+  std::filesystem::create_directories(out);
+  std::filesystem::create_directory_symlink(dir / "elsewhere", out / "linked");
+  dir.write(std::string("out/") + kOutputJournalName, "linked/precious.txt\n");
+  {
+    OutputFolder next(out);
+    next.keep();
+  }
+  EXPECT_EQ(read_all(dir / "elsewhere" / "precious.txt"), "outside");
+  EXPECT_TRUE(std::filesystem::is_symlink(out / "linked"));
+}
+
+TEST(OutputFolder, BookkeepingFilesThatAreLinksAreRefusedAndTheirTargetsKept) {
+  for (const char* name : {kOutputJournalName, kPreviousJournalName, kOutputLockName}) {
+    test::ScratchDir dir;
+    const auto out = dir / "out";
+    dir.write("target.txt", "the user's file\n");
+    std::filesystem::create_directories(out);
+    std::filesystem::create_symlink(dir / "target.txt", out / name);
+    try {
+      OutputFolder folder(out);
+      write_file_atomic(out / "a.csv", [](std::ostream& o) { o << "1\n"; });
+      folder.keep();
+      ADD_FAILURE() << name << ": a link for palpa's bookkeeping was taken";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Input);
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("is a link"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(read_all(dir / "target.txt"), "the user's file\n") << name;
+    EXPECT_FALSE(std::filesystem::exists(out / "a.csv")) << name;
+  }
+}
+
+TEST(OutputFolder, AFolderLinkInsideIsNotWrittenThrough) {
+  test::ScratchDir dir;
+  const auto out = dir / "out";
+  std::filesystem::create_directories(dir / "elsewhere");
+  std::filesystem::create_directories(out);
+  std::filesystem::create_directory_symlink(dir / "elsewhere", out / "curves");
+  OutputFolder folder(out);
+  try {
+    write_file_atomic(out / "curves" / "a.csv", [](std::ostream& o) { o << "1\n"; });
+    ADD_FAILURE() << "written through the link";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Input);
+    EXPECT_NE(std::string(e.what()).find("'curves' in the output folder is a link"), std::string::npos) << e.what();
+  }
+  OutputBatch batch;
+  EXPECT_THROW(batch.add(out / "curves" / "b.csv"), Error);
+  EXPECT_THROW((void)batch.stage(out / "curves" / "c.vtu"), Error);
+  EXPECT_TRUE(std::filesystem::is_empty(dir / "elsewhere"));
+  // A folder that is the output folder through a link of the user's own (-o
+  // names a link) is written as usual.
+  std::filesystem::create_directory_symlink(dir / "elsewhere", dir / "out2");
+  OutputFolder through(dir / "out2");
+  write_file_atomic(dir / "out2" / "a.csv", [](std::ostream& o) { o << "1\n"; });
+  EXPECT_TRUE(std::filesystem::exists(dir / "elsewhere" / "a.csv"));
+  through.keep();
   folder.keep();
 }
 

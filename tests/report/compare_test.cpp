@@ -96,6 +96,18 @@ TEST(CompareMaps, RefusesDifferentMeshesAndBadFields) {
   write_ply(dir / "negative.ply", b.mesh, o);
   EXPECT_THROW(read_pressure_map(dir / "negative.ply"), Error);
   EXPECT_THROW(read_pressure_map(dir / "negative.ply", "stress"), Error);
+  // Pressures whose sums and squares overflow are refused by name, not left to
+  // make infinities downstream.
+  o.vertex_scalars = {{"pressure_Pa", Eigen::VectorXd::Constant(b.pressure.size(), 1e308)}};
+  write_ply(dir / "huge.ply", b.mesh, o);
+  try {
+    (void)read_pressure_map(dir / "huge.ply");
+    ADD_FAILURE() << "1e308 Pa was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Input);
+    EXPECT_NE(std::string(e.what()).find("huge.ply"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("from 0 to 1e+09 Pa"), std::string::npos) << e.what();
+  }
   o.vertex_scalars = {{"pressure_Pa", b.pressure}};
   write_ply(dir / "good.ply", b.mesh, o);
   const PressureMap read = read_pressure_map(dir / "good.ply");

@@ -45,7 +45,7 @@ bool same_inode(int fd, const std::filesystem::path& path) {
 
 // Removes the lock file at `path` if no process holds it; true if it did.
 bool remove_unheld_lock(const std::filesystem::path& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  const int fd = ::open(path.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
   if (fd < 0) return false;
   bool removed = false;
   if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && same_inode(fd, path)) removed = ::unlink(path.c_str()) == 0;
@@ -72,7 +72,7 @@ int lock_output_folder(const std::filesystem::path& dir, const std::filesystem::
   // A few tries: the file may be unlinked by its last holder between our open
   // and our lock, and then the lock we got is on a file no one else sees.
   for (int attempt = 0; attempt < 16; ++attempt) {
-    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
     if (fd < 0) {
       const int err = errno;
       throw_input_error(fmt::format("cannot write into the output folder: {}", std::strerror(err)), ctx,
@@ -140,6 +140,29 @@ std::vector<std::string> journal_lines(const std::filesystem::path& file) {
   return lines;
 }
 
+// Appends `text` to the file at `path` (created if missing), never through a
+// link: bookkeeping that a link would carry outside the output folder.
+bool append_no_follow(const std::filesystem::path& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) return false;
+  const bool ok = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  ::close(fd);
+  return ok;
+}
+
+// The first link met going down from `dir` along `rel` (`rel`'s last part
+// included), or an empty path: a path under an output folder that leads
+// elsewhere through a link.
+std::filesystem::path first_link_below(const std::filesystem::path& dir, const std::filesystem::path& rel) {
+  std::filesystem::path p = dir;
+  std::error_code ec;
+  for (const auto& part : rel) {
+    p /= part;
+    if (std::filesystem::is_symlink(std::filesystem::symlink_status(p, ec))) return p;
+  }
+  return {};
+}
+
 }  // namespace
 
 bool is_output_bookkeeping(const std::filesystem::path& name) {
@@ -148,6 +171,27 @@ bool is_output_bookkeeping(const std::filesystem::path& name) {
 }
 
 namespace {
+
+// Refuses (Input) a folder under an output folder that keeps a journal when
+// the way down to it passes a link: what palpa writes there would land
+// outside the output folder, beyond its journal and its --overwrite.
+void refuse_links_below_output_folders(const std::filesystem::path& dir, const ErrorContext& ctx) {
+  std::error_code ec;
+  const std::filesystem::path abs = std::filesystem::absolute(dir, ec).lexically_normal();
+  if (ec) return;
+  Journals& j = journals();
+  std::lock_guard lock(j.mutex);
+  for (const OutputFolder* f : j.folders) {
+    const std::filesystem::path rel = abs.lexically_relative(f->journal_folder());
+    if (rel.empty() || *rel.begin() == ".." || rel == ".") continue;
+    if (const std::filesystem::path link = first_link_below(f->journal_folder(), rel); !link.empty()) {
+      throw_input_error(fmt::format("'{}' in the output folder is a link: the file would be written outside the "
+                                    "folder",
+                                    link.lexically_relative(f->journal_folder()).string()),
+                        ctx, "a real folder inside the output folder (remove the link, or choose another -o)");
+    }
+  }
+}
 
 // The folder an output file goes into, after refusing (Input, naming the
 // file) a path that names no file or a folder, a folder that does not exist,
@@ -164,6 +208,7 @@ std::filesystem::path checked_output_folder(const std::filesystem::path& target)
   }
   refuse_overwriting_an_input(target);
   if (std::filesystem::is_directory(target, ec)) throw_input_error("output path is a folder", ctx, "a file name");
+  refuse_links_below_output_folders(dir, ctx);
   return dir;
 }
 
@@ -300,11 +345,17 @@ void ensure_directory(const std::filesystem::path& dir) {
     }
     return;
   }
+  for (std::filesystem::path up = dir.parent_path(); !up.empty() && up != up.parent_path(); up = up.parent_path()) {
+    if (std::filesystem::exists(up, ec) && !std::filesystem::is_directory(up, ec)) {
+      throw_input_error(fmt::format("cannot create the folder: '{}' is a file, not a folder", up.string()), ctx,
+                        "a folder for the outputs");
+    }
+  }
   std::filesystem::create_directories(dir, ec);
   if (ec) throw_input_error(fmt::format("cannot create the folder: {}", ec.message()), ctx);
 }
 
-void require_empty_output(const std::filesystem::path& out, std::string_view what) {
+void require_empty_output(const std::filesystem::path& out, std::string_view resumable) {
   // What a killed run left half-written does not count, nor the lock of a run
   // still writing there (OutputFolder refuses that one by name), nor the
   // journals of the outputs of earlier runs.
@@ -319,8 +370,11 @@ void require_empty_output(const std::filesystem::path& out, std::string_view wha
   if (!empty) {
     throw_input_error(fmt::format("output folder '{}' is not empty", out.string()),
                       ErrorContext{out.string(), 0, 0, "option -o"},
-                      fmt::format("a new or empty folder, --resume to continue an interrupted {} there, or --overwrite",
-                                  what));
+                      resumable.empty()
+                          ? std::string("a new or empty folder, or --overwrite")
+                          : fmt::format("a new or empty folder, --resume to continue an interrupted {} there, or "
+                                        "--overwrite",
+                                        resumable));
   }
 }
 
@@ -362,6 +416,13 @@ OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy, L
   remove_stale_temporaries(dir);
   if (lock == Lock::Exclusive) {
     try {
+      // palpa's own bookkeeping is never followed through a link.
+      for (const char* name : {kOutputLockName, kOutputJournalName, kPreviousJournalName}) {
+        if (std::filesystem::is_symlink(std::filesystem::symlink_status(dir / name, ec))) {
+          throw_input_error("is a link, where palpa keeps its own bookkeeping file", in_file((dir / name).string()),
+                            "no file of that name, or the one palpa wrote (remove the link)");
+        }
+      }
       lock_path_ = dir / kOutputLockName;
       lock_fd_ = lock_output_folder(dir, lock_path_);
     } catch (...) {
@@ -377,9 +438,9 @@ OutputFolder::OutputFolder(const std::filesystem::path& dir, OnFailure policy, L
       // A run that neither finished nor was resumed set a journal aside
       // already: its files and those of the run before it are both stale.
       if (std::filesystem::exists(previous, ec)) {
-        std::ofstream out(previous, std::ios::app);
-        for (const std::string& line : journal_lines(journal)) out << line << '\n';
-        out.close();
+        std::string lines;
+        for (const std::string& line : journal_lines(journal)) lines += line + '\n';
+        append_no_follow(previous, lines);
         std::filesystem::remove(journal, ec);
       } else {
         std::filesystem::rename(journal, previous, ec);
@@ -422,8 +483,7 @@ void OutputFolder::note_written(const std::filesystem::path& file) noexcept {
   try {
     const std::filesystem::path rel = file.lexically_relative(dir_);
     if (rel.empty() || *rel.begin() == ".." || is_output_bookkeeping(rel)) return;
-    std::ofstream out(dir_ / kOutputJournalName, std::ios::app);
-    out << rel.generic_string() << '\n';
+    append_no_follow(dir_ / kOutputJournalName, rel.generic_string() + '\n');
     written_.push_back(file);
   } catch (...) {
     // Bookkeeping only: a file missing from the journal is at worst not
@@ -458,6 +518,8 @@ void OutputFolder::remove_previous_outputs() {
     // A hand-edited journal names nothing outside the folder.
     if (rel.is_absolute() || rel.empty() || *rel.begin() == ".." || is_output_bookkeeping(rel)) continue;
     const std::filesystem::path p = dir_ / rel;
+    // ... nor, through a link on the way down, a file outside it.
+    if (!first_link_below(dir_, rel).empty()) continue;
     if (!std::filesystem::is_regular_file(std::filesystem::symlink_status(p, ec))) continue;
     try {
       refuse_overwriting_an_input(p);  // one of this run's inputs stays

@@ -104,8 +104,9 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 
 // Refuses (palpa::Error, Input, naming option -o) an output folder that
 // exists and holds anything but bookkeeping and a killed run's temporaries:
-// `what` ("fit", "design run") names the run that --resume would continue there.
-void require_empty_output(const std::filesystem::path& out, std::string_view what);
+// `resumable` ("fit", "design run") names the run that --resume would continue
+// there (empty: the command has no --resume).
+void require_empty_output(const std::filesystem::path& out, std::string_view resumable = {});
 
 // An output folder for the length of a run: created (with missing parents) as
 // ensure_directory does; if the run ends without keep() — an exception, bad
@@ -146,6 +147,8 @@ class OutputFolder {
 
   // Adds `file` (absolute, normalized) to the journal if it lies in this folder.
   void note_written(const std::filesystem::path& file) noexcept;
+  // The folder whose journal it keeps (absolute, normalized; empty: none).
+  const std::filesystem::path& journal_folder() const noexcept { return dir_; }
 
   // How many files this run has written into the folder so far (a locked
   // folder only), and removing those written since such a count: a stage of

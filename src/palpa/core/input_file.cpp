@@ -44,6 +44,8 @@ InputRegistry& registry() {
   return r;
 }
 
+}  // namespace
+
 void remember_input(const std::filesystem::path& path) {
   InputRegistry& r = registry();
   if (!r.on) return;
@@ -52,8 +54,6 @@ void remember_input(const std::filesystem::path& path) {
     r.inputs.insert(*id);
   }
 }
-
-}  // namespace
 
 void guard_inputs(bool on) {
   InputRegistry& r = registry();

@@ -32,6 +32,10 @@ std::string read_input_file(const std::filesystem::path& path, InputUse use = In
 // program reads and rewrites many files over its life).
 void guard_inputs(bool on);
 
+// Remembers `path` for the input guard as a file the run refers to as an
+// input without reading it here (the curves a dataset lists).
+void remember_input(const std::filesystem::path& path);
+
 // Throws palpa::Error (Input) naming `target` when the guard is on and
 // `target` is a file this process read as an input.
 void refuse_overwriting_an_input(const std::filesystem::path& target);

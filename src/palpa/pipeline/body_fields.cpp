@@ -101,7 +101,7 @@ BodyFields read_location_fits(const Subject& s, const fs::path& fits) {
 }
 
 void write_body_fields(const Subject& s, const BodyFields& f, const fs::path& out) {
-  fs::create_directories(out);
+  OutputFolder folder(out);  // (a failed write leaves no folder it created)
   const LocationFit& shape = f.fits[f.shape];
   OutputBatch batch;
   batch.add(out / "depths.csv") << format_csv(
@@ -154,6 +154,7 @@ void write_body_fields(const Subject& s, const BodyFields& f, const fs::path& ou
   batch.add(out / "design.json") << format_json(design, out / "design.json");
   batch.add(out / "rest.json") << format_json(rest, out / "rest.json");
   batch.commit();
+  folder.keep();
 }
 
 }  // namespace palpa::pipeline

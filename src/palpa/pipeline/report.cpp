@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "palpa/core/error.hpp"
 #include "palpa/core/json.hpp"
 #include "palpa/design/output.hpp"
 
@@ -19,17 +20,32 @@ std::optional<Json> read_if_there(const fs::path& p) {
 
 std::string kpa(double pa) { return fmt::format("{:.3g} kPa", pa * 1e-3); }
 
+// Runs `use` on a result file's JSON; a key missing or of the wrong type is
+// an input error naming the file.
+template <class F>
+void from_result(const fs::path& file, F&& use) {
+  try {
+    use();
+  } catch (const Json::exception& e) {
+    throw_input_error(fmt::format("is not the result palpa writes there: {}", e.what()), in_file(file.string()),
+                      "the file as palpa wrote it (run that step again)");
+  }
+}
+
 }  // namespace
 
 report::HtmlReport subject_report(const Subject& s, const fs::path& results) {
   const std::optional<Json> fields = read_if_there(results / "body" / "fields.json");
   const std::optional<Json> design = read_if_there(results / "design" / "summary.json");
+  std::string headline = "no design yet";
+  if (design) {
+    from_result(results / "design" / "summary.json", [&] { headline = design::design_headline_text(*design); });
+  }
   report::HtmlReport h(fmt::format("palpa subject {}", s.name),
-                       fmt::format("{} poke locations · {} · {}", s.locations.size(), s.file.string(),
-                                   design ? design::design_headline_text(*design) : std::string("no design yet")));
+                       fmt::format("{} poke locations · {} · {}", s.locations.size(), s.file.string(), headline));
 
   h.heading("Locations: measured and fitted");
-  if (fields) {
+  if (fields) from_result(results / "body" / "fields.json", [&] {
     std::vector<std::vector<std::string>> rows;
     for (const Json& l : fields->at("locations")) {
       const Json& p = l.at("position_m");
@@ -49,9 +65,8 @@ report::HtmlReport subject_report(const Subject& s, const fs::path& results) {
         "each curve's largest force. The body's material is the shape fitted at {} ({}), scaled at every place "
         "to the modulus interpolated from the locations.",
         fields->at("shape_from").get<std::string>(), fields->at("shape_rule").get<std::string>()));
-  } else {
-    h.paragraph("The fits have not all finished: no body fields yet.");
-  }
+  });
+  if (!fields) h.paragraph("The fits have not all finished: no body fields yet.");
   std::vector<std::pair<fs::path, std::string>> row;
   for (const Location& l : s.locations) {
     row.emplace_back(results / "fits" / l.name / "curves.svg", l.name + ": measured and fitted curves");
@@ -67,7 +82,8 @@ report::HtmlReport subject_report(const Subject& s, const fs::path& results) {
                    {results / "rest" / "body_stiffness.svg", "its Young's modulus"}});
 
   h.heading("At rest on the initial support");
-  if (const std::optional<Json> rest = read_if_there(results / "rest" / "summary.json")) {
+  const std::optional<Json> rest = read_if_there(results / "rest" / "summary.json");
+  if (rest) from_result(results / "rest" / "summary.json", [&] {
     const Json& body = rest->at("pressure_map").at("body");
     h.table({"load", "body peak", "body PPI", "body mean", "contact area", "support peak"},
             {{fmt::format("{:.1f} N", rest->at("pressure_map_force_N").at("load").get<double>()),
@@ -75,7 +91,7 @@ report::HtmlReport subject_report(const Subject& s, const fs::path& results) {
               kpa(body.at("peak_pressure_index_Pa").get<double>()), kpa(body.at("mean_Pa").get<double>()),
               fmt::format("{:.1f} cm²", body.at("contact_area_m2").get<double>() * 1e4),
               kpa(rest->at("peak_pressure_Pa").at("support").get<double>())}});
-  }
+  });
   h.paragraph("Pressures are the normal traction per deformed area, what a pressure-mapping mat between the body "
               "and the support would read; the two sides carry the same contact, drawn on the skin and on the "
               "support.");
@@ -84,8 +100,9 @@ report::HtmlReport subject_report(const Subject& s, const fs::path& results) {
 
   h.heading("The support designed for this body");
   if (design) {
-    h.paragraph(design::design_headline_text(*design));
-    design::add_design_sections(h, results / "design", *design);
+    h.paragraph(headline);
+    from_result(results / "design" / "summary.json",
+                [&] { design::add_design_sections(h, results / "design", *design); });
   } else {
     h.paragraph("The design has not finished.");
   }

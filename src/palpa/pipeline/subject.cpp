@@ -7,6 +7,7 @@
 #include <set>
 
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/core/units.hpp"
 #include "palpa/geometry/closest_point.hpp"
 #include "palpa/geometry/format.hpp"
@@ -474,6 +475,7 @@ Json location_dataset(const Subject& s, const std::string& location, const fs::p
                         ErrorContext{c.string(), 0, 0, ""},
                         "the curve palpa acquire poke wrote for it");
     }
+    remember_input(c);  // the dataset written must not replace one of its curves
     curves.push_back(
         {{"file", fs::proximate(fs::absolute(c), fs::absolute(dataset_dir)).generic_string()},
          {"radius", format_length(p.radius)},

@@ -57,8 +57,9 @@ PressureMap read_pressure_map(const std::filesystem::path& path, const std::stri
   }
   if (m.mesh.F.rows() == 0) fail(m.source, "the map has no triangles", "a triangle surface");
   for (Eigen::Index i = 0; i < m.pressure.size(); ++i) {
-    if (!std::isfinite(m.pressure[i]) || m.pressure[i] < 0.0) {
-      fail(m.source, fmt::format("vertex {} has pressure {}", i, m.pressure[i]), "finite pressures ≥ 0 Pa");
+    if (!std::isfinite(m.pressure[i]) || m.pressure[i] < 0.0 || m.pressure[i] > kMaxMapPressure) {
+      fail(m.source, fmt::format("vertex {} has pressure {} Pa", i, m.pressure[i]),
+           fmt::format("pressures from 0 to {:g} Pa", kMaxMapPressure));
     }
   }
   return m;

@@ -33,9 +33,13 @@ struct PressureMap {
   std::string source;        // file name, for messages
 };
 
+// The largest pressure a map may hold [Pa]: 1 GPa, far beyond any contact
+// of tissue (sums and squares of larger values overflow).
+inline constexpr double kMaxMapPressure = 1e9;
+
 // Reads a PLY or VTU surface with a per-vertex scalar `field` (pressure_Pa by
 // default). Throws palpa::Error (Input) naming the file for a missing field,
-// a non-finite or negative pressure, or a mesh that is not triangles.
+// a pressure that is not finite, negative or above kMaxMapPressure, or a mesh that is not triangles.
 PressureMap read_pressure_map(const std::filesystem::path& path, const std::string& field = "pressure_Pa");
 
 struct MapComparison {

@@ -319,7 +319,7 @@ Json write_rest_outputs(const std::filesystem::path& out, const RestScene& scene
 }
 
 RestRun run_rest(const RestScene& scene, const std::filesystem::path& out, bool overwrite) {
-  if (!overwrite) require_empty_output(out, "run");
+  if (!overwrite) require_empty_output(out);
   spdlog::info("rest: {}: body from {} ({} vertices, {} tetrahedra, {} attached), support {}", scene.file.string(),
                scene.body_source, scene.body.mesh.V.rows(), scene.body.mesh.T.rows(), scene.body.attached.size(),
                scene.support_source);
