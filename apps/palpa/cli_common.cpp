@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -37,6 +38,19 @@ CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double&
       help);
   opt->type_name(dimension == Dimension::Dimensionless ? "NUMBER" : "QUANTITY");
   return opt;
+}
+
+CLI::Validator finite_range(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value)) return fmt::format("'{}' is not a number", text);
+        if (!std::isfinite(value) || value < lo || value > hi) {
+          return fmt::format("{} is not in range [{:g} - {:g}] (a finite number)", text, lo, hi);
+        }
+        return {};
+      },
+      fmt::format("NUMBER in [{:g} - {:g}]", lo, hi));
 }
 
 std::pair<double, double> parse_range(const std::string& text, const std::string& option, const std::string& example) {

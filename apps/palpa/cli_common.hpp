@@ -25,6 +25,10 @@ enum class Sign { Any, Positive, NonNegative };
 CLI::Option* add_quantity_option(CLI::App& app, const std::string& name, double& target,
                                  Dimension dimension, const std::string& description, Sign sign = Sign::Any);
 
+// A plain number option's check: a finite number from `lo` to `hi` (CLI::Range
+// lets NaN through: every comparison with it is false).
+CLI::Validator finite_range(double lo, double hi);
+
 // "LOW:HIGH" -> (LOW, HIGH), two plain numbers with LOW < HIGH; an input
 // error naming `option` otherwise, with `example` ("0.6:1.6") as the expected form.
 std::pair<double, double> parse_range(const std::string& text, const std::string& option, const std::string& example);

@@ -40,10 +40,10 @@ void add_log_options(CLI::App& cmd, int& order, double& cutoff, acquire::Plateau
                       "Shortest rest plateau before and after the poke (default 1 s)", Sign::Positive);
   cmd.add_option("--rest-tolerance", plateau.tolerance,
                  "A plateau stays within this fraction of the poke's amplitude (default 0.05)")
-      ->check(CLI::Range(1e-4, 0.5));
+      ->check(finite_range(1e-4, 0.5));
   cmd.add_option("--max-gap", check.max_gap_steps,
                  "A time step longer than this many median steps is a gap (error; default 5)")
-      ->check(CLI::Range(1.5, 1e6));
+      ->check(finite_range(1.5, 1e6));
   add_quantity_option(cmd, "--saturation", saturation, Dimension::Time,
                       "Identical samples at a log's extreme for this long mean a clipped sensor (default 0.1 s)",
                       Sign::Positive);

@@ -18,6 +18,8 @@ namespace palpa::cli {
 
 namespace {
 
+CLI::Validator range(const fit::OptionBounds& b) { return finite_range(b.lo, b.hi); }
+
 struct FitArgs {
   std::string dataset;
   std::string output;
@@ -92,14 +94,14 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--optimizer", a->optimizer,
                   "lm (Levenberg-Marquardt, default) or nlcg (nonlinear conjugate gradients)");
   cmd->add_option("--max-iterations", a->max_iterations, "Iterations of the shape stage per layer depth (default 50)")
-      ->check(CLI::Range(0, 10000));
+      ->check(range(fit::bounds::max_iterations));
   cmd->add_option("--tolerance", a->tolerance,
                   "Stop when an iteration lowers the objective by less than this fraction (default 1e-5)")
-      ->check(CLI::Range(1e-16, 1.0));
+      ->check(finite_range(fit::bounds::tolerance.lo, fit::bounds::tolerance.hi));
   cmd->add_option("--smoothing", a->smoothing,
                   "Spline curvature regularization: changing a spline's curvature by the shear modulus at one "
                   "knot costs this many stage-1 RMS errors (default 0.1; 0 = none)")
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(finite_range(fit::bounds::smoothing.lo, fit::bounds::smoothing.hi));
   cmd->add_option("--fix", a->fix, "Parameters held at their start values, e.g. --fix nu")->delimiter(',');
   cmd->add_option("--nu-range", a->nu_range,
                   "Range LO:HI of the small-strain Poisson's ratio the fit may reach, open at both ends "
@@ -108,12 +110,13 @@ void add_fit_command(CLI::App& app) {
                   "How a depth search picks the layer depth: small (default: the modulus at every guess on the "
                   "indentations up to 0.1 min(punch radius, shallowest guess), then the whole fit at the best) "
                   "or whole (every guess fitted on every point, the lowest objective wins)");
-  cmd->add_option("--ogden-terms", a->ogden_terms, "Terms of the ogden model (default 2)")->check(CLI::Range(1, 6));
+  cmd->add_option("--ogden-terms", a->ogden_terms, "Terms of the ogden model (default 2)")
+      ->check(range(fit::bounds::ogden_terms));
   cmd->add_option("--starts", a->starts,
                   "Shape-stage starts tried for 5 iterations each before the best goes on: ogden has 3 or 4, "
                   "mooney-rivlin 3, neo-hookean-volume and spline 2, the other models 1 (default 0: all of the "
                   "model's; 1: stage 1's material alone)")
-      ->check(CLI::Range(0, 10));
+      ->check(range(fit::bounds::starts));
   cmd->add_option("--initial", a->initial,
                   "Material file to start from (its modulus is fitted first); default neo-Hookean "
                   "E = 10 kPa with the dataset's nu");
@@ -121,10 +124,11 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--mesh-level", a->level,
                   "Mesh refinement 0..7 of the simulations; forces are extrapolated from this level and "
                   "the one below it (default 2)")
-      ->check(CLI::Range(0, 7));
+      ->check(range(fit::bounds::mesh_level));
   cmd->add_flag("--no-extrapolation", a->no_extrapolation,
                 "Simulate on the --mesh-level mesh alone, without Richardson extrapolation");
-  cmd->add_option("--steps", a->steps, "Simulated depths per curve (default 20)")->check(CLI::Range(2, 1000));
+  cmd->add_option("--steps", a->steps, "Simulated depths per curve (default 20)")
+      ->check(range(fit::bounds::steps));
   cmd->add_option("--element", a->element, "fbar (default) or standard");
   add_quantity_option(*cmd, "--fillet", a->fillet, Dimension::Length, "Punch rim radius (default 0: sharp)",
                       Sign::NonNegative);

@@ -60,7 +60,8 @@ mesh::TetQuality quality_from(const QualityArgs& q) {
 
 void add_quality_options(CLI::App& cmd, QualityArgs& q) {
   cmd.add_option("--max-radius-edge", q.max_radius_edge,
-                 "TetGen quality bound: largest circumradius / shortest edge of a tet (> 1; default 1.5)");
+                 "TetGen quality bound: largest circumradius / shortest edge of a tet (> 1; default 1.5)")
+      ->check(finite_range(1.0, 1e3));
   add_quantity_option(cmd, "--min-dihedral", q.min_dihedral, Dimension::Angle,
                       "TetGen quality target: smallest dihedral angle (default 12 deg)", Sign::Positive);
   add_quantity_option(cmd, "--tet-size", q.tet_size, Dimension::Length,

@@ -17,6 +17,7 @@
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/interrupt.hpp"
 #include "palpa/core/log.hpp"
+#include "palpa/core/parallel.hpp"
 #include "palpa/core/ranks.hpp"
 #include "palpa/core/version.hpp"
 #include "palpa/solve/blas.hpp"
@@ -86,7 +87,7 @@ int run(int argc, char** argv) {
   int threads = 0;
   std::unique_ptr<tbb::global_control> thread_limit;
   app.add_option("--threads", threads, "Cores to use at most (default 0: all of this machine's)")
-      ->check(CLI::Range(0, 4096));
+      ->check(CLI::Range(0, palpa::kMaxThreads));
   app.add_flag("-v,--verbose", verbose, "More output (repeat for more: -vv)");
   app.add_flag("-q,--quiet", quiet, "Only warnings and errors; no progress bars");
 

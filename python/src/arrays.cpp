@@ -43,7 +43,9 @@ void check_shape(const py::array& arr, Eigen::Index cols, const char* name, bool
 Eigen::MatrixXd float_matrix(const py::handle& a, Eigen::Index cols, const char* name, bool allow_empty) {
   const py::array arr = checked_numeric(a, name, "fiu");
   check_shape(arr, cols, name, allow_empty);
-  const auto c = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+  // (the constructor raises what the copy raised, a MemoryError of a view too
+  // large to copy among them; ensure() would return a null array instead)
+  const py::array_t<double, py::array::c_style | py::array::forcecast> c(arr);
   const Eigen::Index rows = c.shape(0);
   const Eigen::Index width = cols == 0 ? 1 : cols;
   Eigen::MatrixXd out(rows, width);
@@ -67,7 +69,7 @@ Eigen::VectorXd float_vector(const py::handle& a, const char* name, bool allow_e
 Eigen::MatrixXi index_matrix(const py::handle& a, Eigen::Index cols, Eigen::Index bound, const char* name) {
   const py::array arr = checked_numeric(a, name, "iu");
   check_shape(arr, cols, name, false);
-  const auto c = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
+  const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> c(arr);
   Eigen::MatrixXi out(c.shape(0), cols);
   const std::int64_t* data = c.data();
   for (Eigen::Index i = 0; i < out.rows(); ++i) {

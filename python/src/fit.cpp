@@ -11,6 +11,7 @@
 #include "common.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/interrupt.hpp"
+#include "palpa/fit/fit.hpp"
 #include "palpa/fit/run.hpp"
 #include "palpa/material/material_file.hpp"
 
@@ -28,7 +29,22 @@ struct FitArgs {
   std::optional<std::string> initial;
 };
 
+// The command line's ranges, with the keyword's name.
+void check_in(const char* name, double value, const fit::OptionBounds& b) {
+  if (!b.holds(value)) {
+    throw_input_error(fmt::format("{} = {}", name, value), ErrorContext{"", 0, 0, name},
+                      fmt::format("a number from {:g} to {:g}", b.lo, b.hi));
+  }
+}
+
 bool run(const FitArgs& a, const py::object& progress) {
+  check_in("max_iterations", a.max_iterations, fit::bounds::max_iterations);
+  check_in("tolerance", a.tolerance, fit::bounds::tolerance);
+  check_in("smoothing", a.smoothing, fit::bounds::smoothing);
+  check_in("ogden_terms", a.ogden_terms, fit::bounds::ogden_terms);
+  check_in("starts", a.starts, fit::bounds::starts);
+  check_in("mesh_level", a.mesh_level, fit::bounds::mesh_level);
+  check_in("steps", a.steps, fit::bounds::steps);
   fit::FitOptions o = fit::fit_options_from(a.model, a.optimizer, a.element);
   o.max_iterations = a.max_iterations;
   o.function_tolerance = a.tolerance;

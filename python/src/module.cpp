@@ -9,6 +9,7 @@
 
 #include "common.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/parallel.hpp"
 #include "palpa/core/version.hpp"
 #include "palpa/solve/blas.hpp"
 
@@ -80,7 +81,10 @@ PYBIND11_MODULE(_palpa, m) {
   m.def(
       "set_threads",
       [](int n) {
-        if (n < 0) throw_input_error(fmt::format("{} threads", n), ErrorContext{"", 0, 0, "n"}, "0 (all cores) or more");
+        if (n < 0 || n > kMaxThreads) {
+          throw_input_error(fmt::format("{} threads", n), ErrorContext{"", 0, 0, "n"},
+                            fmt::format("0 (all cores) to {}", kMaxThreads));
+        }
         g_threads.reset();
         if (n > 0) g_threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
       },

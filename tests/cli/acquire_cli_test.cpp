@@ -83,6 +83,8 @@ TEST(AcquireCli, PokeRefusesBadLogsAndWritesNothing) {
       {"force.csv", "", "", "", "--saturation -1s", "--saturation: -1s is negative (expected a positive value)"},
       {"force.csv", "", "", "", "--cutoff 0Hz", "--cutoff: 0Hz is zero"},
       {"force.csv", "", "", "", "--points 100000000", "100000000 grid points (expected 3 to 100000)"},
+      {"force.csv", "", "", "", "--max-gap nan", "--max-gap: nan is not in range [1.5 - 1e+06] (a finite number)"},
+      {"force.csv", "", "", "", "--rest-tolerance nan", "--rest-tolerance: nan is not in range"},
   };
   for (const Bad& b : cases) {
     ScratchDir dir;

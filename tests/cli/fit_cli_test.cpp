@@ -199,7 +199,8 @@ TEST(FitCli, OptionsOutOfRangeAreNamedWithTheirRange) {
   ScratchDir dir;
   dir.write("a.csv", fit::test::kGoodCurve);
   dir.write("dataset.json", fit::test::indentation_dataset());
-  for (const char* bad : {"--tolerance -1", "--tolerance 0", "--smoothing -1"}) {
+  for (const char* bad : {"--tolerance -1", "--tolerance 0", "--smoothing -1", "--tolerance nan", "--smoothing nan",
+                          "--smoothing inf", "--starts 11", "--mesh-level 8"}) {
     const auto r = run_palpa(fmt::format("fit dataset.json -o out {}", bad), dir.path());
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos) << r.err;

@@ -6,6 +6,7 @@ import json
 import os
 import signal
 import subprocess
+import sys
 import threading
 
 import numpy as np
@@ -50,6 +51,14 @@ def test_fit_bad_input_and_a_failing_callback(tmp_path):
         palpa.fit(str(tmp_path / "missing.json"))
     with pytest.raises(palpa.InputError, match="nu_range"):
         palpa.fit(ECOFLEX, model="yeoh", nu_range=(0.4, 0.6))
+    # The command line's ranges, NaN outside every one of them.
+    for keyword, value in [("starts", -1), ("smoothing", -1.0), ("tolerance", float("nan")),
+                           ("smoothing", float("inf")), ("mesh_level", 8), ("steps", 1)]:
+        with pytest.raises(palpa.InputError, match=keyword):
+            palpa.fit(ECOFLEX, model="yeoh", out=str(tmp_path / "ranges"), **{keyword: value})
+        assert not os.path.exists(tmp_path / "ranges")
+    with pytest.raises(palpa.InputError, match="0 \\(all cores\\) to 4096"):
+        palpa.set_threads(10**6)
     (tmp_path / "used").mkdir()
     (tmp_path / "used" / "x.txt").write_text("x")
     with pytest.raises(palpa.InputError, match="not empty"):
@@ -105,6 +114,27 @@ def test_meshes_round_trip(tmp_path):
     assert not os.path.exists(tmp_path / "bad.obj")
     with pytest.raises(palpa.InputError, match="nope.xyz"):
         palpa.read_mesh(str(tmp_path / "nope.xyz"))
+
+
+def test_an_array_too_large_to_copy_raises_memory_error(tmp_path):
+    # A broadcast view of 10⁹ rows takes no memory; its float64 copy would take
+    # 24 GB, beyond the address space the child process is held to.
+    code = """
+import resource, sys
+import numpy as np
+import palpa
+resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))
+V = np.broadcast_to(np.zeros(3), (10**9, 3))
+try:
+    palpa.write_mesh(sys.argv[1], V, np.array([[0, 1, 2]]))
+except MemoryError:
+    print("MemoryError")
+"""
+    r = subprocess.run([sys.executable, "-c", code, str(tmp_path / "big.obj")], capture_output=True, text=True,
+                       env=os.environ, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "MemoryError"
+    assert not os.path.exists(tmp_path / "big.obj")
 
 
 def test_mesh_layer_from_arrays():

@@ -81,6 +81,17 @@ std::string_view to_string(DepthFrom f) noexcept;
 DepthFrom parse_depth_from(std::string_view name);
 inline constexpr double kSmallIndentation = 0.1;
 
+// The ranges of FitOptions' numbers the command line and Python accept
+// (closed; a NaN lies in none).
+struct OptionBounds {
+  double lo, hi;
+  bool holds(double v) const { return v >= lo && v <= hi; }
+};
+namespace bounds {
+inline constexpr OptionBounds max_iterations{0, 10000}, tolerance{1e-16, 1.0}, smoothing{0.0, 1e6},
+    ogden_terms{1, 6}, starts{0, 10}, mesh_level{0, 7}, steps{2, 1000};
+}  // namespace bounds
+
 struct FitOptions {
   std::string model = "spline";   // stage-2 model (see above)
   Optimizer optimizer = Optimizer::LevenbergMarquardt;
