@@ -216,6 +216,19 @@ TEST(SubjectCli, BadSubjectsAreNamedBySubjectLocationAndFile) {
   // An option acquire poke does not have.
   expect_subject_refused(subject_with(kSubject, R"("no_tare": true)", R"("no_tear": true)"),
                          {"no_tear"});
+  // What palpa fit and acquire would refuse only when the workflow runs them.
+  const std::string fit = R"("model": "neo-hookean")";
+  expect_subject_refused(subject_with(kSubject, fit, R"("model": "rubber")"), {"fit.model", "rubber"});
+  expect_subject_refused(subject_with(kSubject, fit, R"("model": "neo-hookean", "fix": ["--overwrite"])"),
+                         {"fit.fix[0]", "'--overwrite'", "a parameter name"});
+  expect_subject_refused(subject_with(kSubject, fit, R"("model": "neo-hookean", "depth_from": "half")"),
+                         {"fit.depth_from", "half"});
+  expect_subject_refused(subject_with(kSubject, R"("mesh_level": 1)", R"("mesh_level": 9)"),
+                         {"fit.mesh_level", "from 0 to 7"});
+  expect_subject_refused(subject_with(kSubject, R"("no_tare": true)", R"("no_tare": "yes")"),
+                         {"no_tare", "true or false"});
+  expect_subject_refused(subject_with(kSubject, R"("cutoff": "4 Hz")", R"("cutoff": true)"),
+                         {"cutoff", "--cutoff as text or a number"});
 }
 
 TEST(SubjectCli, AFailedFitIsNamedAndNothingIsWritten) {

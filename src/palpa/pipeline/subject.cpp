@@ -4,11 +4,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <set>
+#include <tuple>
 
 #include "palpa/core/error.hpp"
 #include "palpa/core/input_file.hpp"
 #include "palpa/core/units.hpp"
+#include "palpa/fit/fit.hpp"
+#include "palpa/fit/run.hpp"
 #include "palpa/geometry/closest_point.hpp"
 #include "palpa/geometry/format.hpp"
 #include "palpa/rest/scene.hpp"
@@ -77,6 +81,12 @@ void append_options(const JsonView& parent, const std::vector<std::string>& allo
     std::string flag = "--" + key;
     std::replace(flag.begin(), flag.end(), '_', '-');
     const JsonView v = o->at(key);
+    // The switches ("no_tare" and the like) take true or false, the others a value.
+    const bool flag_option = key.rfind("no_", 0) == 0;
+    if (flag_option && !value.is_boolean()) v.fail("not true or false", "true or false");
+    if (!flag_option && !value.is_string() && !value.is_number()) {
+      v.fail("not a value", fmt::format("the value of {} as text or a number", flag));
+    }
     if (value.is_boolean()) {
       if (value.get<bool>()) args.push_back(flag);
     } else if (value.is_number()) {
@@ -229,21 +239,48 @@ void read_fit(const JsonView& f, Subject& s) {
       v->fail(fmt::format("contact '{}'", c), "stick or frictionless");
     s.dataset["contact"] = c;
   }
-  if (const auto v = f.find("model"))
-    s.fit_args.insert(s.fit_args.end(), {"--model", v->as_string()});
-  if (const auto v = f.find("depth_from"))
-    s.fit_args.insert(s.fit_args.end(), {"--depth-from", v->as_string()});
+  // Each value checked as palpa fit will check it, so that a subject check
+  // finds what would fail only when the workflow runs the fit.
+  const auto as_palpa_fit = [](const JsonView& v, const auto& check) {
+    try {
+      check();
+    } catch (const Error& e) {
+      v.fail(e.problem(), e.expected());
+    }
+  };
+  if (const auto v = f.find("model")) {
+    const std::string model = v->as_string();
+    as_palpa_fit(*v, [&] { (void)fit::fit_options_from(model, "lm", "fbar"); });
+    s.fit_args.insert(s.fit_args.end(), {"--model", model});
+  }
+  if (const auto v = f.find("depth_from")) {
+    const std::string how = v->as_string();
+    as_palpa_fit(*v, [&] { (void)fit::parse_depth_from(how); });
+    s.fit_args.insert(s.fit_args.end(), {"--depth-from", how});
+  }
   if (const auto v = f.find("fix")) {
     if (!v->is_array() || v->size() == 0) v->fail("not a list of parameter names", "[\"nu\"]");
     s.fit_args.push_back("--fix");
-    for (std::size_t i = 0; i < v->size(); ++i) s.fit_args.push_back(v->at(i).as_string());
+    for (std::size_t i = 0; i < v->size(); ++i) {
+      const std::string name = v->at(i).as_string();
+      const bool parameter = !name.empty() && std::isalpha(static_cast<unsigned char>(name.front())) &&
+                             std::all_of(name.begin(), name.end(), [](char c) {
+                               return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                             });
+      if (!parameter) v->at(i).fail(fmt::format("'{}'", name), "a parameter name of the model (\"nu\", \"E\", ...)");
+      s.fit_args.push_back(name);
+    }
   }
-  for (const auto& [key, flag] :
-       {std::pair{"mesh_level", "--mesh-level"}, std::pair{"steps", "--steps"},
-        std::pair{"max_iterations", "--max-iterations"}, std::pair{"starts", "--starts"}}) {
+  for (const auto& [key, flag, range] :
+       {std::tuple{"mesh_level", "--mesh-level", fit::bounds::mesh_level},
+        std::tuple{"steps", "--steps", fit::bounds::steps},
+        std::tuple{"max_iterations", "--max-iterations", fit::bounds::max_iterations},
+        std::tuple{"starts", "--starts", fit::bounds::starts}}) {
     if (const auto v = f.find(key)) {
       const long long n = v->as_integer();
-      if (n < 0 || n > 10000) v->fail(fmt::format("{}", n), "a count from 0 to 10000");
+      if (!range.holds(static_cast<double>(n))) {
+        v->fail(fmt::format("{}", n), fmt::format("a whole number from {:g} to {:g}", range.lo, range.hi));
+      }
       s.fit_args.insert(s.fit_args.end(), {flag, std::to_string(n)});
     }
   }
