@@ -101,11 +101,11 @@ Parameters are spelled as in material files; each takes a float in SI units
           }),
           py::arg("model"))
       .def_static(
-          "load", [](const std::string& path) { return MaterialPtr(material::read_material_file(path).material); },
+          "load", [](const std::filesystem::path& path) { return MaterialPtr(material::read_material_file(path).material); },
           py::arg("path"), "Reads a material file (material.json).")
       .def(
           "save",
-          [](const Material& self, const std::string& path, const std::string& method) {
+          [](const Material& self, const std::filesystem::path& path, const std::string& method) {
             material::write_material_file(path, self, material::make_provenance(method));
           },
           py::arg("path"), py::arg("method") = "palpa Python (user-specified parameters)",

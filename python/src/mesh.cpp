@@ -13,7 +13,7 @@ namespace palpa::python {
 void bind_mesh(py::module_& m) {
   m.def(
       "read_mesh",
-      [](const std::string& path, const py::handle& unit) {
+      [](const std::filesystem::path& path, const py::handle& unit) {
         MeshReadOptions o;
         o.unit_to_si = quantity_arg(unit, Dimension::Length, "unit");
         if (!(o.unit_to_si > 0.0)) throw_input_error("a unit of zero length", ErrorContext{"", 0, 0, "unit"}, "'m', 'mm', ...");
@@ -42,7 +42,7 @@ void bind_mesh(py::module_& m) {
       "(n, 3) in metres (`unit`: the length of one file unit, e.g. '1 mm'), F (m, 3) or T (m, 4) int64.");
   m.def(
       "write_mesh",
-      [](const std::string& path, const py::handle& vertices, const py::handle& cells) {
+      [](const std::filesystem::path& path, const py::handle& vertices, const py::handle& cells) {
         const Eigen::MatrixXd v = float_matrix(vertices, 3, "V");
         const py::array c = py::array::ensure(cells);
         if (!c || c.ndim() != 2 || (c.shape(1) != 3 && c.shape(1) != 4)) {

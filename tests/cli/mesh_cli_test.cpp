@@ -73,6 +73,18 @@ TEST_F(MeshCli, LayerOfASphereWritesEveryOutputAndTheShellVolume) {
 // refused, and nothing is written: the input stays as it was.
 // The staging folder of a run killed between its final renames is cleared
 // by the next run into that folder; one of a running process stays.
+// Past a file-size limit (ulimit -f) the write fails as on a full disk: an
+// input error naming the file, nothing left behind (the signal the limit
+// sends would end the run with its temporary file left).
+TEST_F(MeshCli, AFileSizeLimitIsAFailedWriteWithNothingLeft) {
+  const test::CommandResult r =
+      test::run_shell(fmt::format("ulimit -f 20; {} mesh body sphere --length 100mm --edge 2mm -o {}",
+                                  shell_quote(test::palpa_binary()), shell_quote(out / "s.obj")));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("s.obj: writing failed"), std::string::npos) << r.err;
+  EXPECT_EQ(out.entry_count(), 0u) << "something was left behind";
+}
+
 TEST_F(MeshCli, StagedFilesLeftByAKilledRunAreCleared) {
   const std::string dead = ".tmp-4194304-b0.b.node";  // above any pid the kernel hands out
   out.write(dead, "half");

@@ -101,6 +101,8 @@ def test_meshes_round_trip(tmp_path):
         assert V2.shape == (4, 3) and F2.shape == (4, 3)
     V2, F2 = palpa.read_mesh(str(tmp_path / "t.obj"))
     np.testing.assert_array_equal(V2, V)
+    palpa.write_mesh(tmp_path / "path.obj", V, F)  # a pathlib.Path as well as a str
+    np.testing.assert_array_equal(palpa.read_mesh(tmp_path / "path.obj")[1], F)
     np.testing.assert_array_equal(F2, F)
     T = np.array([[0, 1, 2, 3]])
     palpa.write_mesh(str(tmp_path / "t.vtu"), V.astype(np.float32), T)

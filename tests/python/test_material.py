@@ -40,8 +40,8 @@ def test_material_from_parameters_with_units_or_si():
 def test_material_file_round_trip_is_exact(tmp_path):
     m = palpa.Material("mooney-rivlin", C10="1.5 kPa", C01="0.4 kPa", D1="2e-5 1/Pa")
     path = tmp_path / "m.json"
-    m.save(str(path))
-    back = palpa.Material.load(str(path))
+    m.save(path)  # a pathlib.Path, as a str below
+    back = palpa.Material.load(path)
     assert back.model == "mooney-rivlin"
     assert back.parameters == m.parameters
     assert json.loads(path.read_text())["parameters"]["C10"] == "1.5 kPa"

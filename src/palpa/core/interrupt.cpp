@@ -92,6 +92,10 @@ void install_interrupt_handlers() {
   std::call_once(once, [] {
     std::signal(SIGINT, palpa_on_signal);
     std::signal(SIGTERM, palpa_on_signal);
+    // Past a file-size limit (ulimit -f) a write fails (EFBIG) and is
+    // reported as any failed write, its temporaries removed, instead of the
+    // signal ending the run with them left behind.
+    std::signal(SIGXFSZ, SIG_IGN);
     std::thread(watchdog).detach();
   });
 }

@@ -20,6 +20,7 @@ namespace palpa {
 // remeshing, one large factorization): kInterruptGraceSeconds after the
 // signal it removes the temporary files of outputs being written and ends
 // the process with interrupt_exit_code(). Checkpoints and finished files stay.
+// SIGXFSZ is ignored: past a file-size limit a write fails as on a full disk.
 void install_interrupt_handlers();
 inline constexpr double kInterruptGraceSeconds = 0.8;
 

@@ -66,7 +66,8 @@ DemoResult run_demo(const std::filesystem::path& examples, const std::filesystem
                       "the examples folder of the palpa source tree (--examples DIR)");
   }
   std::sort(files.begin(), files.end());
-  ensure_directory(out);
+  // The demo has no --resume: a failed run takes back the folder it made.
+  OutputFolder folder(out, OutputFolder::OnFailure::Wipe);
 
   OutputBatch batch;
   std::string summary = "palpa demo: material and indentation stages on the bundled examples\n\n";
@@ -151,6 +152,7 @@ DemoResult run_demo(const std::filesystem::path& examples, const std::filesystem
   batch.add(out / "summary.txt") << summary;
   DemoResult result{summary, batch.size()};
   batch.commit();
+  folder.keep();
   return result;
 }
 
