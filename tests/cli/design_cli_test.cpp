@@ -386,6 +386,14 @@ TEST(DesignCli, StartsFromABaselineAndReportsAgainstTheScenesSupport) {
     EXPECT_EQ(c.exit_code, 2);
     EXPECT_NE(c.err.find("no baseline named 'nope'"), std::string::npos) << c.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+    // An empty start is no start left out by mistake.
+    bad = scene;
+    bad.replace(bad.find(named), named.size(), R"("start": "")");
+    dir.write("empty.json", bad);
+    const auto e = run_palpa("design empty.json -o bad --no-baselines", dir.path());
+    EXPECT_EQ(e.exit_code, 2);
+    EXPECT_NE(e.err.find("an empty start"), std::string::npos) << e.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
   }
   // --start scene: the scene's own support, whatever the scene starts from.
   const auto flat = run_palpa("design scene.json -o own --no-baselines --iterations 1 --start scene", dir.path());

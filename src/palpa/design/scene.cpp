@@ -204,7 +204,19 @@ DesignScene read_design_scene(const Json& doc, const std::filesystem::path& path
     if (const auto st = d->find("start")) {
       start = st->as_string();
       start_field = st;
+      if (start.empty()) st->fail("an empty start", "the name of one of the scene's baselines (or no \"start\")");
     }
+  }
+  // An unknown start is refused before any baseline is built (minutes at full size).
+  if (start_field) {
+    bool named = false;
+    if (const auto bl = root.find("baselines")) {
+      for (std::size_t i = 0; i < bl->size(); ++i) {
+        const Json& b = bl->at(i).json();
+        named |= b.is_object() && b.contains("name") && b["name"].is_string() && b["name"] == start;
+      }
+    }
+    if (!named) start_field->fail(fmt::format("no baseline named '{}'", start), "the name of one of the scene's baselines");
   }
   std::optional<Baseline> start_base;
   if (const auto bl = root.find("baselines")) {
