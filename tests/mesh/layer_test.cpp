@@ -233,6 +233,14 @@ TEST(Layer, OpenOrSelfIntersectingScansAndSamplesOffTheSurfaceAreRefused) {
   EXPECT_TRUE(throws_error(
       [&] { make_layer(sphere(10e-3), DepthSpec{0.01, std::nullopt}, off, options()); },
       ErrorKind::Input, {"moduli.csv", "the sample on line 3", "Young's modulus"}));
+  // A modulus no tissue or support has: a unit gone wrong.
+  for (const double wrong : {1e-297, 0.5, 3e9}) {
+    off.values = Eigen::Vector2d(5e3, wrong);
+    EXPECT_TRUE(throws_error(
+        [&] { make_layer(sphere(10e-3), DepthSpec{0.01, std::nullopt}, off, options()); },
+        ErrorKind::Input, {"moduli.csv", "the sample on line 3", "from 1 Pa to 1 GPa"}))
+        << wrong;
+  }
 }
 
 }  // namespace

@@ -115,11 +115,14 @@ Eigen::VectorXd depth_field(const SurfaceMesh& outer, const DepthSpec& spec,
 // Stiffness samples interpolated to the outer vertices [Pa].
 Eigen::VectorXd stiffness_field(const SurfaceMesh& outer, const Samples& samples,
                                 const LayerOptions& options) {
+  // From a gel's to a hard plastic's: a value outside is a unit gone wrong
+  // (a modulus written in kPa under a column in Pa, or the reverse).
+  constexpr double kLowest = 1.0, kHighest = 1e9;
   for (Eigen::Index i = 0; i < samples.values.size(); ++i) {
-    if (!(samples.values(i) > 0.0)) {
+    if (!(samples.values(i) >= kLowest && samples.values(i) <= kHighest)) {
       throw_input_error(fmt::format("{} has Young's modulus {}", samples.labels[i],
                                     format_quantity(samples.values(i), Dimension::Pressure)),
-                        in_file(samples.source).with_field(samples.field), "a modulus > 0");
+                        in_file(samples.source).with_field(samples.field), "a modulus from 1 Pa to 1 GPa");
     }
   }
   geometry::InterpolationOptions io;
