@@ -60,12 +60,19 @@ PYBIND11_MODULE(_palpa, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const Error& e) {
+      // A message may quote bytes of a file that are not UTF-8: they are shown
+      // as U+FFFD rather than lose the whole message.
+      const std::string what = e.what();
+      PyObject* text = PyUnicode_DecodeUTF8(what.data(), static_cast<Py_ssize_t>(what.size()), "replace");
+      PyObject* type = PyExc_RuntimeError;
       switch (e.kind()) {
-        case ErrorKind::Input: input_error(e.what()); return;
-        case ErrorKind::Solver: solver_error(e.what()); return;
-        case ErrorKind::Interrupted: PyErr_SetString(PyExc_KeyboardInterrupt, e.what()); return;
-        case ErrorKind::Internal: PyErr_SetString(PyExc_RuntimeError, e.what()); return;
+        case ErrorKind::Input: type = input_error.ptr(); break;
+        case ErrorKind::Solver: type = solver_error.ptr(); break;
+        case ErrorKind::Interrupted: type = PyExc_KeyboardInterrupt; break;
+        case ErrorKind::Internal: type = PyExc_RuntimeError; break;
       }
+      PyErr_SetObject(type, text);
+      Py_XDECREF(text);
     }
   });
 

@@ -131,3 +131,13 @@ def test_threads_and_log_level_settings():
         palpa.set_log_level("loud")
     with pytest.raises(palpa.InputError, match="threads"):
         palpa.set_threads(-1)
+
+
+def test_a_message_quoting_bytes_that_are_not_utf8_is_kept(tmp_path):
+    path = tmp_path / "latin.json"
+    path.write_bytes(b'{"palpa_material": 1, "model": "rub\xffber", "parameters": {}}')
+    with pytest.raises(palpa.InputError) as caught:
+        palpa.Material.load(path)
+    message = str(caught.value)
+    assert "latin.json" in message and "UTF-8" in message, message
+    assert "\ufffd" in message  # the byte shown as a replacement character
