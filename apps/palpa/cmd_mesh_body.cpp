@@ -28,7 +28,7 @@ struct BodyArgs {
 
 void run_body(const BodyArgs& a) {
   mesh::BodyOptions o;
-  o.shape = mesh::parse_body_shape(a.shape);
+  o.shape = mesh::parse_body_shape(a.shape, ErrorContext{"", 0, 0, "SHAPE"});
   o.size = Eigen::Vector3d(a.length, a.width, a.height);
   if (o.shape == mesh::BodyShape::Sphere || o.shape == mesh::BodyShape::Foot) {
     o.size = Eigen::Vector3d(a.length, a.length, a.length);

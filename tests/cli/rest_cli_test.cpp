@@ -124,6 +124,13 @@ TEST(RestCli, RefusesABodyInsideTheSupportAndUnknownDofs) {
   const auto b = run_palpa("rest dof.json -o out", dir.path());
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("unknown DOF 'up'"), std::string::npos) << b.err;
+  std::string shape = kRestScene;
+  shape.replace(shape.find("\"sphere\""), 8, "\"blob\"");
+  dir.write("shape.json", shape);
+  const auto c = run_palpa("rest shape.json -o out", dir.path());
+  EXPECT_EQ(c.exit_code, 2);
+  EXPECT_NE(c.err.find("shape.json: field 'body.generate.shape': unknown body shape 'blob'"), std::string::npos)
+      << c.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 

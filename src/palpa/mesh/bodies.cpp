@@ -162,12 +162,12 @@ std::string_view body_shape_name(BodyShape shape) noexcept {
   return "?";
 }
 
-BodyShape parse_body_shape(std::string_view name) {
+BodyShape parse_body_shape(std::string_view name, const ErrorContext& where) {
   for (BodyShape s :
        {BodyShape::Sphere, BodyShape::RoundedBlock, BodyShape::Thigh, BodyShape::Foot}) {
     if (body_shape_name(s) == name) return s;
   }
-  throw_input_error(fmt::format("unknown body shape '{}'", name), {},
+  throw_input_error(fmt::format("unknown body shape '{}'", name), where,
                     "one of sphere, rounded-block, thigh, foot");
 }
 

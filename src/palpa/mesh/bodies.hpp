@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "palpa/core/error.hpp"
 #include "palpa/geometry/mesh.hpp"
 
 namespace palpa::mesh {
@@ -29,8 +30,9 @@ enum class BodyShape {
 
 // "sphere", "rounded-block", "thigh", "foot".
 std::string_view body_shape_name(BodyShape shape) noexcept;
-// The shape named (as above); palpa::Error (Input) listing the names otherwise.
-BodyShape parse_body_shape(std::string_view name);
+// The shape named (as above); palpa::Error (Input) at `where` listing the
+// names otherwise.
+BodyShape parse_body_shape(std::string_view name, const ErrorContext& where = {});
 
 struct BodyOptions {
   BodyShape shape = BodyShape::RoundedBlock;

@@ -70,7 +70,15 @@ SurfaceMesh read_body_surface(const JsonView& b, const fs::path& file, std::stri
       }
     }
     mesh::BodyOptions o;
-    o.shape = mesh::parse_body_shape(gen.at("shape").as_string());
+    {
+      const JsonView shape = gen.at("shape");
+      const std::string name = shape.as_string();
+      try {
+        o.shape = mesh::parse_body_shape(name);
+      } catch (const Error& e) {
+        shape.fail(e.problem(), e.expected());
+      }
+    }
     if (const auto v = gen.find("length")) o.size.x() = read_positive(*v, Dimension::Length);
     if (const auto v = gen.find("width")) o.size.y() = read_positive(*v, Dimension::Length);
     if (const auto v = gen.find("height")) o.size.z() = read_positive(*v, Dimension::Length);
