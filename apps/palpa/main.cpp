@@ -24,21 +24,25 @@
 
 namespace {
 
+// Writes to stderr without throwing, whatever stderr is (a full file, a
+// file-size limit, a closed pipe): the exit code still says what happened.
+void say(const std::string& line) noexcept { std::fputs(line.c_str(), stderr); }
+
 int report(const palpa::Error& e) {
   // Spread over processes, each says it once: rank 0.
   if (!palpa::ranks::is_root()) return palpa::exit_code(e.kind());
   switch (e.kind()) {
     case palpa::ErrorKind::Input:
-      fmt::print(stderr, "palpa: error: {}\n", e.what());
+      say(fmt::format("palpa: error: {}\n", e.what()));
       break;
     case palpa::ErrorKind::Solver:
-      fmt::print(stderr, "palpa: solver failure: {}\n", e.what());
+      say(fmt::format("palpa: solver failure: {}\n", e.what()));
       break;
     case palpa::ErrorKind::Interrupted:
-      fmt::print(stderr, "palpa: interrupted; no partial output was written\n");
+      say("palpa: interrupted; no partial output was written\n");
       break;
     case palpa::ErrorKind::Internal:
-      fmt::print(stderr, "palpa: internal error (please report): {}\n", e.what());
+      say(fmt::format("palpa: internal error (please report): {}\n", e.what()));
       break;
   }
   return palpa::exit_code(e.kind());
@@ -132,10 +136,10 @@ int run(int argc, char** argv) {
   } catch (const palpa::Error& e) {
     return report(e);
   } catch (const std::bad_alloc&) {
-    fmt::print(stderr, "palpa: error: out of memory\n");
+    say("palpa: error: out of memory\n");
     return palpa::kExitInternal;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "palpa: internal error (please report): {}\n", e.what());
+    say(fmt::format("palpa: internal error (please report): {}\n", e.what()));
     return palpa::kExitInternal;
   }
   return palpa::kExitOk;

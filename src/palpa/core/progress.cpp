@@ -12,6 +12,12 @@
 namespace palpa {
 
 namespace {
+// Progress is a courtesy: a stderr that cannot be written (a full disk, a
+// file-size limit, a closed pipe) must not end the run.
+void put(std::FILE* f, const std::string& text) noexcept { std::fputs(text.c_str(), f); }
+}  // namespace
+
+namespace {
 constexpr auto kBarRedraw = std::chrono::milliseconds(100);
 constexpr auto kPlainMinGap = std::chrono::seconds(5);
 constexpr int kBarWidth = 30;
@@ -35,7 +41,7 @@ Progress::Progress(std::string label, std::size_t total, Style style, std::FILE*
   start_ = std::chrono::steady_clock::now();
   last_draw_ = start_ - kPlainMinGap;
   if (style_ == Style::Plain) {
-    fmt::print(out_, "{}: started ({} steps)\n", label_, total_);
+    put(out_, fmt::format("{}: started ({} steps)\n", label_, total_));
     std::fflush(out_);
   }
 }
@@ -43,7 +49,7 @@ Progress::Progress(std::string label, std::size_t total, Style style, std::FILE*
 Progress::~Progress() {
   // A loop left by an exception should not claim completion: close the bar only.
   if (!finished_ && style_ == Style::Bar) {
-    fmt::print(out_, "\n");
+    put(out_, "\n");
     std::fflush(out_);
   }
 }
@@ -82,11 +88,11 @@ void Progress::draw(bool final_line) {
     if (!final_line && done > 0) {
       eta = " eta " + format_seconds(elapsed * (1.0 - fraction) / fraction);
     }
-    fmt::print(out_, "\r\033[2K{} [{}{}] {:3.0f}% ({}/{}) {}{}{}", label_,
+    put(out_, fmt::format("\r\033[2K{} [{}{}] {:3.0f}% ({}/{}) {}{}{}", label_,
                std::string(static_cast<std::size_t>(filled), '#'),
                std::string(static_cast<std::size_t>(kBarWidth - filled), ' '), 100.0 * fraction,
-               done, total_, format_seconds(elapsed), eta, note);
-    if (final_line) fmt::print(out_, "\n");
+               done, total_, format_seconds(elapsed), eta, note));
+    if (final_line) put(out_, "\n");
     std::fflush(out_);
     return;
   }
@@ -95,8 +101,8 @@ void Progress::draw(bool final_line) {
   if (!final_line && (decile <= last_decile_ || now - last_draw_ < kPlainMinGap)) return;
   last_decile_ = decile;
   last_draw_ = now;
-  fmt::print(out_, "{}: {:.0f}% ({}/{}) after {}{}\n", label_, 100.0 * fraction, done, total_,
-             format_seconds(elapsed), note);
+  put(out_, fmt::format("{}: {:.0f}% ({}/{}) after {}{}\n", label_, 100.0 * fraction, done, total_,
+             format_seconds(elapsed), note));
   std::fflush(out_);
 }
 

@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: AGPL-3.0-or-later
+// The output contract, held by every command that writes a folder, under what
+// a user's file system may hold: -o naming a file, -o under a file, a
+// file-size limit (ulimit -f), and a folder link inside an output folder that
+// leads outside it. Whatever the outcome, nothing outside the output folder
+// changes, and a failed run leaves no temporary file or lock behind.
+// (A read-only parent is not among them: the suite runs as root in CI.)
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "common/test_support.hpp"
+#include "fit/bad_datasets.hpp"
+
+namespace palpa {
+namespace {
+
+using test::ScratchDir;
+using test::shell_quote;
+
+struct Command {
+  std::string name;
+  std::map<std::string, std::string> inputs;  // file -> content
+  std::string args;                           // with {out} for the output folder
+  std::string subfolder;                      // one the command writes into
+};
+
+std::vector<Command> commands() {
+  return {
+      {"fit",
+       {{"a.csv", fit::test::kGoodCurve}, {"dataset.json", fit::test::indentation_dataset()}},
+       "fit dataset.json --model neo-hookean --mesh-level 0 --steps 4 --max-iterations 2 -o {out}",
+       "curves"},
+      {"sim3d",
+       {{"scene.json", R"({"palpa_scene": 1,
+          "body": {"box": {"size": ["20 mm", "20 mm", "6 mm"], "cells": [4, 4, 2]},
+                   "materials": [{"material": {"model": "neo-hookean", "parameters": {"E": "10 kPa", "nu": 0.3}}}],
+                   "fixed": [{"set": "bottom"}]},
+          "obstacles": [{"name": "ball", "shape": {"sphere": {"radius": "5 mm", "level": 1}},
+                         "path": {"direction": [0, 0, -1], "depth": "0.5 mm"}}],
+          "steps": 1})"}},
+       "sim3d scene.json -o {out}",
+       "frames"},
+      {"rest",
+       {{"rest.json", R"({"palpa_rest": 1,
+          "body": {"generate": {"shape": "sphere", "length": "60 mm"}, "edge": "7 mm", "depth": "8 mm",
+                   "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
+                   "position": ["0 mm", "0 mm", "31 mm"]},
+          "core": {"mass": "0.5 kg", "free": ["z"]},
+          "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 10}}})"}},
+       "rest rest.json -o {out}",
+       ""},  // (no folder of its own inside)
+  };
+}
+
+// Every entry under `root` but those under `skip`: its size and time.
+std::map<std::string, std::string> snapshot(const std::filesystem::path& root, const std::filesystem::path& skip) {
+  std::map<std::string, std::string> s;
+  for (auto it = std::filesystem::recursive_directory_iterator(root); it != std::filesystem::recursive_directory_iterator();
+       ++it) {
+    const std::filesystem::path p = it->path();
+    if (p == skip) {
+      it.disable_recursion_pending();
+      continue;
+    }
+    std::error_code ec;
+    const auto size = it->is_regular_file(ec) ? it->file_size(ec) : 0;
+    s[p.lexically_relative(root).string()] =
+        fmt::format("{} {}", size, std::filesystem::last_write_time(p, ec).time_since_epoch().count());
+  }
+  return s;
+}
+
+// No temporary, staged file or lock under `out`.
+void expect_nothing_left(const std::filesystem::path& out, const std::string& what) {
+  std::error_code ec;
+  if (!std::filesystem::exists(out, ec)) return;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(out)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_EQ(name.find(".tmp-"), std::string::npos) << what << ": left " << e.path();
+    EXPECT_NE(name, ".palpa-lock") << what << ": left the lock";
+  }
+}
+
+void write_inputs(const ScratchDir& dir, const Command& c) {
+  for (const auto& [file, content] : c.inputs) dir.write(file, content);
+}
+
+std::string args_for(const Command& c, const std::string& out) {
+  std::string a = c.args;
+  a.replace(a.find("{out}"), 5, out);
+  return a;
+}
+
+TEST(OutputContract, AnOutputThatIsAFileOrUnderOneIsRefusedAndNothingChanges) {
+  for (const Command& c : commands()) {
+    for (const char* out : {"plain.txt", "plain.txt/out"}) {
+      ScratchDir dir;
+    write_inputs(dir, c);
+      dir.write("plain.txt", "the user's file\n");
+      const auto before = snapshot(dir.path(), dir / "none");
+      const auto r = test::run_palpa(args_for(c, out), dir.path());
+      EXPECT_EQ(r.exit_code, 2) << c.name << " -o " << out << "\n" << r.err;
+      EXPECT_NE(r.err.find("plain.txt"), std::string::npos) << c.name << ": " << r.err;
+      EXPECT_EQ(snapshot(dir.path(), dir / "none"), before) << c.name << " -o " << out;
+    }
+  }
+}
+
+// Quiet, the message fits under the limit; with the logs, stderr (a file
+// here) meets the limit too, and the exit code alone says what happened.
+TEST(OutputContract, AFileSizeLimitFailsTheRunCleanly) {
+  for (const Command& c : commands()) {
+    for (const bool quiet : {true, false}) {
+      ScratchDir dir;
+      write_inputs(dir, c);
+      const auto before = snapshot(dir.path(), dir / "out");
+      const auto r = test::run_shell(fmt::format("ulimit -f 1; {} {}{}", shell_quote(test::palpa_binary()),
+                                                 quiet ? "-q " : "", args_for(c, "out")),
+                                     dir.path());
+      EXPECT_EQ(r.exit_code, 2) << c.name << (quiet ? " -q" : "") << "\n" << r.err;
+      if (quiet) EXPECT_NE(r.err.find("writing failed"), std::string::npos) << c.name << ": " << r.err;
+      EXPECT_EQ(snapshot(dir.path(), dir / "out"), before) << c.name;
+      expect_nothing_left(dir / "out", c.name);
+    }
+  }
+}
+
+TEST(OutputContract, AFolderLinkInsideTheOutputIsNeverWrittenThrough) {
+  for (const Command& c : commands()) {
+    if (c.subfolder.empty()) continue;
+    ScratchDir dir;
+    write_inputs(dir, c);
+    std::filesystem::create_directories(dir / "elsewhere");
+    dir.write("elsewhere/keep.txt", "outside\n");
+    std::filesystem::create_directories(dir / "out");
+    std::filesystem::create_directory_symlink(dir / "elsewhere", dir / "out" / c.subfolder);
+    const auto before = snapshot(dir / "elsewhere", dir / "none");
+    const auto r = test::run_palpa(args_for(c, "out") + " --overwrite", dir.path());
+    EXPECT_EQ(r.exit_code, 2) << c.name << "\n" << r.err;
+    EXPECT_NE(r.err.find(fmt::format("'{}' in the output folder is a link", c.subfolder)), std::string::npos)
+        << c.name << ": " << r.err;
+    EXPECT_EQ(snapshot(dir / "elsewhere", dir / "none"), before) << c.name;
+    expect_nothing_left(dir / "out", c.name);
+  }
+}
+
+}  // namespace
+}  // namespace palpa
