@@ -229,6 +229,17 @@ TEST(SubjectCli, BadSubjectsAreNamedBySubjectLocationAndFile) {
                          {"no_tare", "true or false"});
   expect_subject_refused(subject_with(kSubject, R"("cutoff": "4 Hz")", R"("cutoff": true)"),
                          {"cutoff", "--cutoff as text or a number"});
+  // Where the body stands and the design it goes into, as rest and design read them.
+  expect_subject_refused(subject_with(kSubject, R"("position": ["0 mm", "0 mm", "72 mm"])",
+                                      R"("position": [0, 0, 72])"),
+                         {"body.position[0]", "has no unit"});
+  expect_subject_refused(subject_with(kSubject, R"("position": ["0 mm", "0 mm", "72 mm"])",
+                                      R"("position": ["0 mm", "0 mm", "72 mm"], "rotation": {"axis": [0, 0, 0], "angle": "90 deg"})"),
+                         {"body.rotation.axis", "zero axis"});
+  expect_subject_refused(subject_with(kSubject, R"("design": "design.json")", R"("design": "r2.csv")"),
+                         {"field 'design'", "its design scene cannot be read", "r2.csv"});
+  expect_subject_refused(subject_with(kSubject, R"("design": "design.json")", R"("design": "subject.json")"),
+                         {"field 'design'", "is not a design scene"});
 }
 
 TEST(SubjectCli, AFailedFitIsNamedAndNothingIsWritten) {

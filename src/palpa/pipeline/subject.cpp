@@ -318,6 +318,9 @@ Subject read_subject(const fs::path& file) {
     }
   }
   body.expect_only(kBodyKeys);
+  // Where the body stands, checked as palpa rest will read it.
+  if (const auto v = body.find("position")) (void)sim3d::read_quantity3(*v, Dimension::Length);
+  if (const auto v = body.find("rotation")) (void)sim3d::read_rotation(*v);
   if (int(body.has("surface")) + int(body.has("generate")) != 1) {
     body.fail(fmt::format("{}: no scan", who), "exactly one of \"surface\" and \"generate\"");
   }
@@ -349,6 +352,19 @@ Subject read_subject(const fs::path& file) {
     }
   }
   s.design = existing_file(root.at("design"), s.file, who);
+  {
+    Json design;
+    try {
+      design = read_json_file(s.design);
+    } catch (const Error& e) {
+      root.at("design").fail(fmt::format("{}: its design scene cannot be read: {}", who, e.what()),
+                             "a palpa design scene ({\"palpa_design\": 1, ...})");
+    }
+    if (!design.is_object() || !design.contains("palpa_design")) {
+      root.at("design").fail(fmt::format("{}: {} is not a design scene", who, s.design.string()),
+                             "a palpa design scene ({\"palpa_design\": 1, ...}) whose body the fits replace");
+    }
+  }
   if (const auto p = root.find("pressure")) {
     p->expect_only({"locations", "samples", "load", "options"});
     PressureLogs logs;
