@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -76,7 +77,7 @@ std::map<std::string, std::string> snapshot(const std::filesystem::path& root, c
   return s;
 }
 
-// No temporary, staged file or lock under `out`.
+// No temporary, staged file, lock or empty folder under `out`.
 void expect_nothing_left(const std::filesystem::path& out, const std::string& what) {
   std::error_code ec;
   if (!std::filesystem::exists(out, ec)) return;
@@ -84,6 +85,7 @@ void expect_nothing_left(const std::filesystem::path& out, const std::string& wh
     const std::string name = e.path().filename().string();
     EXPECT_EQ(name.find(".tmp-"), std::string::npos) << what << ": left " << e.path();
     EXPECT_NE(name, ".palpa-lock") << what << ": left the lock";
+    if (e.is_directory()) EXPECT_FALSE(std::filesystem::is_empty(e.path())) << what << ": left " << e.path();
   }
 }
 
@@ -113,17 +115,18 @@ TEST(OutputContract, AnOutputThatIsAFileOrUnderOneIsRefusedAndNothingChanges) {
 }
 
 // Quiet, the message fits under the limit; with the logs, stderr (a file
-// here) meets the limit too, and the exit code alone says what happened.
+// here) meets the limit too, and the exit code alone says what happened. A
+// limit of 512 bytes stops the first file, 10 kB a later one (a report).
 TEST(OutputContract, AFileSizeLimitFailsTheRunCleanly) {
   for (const Command& c : commands()) {
-    for (const bool quiet : {true, false}) {
+    for (const auto& [blocks, quiet] : {std::pair{1, true}, std::pair{1, false}, std::pair{20, true}}) {
       ScratchDir dir;
       write_inputs(dir, c);
       const auto before = snapshot(dir.path(), dir / "out");
-      const auto r = test::run_shell(fmt::format("ulimit -f 1; {} {}{}", shell_quote(test::palpa_binary()),
+      const auto r = test::run_shell(fmt::format("ulimit -f {}; {} {}{}", blocks, shell_quote(test::palpa_binary()),
                                                  quiet ? "-q " : "", args_for(c, "out")),
                                      dir.path());
-      EXPECT_EQ(r.exit_code, 2) << c.name << (quiet ? " -q" : "") << "\n" << r.err;
+      EXPECT_EQ(r.exit_code, 2) << c.name << " at " << blocks << (quiet ? " -q" : "") << "\n" << r.err;
       if (quiet) EXPECT_NE(r.err.find("writing failed"), std::string::npos) << c.name << ": " << r.err;
       EXPECT_EQ(snapshot(dir.path(), dir / "out"), before) << c.name;
       expect_nothing_left(dir / "out", c.name);

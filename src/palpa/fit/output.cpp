@@ -183,7 +183,8 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d,
   const std::vector<CurvePrediction>& after = curves_of[1];
 
   ensure_directory(out);
-  ensure_directory(out / "curves");
+  // (a failed write, a full disk, leaves no empty curves/ behind)
+  OutputFolder curve_folder(out / "curves", OutputFolder::OnFailure::RemoveIfEmpty, OutputFolder::Lock::None);
   OutputBatch batch;
 
   // Per-curve CSVs and errors.
@@ -429,6 +430,7 @@ FitSummary write_fit_outputs(const std::filesystem::path& out, const Dataset& d,
   }
   batch.add(out / "report.html") << fit_report_html(d, report, *best.material, curves_svg, search_pictures).html();
   batch.commit();
+  curve_folder.keep();
   material::write_material_file(material_path, *best.material, prov);
   return s;
 }
