@@ -79,11 +79,14 @@ _CURVE_COLUMNS = {
 }
 
 
-def _curve_csv(path, x_name, x, y_name, y):
-    x = np.asarray(x, dtype=np.float64)
-    y = np.asarray(y, dtype=np.float64)
+def _curve_csv(path, who, x_name, x, y_name, y):
+    try:
+        x = np.asarray(x, dtype=np.float64)
+        y = np.asarray(y, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"{who}: its arrays are not numbers ({e})") from None
     if x.ndim != 1 or y.shape != x.shape:
-        raise InputError(f"{path.name}: the curve's arrays are not two 1-D arrays of one length "
+        raise InputError(f"{who}: its arrays are not two 1-D arrays of one length "
                          f"(got shapes {x.shape} and {y.shape})")
     with open(path, "w") as f:
         f.write(f"{x_name},{y_name}\n")
@@ -96,7 +99,10 @@ def _dataset_folder(dataset: dict, folder: str, base: str) -> str:
     where a curve may hold its arrays instead of a "file" — indentation [m] and force [N]
     for indentation and compression, stretch (or shear) and stress [Pa] for homogeneous
     tests. Files it names are relative to `base`."""
-    d = json.loads(json.dumps(dataset, default=lambda o: np.asarray(o).tolist()))
+    try:
+        d = json.loads(json.dumps(dataset, default=lambda o: np.asarray(o).tolist()))
+    except (TypeError, ValueError) as e:
+        raise InputError(f"dataset: a value that is neither JSON nor an array ({e})") from None
     test = d.get("test", "indentation")
     for k, c in enumerate(d.get("curves", [])):
         if not isinstance(c, dict):
@@ -115,7 +121,7 @@ def _dataset_folder(dataset: dict, folder: str, base: str) -> str:
         if x_key not in c or y_key not in c:
             raise InputError(f"dataset curve {k} ('{name}'): neither a \"file\" nor arrays "
                              f"\"{x_key}\" and \"{y_key}\"")
-        _curve_csv(pathlib.Path(path), x_col, c.pop(x_key), y_col, c.pop(y_key))
+        _curve_csv(pathlib.Path(path), f"dataset curve {k} ('{name}')", x_col, c.pop(x_key), y_col, c.pop(y_key))
         c["file"] = os.path.basename(path)
         c.setdefault("name", name)
     path = os.path.join(folder, "dataset.json")

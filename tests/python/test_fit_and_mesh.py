@@ -198,5 +198,13 @@ def test_fit_in_memory_curves_matches_the_files():
     with pytest.raises(palpa.InputError, match="neither a \"file\" nor arrays"):
         palpa.fit(bad, model="yeoh")
     bad["curves"][0]["stress"] = [0.0, 1.0, 2.0]
-    with pytest.raises(palpa.InputError, match="one length"):
+    with pytest.raises(palpa.InputError, match="curve 0 .* one length"):
+        palpa.fit(bad, model="yeoh")
+    # Values that are no numbers, and no JSON at all: named by curve or dataset.
+    bad["curves"][0]["stress"] = ["zero", "one"]
+    with pytest.raises(palpa.InputError, match="dataset curve 0 \\('curve0'\\): its arrays are not numbers"):
+        palpa.fit(bad, model="yeoh")
+    bad["curves"][0]["stress"] = [0.0, 1.0]
+    bad["notes"] = object()
+    with pytest.raises(palpa.InputError, match="dataset: a value that is neither JSON nor an array"):
         palpa.fit(bad, model="yeoh")
