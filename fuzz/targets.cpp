@@ -17,6 +17,7 @@
 #include "palpa/io/vtu.hpp"
 #include "palpa/material/material_file.hpp"
 #include "palpa/material/models.hpp"
+#include "palpa/pipeline/subject.hpp"
 #include "palpa/rest/scene.hpp"
 #include "palpa/sim3d/scene.hpp"
 #include "palpa/sim3d/shapes.hpp"
@@ -140,7 +141,17 @@ void write_companions(const std::filesystem::path& dir) {
   g.point_data.push_back({"attached", (cube.V.col(2).array() == 0.0).cast<double>().matrix()});
   write_vtu(dir / "layer.vtu", g);
   write_surface_mesh(dir / "support.obj", sim3d::make_box_surface(Eigen::Vector3d(0.2, 0.2, 0.05), 2));
+  // For subjects and cohorts: a design scene to name, and a subject a cohort lists.
+  std::ofstream(dir / "seat.json") << R"({"palpa_design": 1})";
+  std::ofstream(dir / "member.json")
+      << R"({"palpa_subject": 1, "name": "m01", "body": {"generate": {"shape": "sphere", "length": "100 mm"}},)"
+         R"( "locations": [{"name": "top", "position": ["0 mm", "0 mm", "50 mm"],)"
+         R"( "pokes": [{"radius": "3 mm", "curve": "curve.csv"}], "depth_search": {"from": "5 mm", "to": "15 mm",)"
+         R"( "count": 3}}], "design": "seat.json"})";
 }
+
+// A subject file or a cohort of them, as `palpa subject check` reads it.
+void read_subject_or_cohort(const std::filesystem::path& p) { (void)pipeline::read_subjects(p); }
 
 
 }  // namespace
@@ -162,6 +173,7 @@ const std::vector<Target>& targets() {
       {"design", "design.json", read_design},
       {"fit_checkpoint", "fit-checkpoint.txt", read_fit_checkpoint},
       {"design_checkpoint", "design-checkpoint.json", read_design_checkpoint_file},
+      {"subject", "subject.json", read_subject_or_cohort},
   };
   return all;
 }
