@@ -42,23 +42,14 @@ demo: build
 	snakemake -s workflow/Snakefile --cores $(JOBS) --rerun-incomplete --config subjects=$(DEMO_SUBJECT) \
 	    out=$(DEMO_OUT) palpa=$(CURDIR)/build/release/apps/palpa/palpa
 
-# A fresh build gets ctest's timings of an earlier full run (tests/costs), so
-# that the longest tests start first instead of last; ctest keeps its own
-# timings from then on.
-COSTS = mkdir -p build/$(1)/Testing/Temporary && \
-	{ test -f build/$(1)/Testing/Temporary/CTestCostData.txt || \
-	  cp tests/costs/$(1).txt build/$(1)/Testing/Temporary/CTestCostData.txt; }
-
 test-asan: setup
 	cmake --preset asan >/dev/null
 	cmake --build --preset asan -j $(JOBS)
-	@$(call COSTS,asan)
 	ctest --preset asan -j $(JOBS)
 
 test-release: setup
 	cmake --preset release >/dev/null
 	cmake --build --preset release -j $(JOBS)
-	@$(call COSTS,release)
 	ctest --preset release -j $(JOBS)
 
 # The sanitizer pass runs first so that the output ends with the summary of the
