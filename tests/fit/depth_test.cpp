@@ -59,6 +59,20 @@ TEST(DepthSearch, FindsTheLayerDepth) {
   EXPECT_NEAR(material::small_strain_constants(*r.guesses[2].material).young(), 20e3, 0.02 * 20e3);
 }
 
+// Three frictionless punches (2, 3, 4 mm) 1.5 mm into a layer 5 mm deep,
+// searched from 3 to 7 mm.
+test::IndentationSpec frictionless_punches_on_5mm(int points, int mesh_level) {
+  test::IndentationSpec spec;
+  spec.true_depth = 5e-3;
+  spec.layer_depth = Json{{"from", "3 mm"}, {"to", "7 mm"}, {"count", 5}};
+  spec.train_radii = {2e-3, 3e-3, 4e-3};
+  spec.max_depth = 1.5e-3;
+  spec.points = points;
+  spec.mesh_level = mesh_level;
+  spec.contact = axisym::PunchContact::Frictionless;
+  return spec;
+}
+
 TEST(DepthSearch, TheSmallIndentationsChooseTheDepthWhereTheLawCannotFollowTheDeepPart) {
   // Curves of a strongly stiffening Yeoh layer 5 mm deep, fitted with a
   // neo-Hookean (ν held at the truth's): a law that cannot follow the deep
@@ -68,14 +82,7 @@ TEST(DepthSearch, TheSmallIndentationsChooseTheDepthWhereTheLawCannotFollowTheDe
   // different layer. Measured: small indentations choose 5 mm (E 59.2 kPa
   // against the truth's 58.8), the whole curves 7 mm.
   ScratchDir dir;
-  test::IndentationSpec spec;
-  spec.true_depth = 5e-3;
-  spec.layer_depth = Json{{"from", "3 mm"}, {"to", "7 mm"}, {"count", 5}};
-  spec.train_radii = {2e-3, 3e-3, 4e-3};
-  spec.max_depth = 1.5e-3;
-  spec.points = 40;
-  spec.mesh_level = 1;
-  spec.contact = axisym::PunchContact::Frictionless;
+  test::IndentationSpec spec = frictionless_punches_on_5mm(40, 1);
   spec.noise_rel = 0.002;  // a gauge good to 0.2% of its largest force (and 0.2 mN)
   spec.noise_abs = 2e-4;
   spec.salt = 5;
@@ -118,14 +125,7 @@ TEST(DepthSearch, TheSmallIndentationsChooseTheDepthWhereTheLawCannotFollowTheDe
 // no loop nested in another is cancelled behind its back.
 TEST(DepthSearch, AnInterruptAnywhereEndsTheFitWithTheInterrupt) {
   ScratchDir dir;
-  test::IndentationSpec spec;
-  spec.true_depth = 5e-3;
-  spec.layer_depth = Json{{"from", "3 mm"}, {"to", "7 mm"}, {"count", 5}};
-  spec.train_radii = {2e-3, 3e-3, 4e-3};
-  spec.max_depth = 1.5e-3;
-  spec.points = 30;
-  spec.mesh_level = 0;
-  spec.contact = axisym::PunchContact::Frictionless;
+  test::IndentationSpec spec = frictionless_punches_on_5mm(30, 0);
   spec.salt = 3;
   const test::Synthetic data = test::write_indentation_dataset(dir.path(), material::NeoHookean(20e3, 0.45), spec);
   const Dataset d = read_dataset(data.dataset);
