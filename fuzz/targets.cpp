@@ -5,7 +5,9 @@
 
 #include <fstream>
 
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/core/error.hpp"
+#include "palpa/core/input_file.hpp"
 #include "palpa/design/checkpoint.hpp"
 #include "palpa/design/scene.hpp"
 #include "palpa/fit/checkpoint.hpp"
@@ -153,6 +155,53 @@ void write_companions(const std::filesystem::path& dir) {
 // A subject file or a cohort of them, as `palpa subject check` reads it.
 void read_subject_or_cohort(const std::filesystem::path& p) { (void)pipeline::read_subjects(p); }
 
+// An output folder's journal as anyone may have edited it, then a run that
+// takes the folder over (--overwrite) and succeeds. The input is the journal
+// of the run before; its part after "\n--previous\n" is a journal that run
+// had set aside itself (a run that neither finished nor was resumed). The
+// folder holds files of both, an input of this run, and links to a folder
+// and a file beside it. Whatever the journals list: nothing outside the
+// folder changes (no link is followed), and this run's input and output stay.
+void take_over_output_folder(const std::filesystem::path& p) {
+  const auto root = p.parent_path() / "journal-case";
+  const auto out = root / "out", outside = root / "outside";
+  std::error_code ec;
+  std::filesystem::remove_all(root, ec);
+  std::filesystem::create_directories(out / "sub" / "deeper");
+  std::filesystem::create_directories(outside / "sub");
+  const auto put = [](const std::filesystem::path& f, const std::string& text) {
+    std::ofstream(f, std::ios::binary | std::ios::trunc) << text;
+  };
+  for (const char* f : {"keep.txt", "sub/b.txt", "a.txt"}) put(outside / f, "outside\n");
+  for (const char* f : {"a.txt", "sub/b.txt", "sub/deeper/c.txt", "input.json", "result.txt"}) put(out / f, "earlier\n");
+  std::filesystem::create_directory_symlink("../outside", out / "lnk");
+  std::filesystem::create_directory_symlink("../../outside/sub", out / "sub" / "lnk");
+  std::filesystem::create_symlink("../outside/keep.txt", out / "keep-link.txt");
+  const std::string journal = split_off(p, "\n--previous\n", out / kPreviousJournalName);
+  put(out / kOutputJournalName, journal);
+  guard_inputs(true);  // as the CLI does
+  remember_input(out / "input.json");
+  {
+    OutputFolder folder(out);
+    write_file_atomic(out / "result.txt", [](std::ostream& o) { o << "this run\n"; });
+    folder.keep();
+  }
+  guard_inputs(false);
+  const auto holds = [](const std::filesystem::path& f, const std::string& text) {
+    std::ifstream in(f, std::ios::binary);
+    const std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return s == text;
+  };
+  for (const char* f : {"keep.txt", "sub/b.txt", "a.txt"}) {
+    if (!holds(outside / f, "outside\n")) throw std::logic_error(std::string("the journal reached outside/") + f);
+  }
+  if (!holds(out / "input.json", "earlier\n")) throw std::logic_error("the journal removed the run's input");
+  if (!holds(out / "result.txt", "this run\n")) throw std::logic_error("the journal removed the run's output");
+  const auto entries = std::distance(std::filesystem::recursive_directory_iterator(outside),
+                                     std::filesystem::recursive_directory_iterator());
+  if (entries != 4) throw std::logic_error("the folder beside the output changed");
+}
+
 
 }  // namespace
 
@@ -174,6 +223,7 @@ const std::vector<Target>& targets() {
       {"fit_checkpoint", "fit-checkpoint.txt", read_fit_checkpoint},
       {"design_checkpoint", "design-checkpoint.json", read_design_checkpoint_file},
       {"subject", "subject.json", read_subject_or_cohort},
+      {"journal", "journal.txt", take_over_output_folder},
   };
   return all;
 }

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
-// The output contract, held by every command that writes a folder, under what
-// a user's file system may hold: -o naming a file, -o under a file, a
-// file-size limit (ulimit -f), and a folder link inside an output folder that
-// leads outside it. Whatever the outcome, nothing outside the output folder
+// The output contract, held by every command that writes a folder (its -o, or
+// a folder of frames or plots beside a file), under what a user's file system
+// may hold: the folder naming a file or under one, a file-size limit
+// (ulimit -f), and a folder link inside an output folder that leads outside
+// it. Whatever the outcome, nothing outside the output folder
 // changes, and a failed run leaves no temporary file or lock behind.
 // (A read-only parent is not among them: the suite runs as root in CI.)
 #include <gtest/gtest.h>
@@ -31,6 +32,8 @@ struct Command {
   std::string subfolder;                      // one the command writes into
 };
 
+std::string example(const std::string& file) { return test::read_text(test::source_path("examples/" + file)); }
+
 std::vector<Command> commands() {
   return {
       {"fit",
@@ -56,6 +59,30 @@ std::vector<Command> commands() {
           "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 10}}})"}},
        "rest rest.json -o {out}",
        ""},  // (no folder of its own inside)
+      {"design",
+       {{"design.json", R"({"palpa_design": 1,
+          "body": {"generate": {"shape": "sphere", "length": "60 mm"}, "edge": "7 mm", "depth": "8 mm",
+                   "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
+                   "position": ["0 mm", "0 mm", "31 mm"]},
+          "core": {"mass": "0.5 kg", "free": ["z"]},
+          "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 10}},
+          "design": {"method": "cg", "iterations": 1,
+                     "region": {"min": ["-60 mm", "-60 mm", "-5 mm"], "max": ["60 mm", "60 mm", "5 mm"]}}})"}},
+       "design design.json --no-baselines -o {out}",
+       ""},
+      // Folders beside a file output: the poke's frames, the acquisition's plots.
+      {"poke",
+       {{"m.json", R"({"model": "neo-hookean", "parameters": {"E": "10 kPa", "nu": 0.45}})"}},
+       "poke --material m.json --thickness 10mm --radius 3mm --depth 1mm --steps 2 --mesh-level 0 --vtu {out} "
+       "-o curve.csv",
+       ""},
+      {"acquire",
+       {{"force.csv", example("acquire/poke/force.csv")},
+        {"laser.csv", example("acquire/poke/laser.csv")},
+        {"laser-calibration.csv", example("acquire/poke/laser-calibration.csv")}},
+       "acquire poke --force force.csv --laser laser.csv --calibration laser-calibration.csv --plots {out} "
+       "-o curve.csv",
+       ""},
   };
 }
 
