@@ -15,26 +15,39 @@
 namespace palpa {
 namespace {
 
-TEST(EquilibriumLoop, StopsWhenTheModelIsSatisfied) {
-  int solves = 0;
+TEST(EquilibriumLoop, StopsWhenTheModelIsSatisfiedByAFinalPass) {
+  std::vector<Pass> passes;
   std::vector<bool> lasts;
   const EquilibriumLoopResult r = run_equilibrium_loop(
-      12, [&] { ++solves; },
+      12, [&](Pass p) { passes.push_back(p); },
       [&](int n, bool last) {
         lasts.push_back(last);
-        EXPECT_EQ(n, solves);
+        EXPECT_EQ(n, static_cast<int>(passes.size()));
         return n < 3 ? Resolve::Areas : Resolve::None;
       });
-  EXPECT_EQ(r.solves, 3);
-  EXPECT_EQ(solves, 3);
+  // Rough passes while the model changes; once satisfied, the same
+  // equilibrium converged and the model asked again.
+  EXPECT_EQ(r.solves, 4);
   EXPECT_FALSE(r.capped());
-  EXPECT_EQ(lasts, (std::vector<bool>{false, false, false}));
+  EXPECT_EQ(passes, (std::vector<Pass>{Pass::Rough, Pass::Rough, Pass::Rough, Pass::Final}));
+  EXPECT_EQ(lasts, (std::vector<bool>{false, false, false, false}));
+}
+
+TEST(EquilibriumLoop, AChangeAfterTheFinalPassStartsRoughPassesAnew) {
+  std::vector<Pass> passes;
+  const std::vector<Resolve> says{Resolve::None, Resolve::Anchors, Resolve::None, Resolve::None};
+  const EquilibriumLoopResult r = run_equilibrium_loop(
+      12, [&](Pass p) { passes.push_back(p); }, [&](int n, bool) { return says[static_cast<std::size_t>(n - 1)]; });
+  EXPECT_EQ(r.solves, 4);
+  EXPECT_FALSE(r.capped());
+  EXPECT_EQ(passes, (std::vector<Pass>{Pass::Rough, Pass::Final, Pass::Rough, Pass::Final}));
 }
 
 TEST(EquilibriumLoop, CapsTheSolvesAndSaysWhatWasPending) {
   int changed = 0;
+  std::vector<Pass> passes;
   const EquilibriumLoopResult r = run_equilibrium_loop(
-      4, [] {},
+      4, [&](Pass p) { passes.push_back(p); },
       [&](int, bool last) {
         if (!last) ++changed;  // the last solve stands with what it ran with
         return Resolve::Stiffness;
@@ -44,20 +57,44 @@ TEST(EquilibriumLoop, CapsTheSolvesAndSaysWhatWasPending) {
   EXPECT_EQ(r.pending, Resolve::Stiffness);
   EXPECT_EQ(changed, 3);
   EXPECT_EQ(to_string(r.pending), "stiffness");
-  // One solve allowed: it is the last.
-  const EquilibriumLoopResult one = run_equilibrium_loop(1, [] {}, [](int, bool last) {
-    EXPECT_TRUE(last);
-    return Resolve::None;
-  });
+  EXPECT_EQ(passes.back(), Pass::Final);  // the solve that stands converged
+  // One solve allowed: it is the last, and Final.
+  const EquilibriumLoopResult one = run_equilibrium_loop(
+      1, [](Pass p) { EXPECT_EQ(p, Pass::Final); },
+      [](int, bool last) {
+        EXPECT_TRUE(last);
+        return Resolve::None;
+      });
   EXPECT_EQ(one.solves, 1);
   EXPECT_FALSE(one.capped());
 }
 
 TEST(EquilibriumLoop, ExceptionsPropagate) {
-  EXPECT_THROW(run_equilibrium_loop(3, [] { throw Error(ErrorKind::Solver, "no"); }, [](int, bool) {
+  EXPECT_THROW(run_equilibrium_loop(3, [](Pass) { throw Error(ErrorKind::Solver, "no"); }, [](int, bool) {
     return Resolve::None;
   }),
                Error);
+}
+
+// A rough pass stops at the accepted gradient, a final one goes on to the
+// aimed one; the solver's options are those of a final pass after either.
+TEST(SolvePass, RoughStopsAtTheAcceptedGradientAndFinalAtTheAimedOne) {
+  // E = Σ (x − t)⁴/4 + (x − t)²/2: Newton's ‖g‖ falls as its cube, over
+  // several steps (2, 0.63, 0.15, 5.5e-3, 3.3e-7, 7e-20 from x − t = 1).
+  test::ParallelQuarticSystem sys(Eigen::Vector3d::Ones(), Eigen::Vector3d(1.0, 0.5, -1.0));
+  NewtonOptions o;
+  ToleranceModel{1e-12, 1e6}.apply(o);
+  NewtonSolver newton{o};
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(3);
+  const NewtonResult rough = solve_pass(newton, sys, x, Pass::Rough);
+  ASSERT_TRUE(rough.converged());
+  EXPECT_LE(rough.gradient_norm, 1e-6);
+  EXPECT_GT(rough.gradient_norm, 1e-12);
+  EXPECT_EQ(newton.options().gradient_abs_tol, 1e-12);
+  const NewtonResult final_pass = solve_pass(newton, sys, x, Pass::Final);
+  ASSERT_TRUE(final_pass.converged());
+  EXPECT_LE(final_pass.gradient_norm, 1e-12);
+  EXPECT_GE(final_pass.iterations, 1);
 }
 
 TEST(ToleranceModel, SetsAbsoluteAndAcceptTolerances) {

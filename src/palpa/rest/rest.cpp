@@ -264,17 +264,17 @@ RestResult RestSimulation::solve() {
   body::AreaUpdates area_updates;
   if (stiffness_) stiffness_->restart();
   double ratio = 0.0;
-  const auto solve_once = [&] {
+  const auto solve_once = [&](Pass pass) {
     NewtonResult res;
     if (coupled_) {
       Eigen::VectorXd y(x_.size() + support_x_.size());
       y << x_, support_x_;
-      res = newton_->solve(*coupled_, y);
+      res = solve_pass(*newton_, *coupled_, y, pass);
       x_ = y.head(x_.size());
       support_x_ = y.tail(support_x_.size());
       coupled_->place_obstacle(y);  // where the solution is, not the last trial
     } else {
-      res = newton_->solve(*system_, x_);
+      res = solve_pass(*newton_, *system_, x_, pass);
     }
     r.newton_iterations += res.iterations;
     ++r.solves;

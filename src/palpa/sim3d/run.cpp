@@ -206,8 +206,8 @@ std::string Simulation::deepest_contact() const {
   return out.empty() ? "no contact is above the target now" : out;
 }
 
-int Simulation::solve_static(StepRecord& r) {
-  const NewtonResult res = newton_->solve(*system_, x_);
+int Simulation::solve_static(StepRecord& r, Pass pass) {
+  const NewtonResult res = solve_pass(*newton_, *system_, x_, pass);
   r.newton_iterations += res.iterations;
   r.factorizations += static_cast<int>(res.factorizations);
   r.residual = res.gradient_norm;
@@ -265,11 +265,11 @@ StepRecord Simulation::solve_step(int s) {
   for (const auto& o : obstacles_) reference_pose.push_back(o->pose());
   pose(s);
   constexpr int kMaxCorrections = 12;
-  const auto solve_once = [&] {
+  const auto solve_once = [&](Pass pass) {
     if (scene_->dynamics.enabled) {
-      solve_dynamic(r);
+      solve_dynamic(r);  // (each time step to the final tolerance)
     } else {
-      solve_static(r);
+      solve_static(r, pass);
       ++r.solves;
     }
   };

@@ -37,6 +37,7 @@
 #include "palpa/io/vtu.hpp"
 #include "palpa/sim3d/local.hpp"
 #include "palpa/sim3d/scene.hpp"
+#include "palpa/solve/equilibrium.hpp"
 #include "palpa/solve/newton.hpp"
 #include "palpa/tet/system.hpp"
 
@@ -107,7 +108,7 @@ class Simulation {
 
  private:
   void pose(int s);
-  int solve_static(StepRecord& r);
+  int solve_static(StepRecord& r, Pass pass);
   // For failure messages: the vertex with the largest unbalanced force, and
   // each obstacle's deepest contact above the target penetration.
   std::string worst_residual() const;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: AGPL-3.0-or-later
 #include "palpa/solve/equilibrium.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <cassert>
 
 namespace palpa {
@@ -15,17 +17,39 @@ std::string_view to_string(Resolve r) noexcept {
   return "unknown";
 }
 
-EquilibriumLoopResult run_equilibrium_loop(int max_solves, const std::function<void()>& solve,
+EquilibriumLoopResult run_equilibrium_loop(int max_solves, const std::function<void(Pass)>& solve,
                                            const std::function<Resolve(int, bool)>& adjust) {
   assert(max_solves >= 1);
   EquilibriumLoopResult r;
+  Pass pass = Pass::Rough;
   for (;;) {
-    solve();
+    const bool last = r.solves + 1 >= max_solves;
+    if (last) pass = Pass::Final;
+    solve(pass);
     ++r.solves;
-    const bool last = r.solves >= max_solves;
     r.pending = adjust(r.solves, last);
-    if (r.pending == Resolve::None || last) return r;
+    spdlog::debug("equilibrium: solve {} ({}): {}", r.solves, pass == Pass::Rough ? "rough" : "final",
+                  r.pending == Resolve::None ? std::string("the model is satisfied")
+                                             : fmt::format("{} changed", to_string(r.pending)));
+    if (last || (r.pending == Resolve::None && pass == Pass::Final)) return r;
+    pass = r.pending == Resolve::None ? Pass::Final : Pass::Rough;
   }
+}
+
+NewtonResult solve_pass(NewtonSolver& newton, System& system, Eigen::VectorXd& x, Pass pass) {
+  const NewtonOptions final_options = newton.options();
+  if (pass == Pass::Final || final_options.gradient_accept_tol <= final_options.gradient_abs_tol) {
+    return newton.solve(system, x);
+  }
+  NewtonOptions rough = final_options;
+  rough.gradient_abs_tol = final_options.gradient_accept_tol;
+  newton.set_options(rough);
+  struct Restore {
+    NewtonSolver& newton;
+    const NewtonOptions& options;
+    ~Restore() { newton.set_options(options); }
+  } restore{newton, final_options};
+  return newton.solve(system, x);
 }
 
 void ToleranceModel::apply(NewtonOptions& options) const noexcept {

@@ -30,13 +30,28 @@ struct EquilibriumLoopResult {
   bool capped() const noexcept { return pending != Resolve::None; }
 };
 
-// Calls solve(), then adjust(solves, last) until adjust returns None or
-// max_solves solves have run. `last` is true on the solve that reaches the
-// cap: adjust must then change nothing (the last solve always stands with the
-// parameters it ran with) and return only what it would have changed.
+// How far a solve of the loop converges. A pass that the model may still
+// follow with a change only has to show what to change (the deepest
+// penetration, the contact set, where contacts stick): it stops at the
+// gradient Newton accepts where rounding stops it
+// (NewtonOptions::gradient_accept_tol). The solve that ends the loop
+// converges to gradient_abs_tol.
+enum class Pass { Rough, Final };
+
+// Calls solve(pass), then adjust(solves, last), until adjust returns None
+// after a Final pass or max_solves solves have run. Passes are Rough until
+// adjust first returns None; then the same equilibrium is solved again,
+// Final, and adjust asked again (a change it then asks for starts Rough
+// passes anew). The solve that reaches the cap is Final, and `last` is true
+// for it: adjust must then change nothing (the last solve always stands with
+// the parameters it ran with) and return only what it would have changed.
 // Exceptions from either propagate.
-EquilibriumLoopResult run_equilibrium_loop(int max_solves, const std::function<void()>& solve,
+EquilibriumLoopResult run_equilibrium_loop(int max_solves, const std::function<void(Pass)>& solve,
                                            const std::function<Resolve(int solves, bool last)>& adjust);
+
+// newton.solve(system, x) to the pass's tolerance (the solver's own options
+// are those of a Final pass, and are kept).
+NewtonResult solve_pass(NewtonSolver& newton, System& system, Eigen::VectorXd& x, Pass pass);
 
 // Newton's tolerances from a force scale [N] (the largest out-of-balance force
 // component that does not matter): converged at ‖g‖∞ ≤ tolerance; where
