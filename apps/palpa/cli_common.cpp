@@ -103,6 +103,9 @@ void check_command(const CLI::App& cmd) {
         if (opt == nullptr) continue;
         for (const std::string& value : opt->results()) {
           if (value.empty()) continue;
+          if (output) {
+            refuse_special_output(value, ErrorContext{value, 0, 0, fmt::format("option {}", opt->get_name())});
+          }
           const auto key = same_file_key(value, named);
           const auto [at, fresh] = seen.emplace(key, Seen{opt->get_name(), value, output});
           if (fresh || !(output || at->second.output)) continue;

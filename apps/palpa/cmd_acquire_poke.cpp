@@ -10,6 +10,7 @@
 
 #include "acquire_options.hpp"
 #include "cli_common.hpp"
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/acquire/output.hpp"
 #include "palpa/core/error.hpp"
 
@@ -24,9 +25,11 @@ struct AcquirePokeArgs {
   acquire::PokeOptions o;
   int points = 50;
   bool no_tare = false;
+  bool overwrite = false;
 };
 
 void run_acquire_poke(AcquirePokeArgs& a) {
+  if (!a.plots.empty() && !a.overwrite) require_empty_output(a.plots, {}, "--plots");
   acquire::PokeOptions o = a.o;
   set_columns(a.force_columns, "--force-columns", o.force_time, o.force_value);
   set_columns(a.laser_columns, "--laser-columns", o.laser_time, o.laser_value);
@@ -71,6 +74,7 @@ void add_acquire_poke(CLI::App& acquire) {
   cmd->add_option("-o,--output", a->output, "Loading curve (CSV indentation_m,force_N)")->required();
   cmd->add_option("--unloading", a->unloading, "Also write the unloading curve here (CSV)");
   cmd->add_option("--plots", a->plots, "Folder for signals.svg (raw vs filtered) and curve.svg");
+  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty --plots folder (the files palpa wrote there before and does not write again are removed)");
   cmd->add_option("--summary", a->summary, "Summary JSON (clock shift, windows, rates, maxima)");
   cmd->add_option("--force-columns", a->force_columns,
                   "Time and force columns, NAME or NAME:UNIT each (default time,force: columns time_<unit>, "

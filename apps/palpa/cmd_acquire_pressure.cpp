@@ -9,6 +9,7 @@
 
 #include "acquire_options.hpp"
 #include "cli_common.hpp"
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/acquire/output.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/io/mesh.hpp"
@@ -24,9 +25,11 @@ struct PressureArgs {
   int trim = 50;
   int clip_run = 10;
   bool no_clamp = false;
+  bool overwrite = false;
 };
 
 void run_acquire_pressure(const PressureArgs& a) {
+  if (!a.overwrite) require_empty_output(a.output);
   acquire::PressureOptions o = a.o;
   const ErrorContext unit_where{"", 0, 0, "option --unit"};
   const Unit* unit = find_unit(a.mesh_unit);
@@ -76,6 +79,7 @@ void add_acquire_pressure(CLI::App& acquire) {
   cmd->add_option("--unit", a->mesh_unit, "Length unit of the mesh file's coordinates (default m)");
   cmd->add_option("--locations", a->locations, "Sensor locations (CSV location,x_<unit>,y_<unit>,z_<unit>)")
       ->required();
+  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder (the files palpa wrote there before and does not write again are removed)");
   cmd->add_option("--samples", a->samples, "Samples (CSV location,reading[,reference]; one row per sample)")
       ->required();
   add_quantity_option(*cmd, "--load", a->o.load, Dimension::Force,

@@ -13,6 +13,7 @@
 
 #include "acquire_options.hpp"
 #include "cli_common.hpp"
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/acquire/output.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/core/text.hpp"
@@ -28,6 +29,7 @@ struct UltrasoundArgs {
   std::string force_columns, pick_columns, force_window;
   acquire::UltrasoundOptions o;
   bool no_align = false;
+  bool overwrite = false;
 };
 
 // "12mm,40mm,310mm" -> a position [m].
@@ -42,6 +44,7 @@ std::array<double, 3> parse_position(const std::string& text, const std::string&
 }
 
 void run_acquire_ultrasound(const UltrasoundArgs& a) {
+  if (!a.plots.empty() && !a.overwrite) require_empty_output(a.plots, {}, "--plots");
   acquire::UltrasoundOptions o = a.o;
   set_columns(a.force_columns, "--force-columns", o.force_time, o.force_value);
   set_columns(a.pick_columns, "--pick-columns", o.pick_time, o.pick_depth);
@@ -117,6 +120,7 @@ void add_acquire_ultrasound(CLI::App& acquire) {
   cmd->add_option("--depth-interface", a->depth_interface,
                   "The interface whose rest depth goes into the table's depth_m column (default: the last, deepest)");
   cmd->add_option("--plots", a->plots, "Folder for depths.svg");
+  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty --plots folder (the files palpa wrote there before and does not write again are removed)");
   cmd->add_option("--summary", a->summary, "Summary JSON (rest depths, clock shift, poke window)");
   cmd->add_option("--force-columns", a->force_columns, "Time and force columns of the force log (default time,force)");
   cmd->add_option("--pick-columns", a->pick_columns, "Time and depth columns of the picks (default time,depth)");

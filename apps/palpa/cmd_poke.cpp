@@ -10,6 +10,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "palpa/core/atomic_file.hpp"
 #include "palpa/axisym/output.hpp"
 #include "palpa/core/error.hpp"
 #include "palpa/material/material_file.hpp"
@@ -34,6 +35,7 @@ struct PokeArgs {
   int steps = 20;
   int level = 2;
   bool no_extrapolation = false;
+  bool overwrite = false;
   int vtu_every = 1;
 };
 
@@ -64,6 +66,7 @@ void set_test(const PokeArgs& a, axisym::PokeSetup& setup) {
 }
 
 void run_poke(const PokeArgs& a) {
+  if (!a.vtu_dir.empty() && !a.overwrite) require_empty_output(a.vtu_dir, {}, "--vtu");
   axisym::PokeSetup setup;
   set_test(a, setup);
   const material::MaterialFile mf = material::read_material_file(a.material);
@@ -126,6 +129,7 @@ void add_poke_command(CLI::App& app) {
   add_quantity_option(*cmd, "--outer-radius", a->outer_radius, Dimension::Length,
                       "Radius of the simulated layer (default 8 max(a, D))", Sign::Positive);
   cmd->add_option("--vtu", a->vtu_dir, "Folder for VTU files of the deformed mesh and a PVD series");
+  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty --vtu folder (the files palpa wrote there before and does not write again are removed)");
   cmd->add_option("--vtu-every", a->vtu_every, "Write every k-th depth to --vtu (default 1)")
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--sensitivities", a->sensitivities,

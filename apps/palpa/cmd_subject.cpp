@@ -75,7 +75,8 @@ void dataset(const DatasetArgs& a) {
                a.location, d.at("curves").size(), d.at("layer_depth").dump(), a.output);
 }
 
-void body(const std::string& subject, const std::string& fits, const std::string& output) {
+void body(const std::string& subject, const std::string& fits, const std::string& output, bool overwrite) {
+  if (!overwrite) require_empty_output(output);
   const pipeline::Subject s = pipeline::read_subject(subject);
   const pipeline::BodyFields f = pipeline::read_location_fits(s, fits);
   pipeline::write_body_fields(s, f, output);
@@ -182,8 +183,10 @@ void add_subject_command(CLI::App& app) {
                    "Output folder (depths.csv, moduli.csv, material.json, fields.json, rest.json, "
                    "design.json)")
       ->required();
+  auto body_overwrite = std::make_shared<bool>(false);
+  body_cmd->add_flag("--overwrite", *body_overwrite, "Write into a non-empty output folder (the files palpa wrote there before and does not write again are removed)");
   declare_paths(*body_cmd, {"subject"}, {"-o"});
-  body_cmd->callback([ba] { body((*ba)[0], (*ba)[1], (*ba)[2]); });
+  body_cmd->callback([ba, body_overwrite] { body((*ba)[0], (*ba)[1], (*ba)[2], *body_overwrite); });
 
   auto* report_cmd = cmd->add_subcommand(
       "report", "The subject's report: one self-contained HTML file of the fits, the body's fields, the body at rest, "

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <map>
@@ -76,6 +77,12 @@ std::vector<Command> commands() {
        "poke --material m.json --thickness 10mm --radius 3mm --depth 1mm --steps 2 --mesh-level 0 --vtu {out} "
        "-o curve.csv",
        ""},
+      {"acquire pressure",
+       {{"support.obj", example("acquire/pressure/support.obj")},
+        {"locations.csv", example("acquire/pressure/locations.csv")},
+        {"samples.csv", example("acquire/pressure/samples.csv")}},
+       "acquire pressure --mesh support.obj --locations locations.csv --samples samples.csv --load 343N -o {out}",
+       ""},
       {"acquire",
        {{"force.csv", example("acquire/poke/force.csv")},
         {"laser.csv", example("acquire/poke/laser.csv")},
@@ -97,6 +104,10 @@ std::map<std::string, std::string> snapshot(const std::filesystem::path& root, c
       continue;
     }
     std::error_code ec;
+    if (it->is_symlink(ec)) {  // (its target's time may be anything's: a stream's)
+      s[p.lexically_relative(root).string()] = "link to " + std::filesystem::read_symlink(p, ec).string();
+      continue;
+    }
     const auto size = it->is_regular_file(ec) ? it->file_size(ec) : 0;
     s[p.lexically_relative(root).string()] =
         fmt::format("{} {}", size, std::filesystem::last_write_time(p, ec).time_since_epoch().count());
@@ -104,15 +115,29 @@ std::map<std::string, std::string> snapshot(const std::filesystem::path& root, c
   return s;
 }
 
-// No temporary, staged file, lock or empty folder under `out`.
+// No temporary, staged file, lock, folder holding nothing but palpa's
+// journal, or part of a checkpoint without the checkpoint under `out` (what
+// is left there is a run that --resume continues).
 void expect_nothing_left(const std::filesystem::path& out, const std::string& what) {
   std::error_code ec;
   if (!std::filesystem::exists(out, ec)) return;
+  const auto holds_only_journals = [](const std::filesystem::path& dir) {
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+      const std::string n = e.path().filename().string();
+      if (n != ".palpa-outputs" && n != ".palpa-outputs-previous") return false;
+    }
+    return true;
+  };
+  EXPECT_FALSE(holds_only_journals(out)) << what << ": left " << out << " with nothing but its journal";
   for (const auto& e : std::filesystem::recursive_directory_iterator(out)) {
     const std::string name = e.path().filename().string();
     EXPECT_EQ(name.find(".tmp-"), std::string::npos) << what << ": left " << e.path();
     EXPECT_NE(name, ".palpa-lock") << what << ": left the lock";
-    if (e.is_directory()) EXPECT_FALSE(std::filesystem::is_empty(e.path())) << what << ": left " << e.path();
+    if (e.is_directory()) EXPECT_FALSE(holds_only_journals(e.path())) << what << ": left " << e.path();
+    if (name.find(".warm-") != std::string::npos) {
+      EXPECT_TRUE(std::filesystem::exists(e.path().parent_path() / "checkpoint.json"))
+          << what << ": left " << e.path() << " without its checkpoint";
+    }
   }
 }
 
@@ -137,6 +162,50 @@ TEST(OutputContract, AnOutputThatIsAFileOrUnderOneIsRefusedAndNothingChanges) {
       EXPECT_EQ(r.exit_code, 2) << c.name << " -o " << out << "\n" << r.err;
       EXPECT_NE(r.err.find("plain.txt"), std::string::npos) << c.name << ": " << r.err;
       EXPECT_EQ(snapshot(dir.path(), dir / "none"), before) << c.name << " -o " << out;
+    }
+  }
+}
+
+// A folder that holds a file of the user's is refused unless --overwrite,
+// and with it the user's file stays.
+TEST(OutputContract, ANonEmptyFolderIsRefusedUnlessOverwriteAndTheUsersFilesStay) {
+  std::vector<Command> all = commands();
+  // Refused before its inputs are read.
+  all.push_back({"subject body", {}, "subject body missing.json --fits fits -o {out}", ""});
+  for (const Command& c : all) {
+    ScratchDir dir;
+    write_inputs(dir, c);
+    dir.write("out/user.txt", "the user's file\n");
+    const auto before = snapshot(dir.path(), dir / "none");
+    const auto r = test::run_palpa(args_for(c, "out"), dir.path());
+    EXPECT_EQ(r.exit_code, 2) << c.name << "\n" << r.err;
+    EXPECT_NE(r.err.find("'out' is not empty"), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_EQ(snapshot(dir.path(), dir / "none"), before) << c.name;
+    if (c.inputs.empty()) continue;
+    const auto again = test::run_palpa(args_for(c, "out") + " --overwrite", dir.path());
+    EXPECT_EQ(again.exit_code, 0) << c.name << "\n" << again.err;
+    EXPECT_EQ(test::read_text(dir / "out" / "user.txt"), "the user's file\n") << c.name;
+  }
+}
+
+// A pipe, or a link to a stream, named as the output is refused before
+// anything runs, and stays what it was.
+TEST(OutputContract, APipeOrAStreamAsTheOutputIsRefusedAndKept) {
+  std::vector<Command> all = commands();
+  all.push_back({"material", {}, "material --model neo-hookean --E 10kPa --nu 0.45 -o {out}", ""});
+  all.push_back({"subject plan", {}, "subject plan missing.json -o {out}", ""});
+  for (const Command& c : all) {
+    for (const char* out : {"fifo", "stdout"}) {
+      ScratchDir dir;
+      write_inputs(dir, c);
+      ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+      std::filesystem::create_symlink("/proc/self/fd/1", dir / "stdout");
+      const auto before = snapshot(dir.path(), dir / "none");
+      const auto r = test::run_palpa(args_for(c, out), dir.path());
+      EXPECT_EQ(r.exit_code, 2) << c.name << " -o " << out << "\n" << r.err;
+      EXPECT_NE(r.err.find("a device, a pipe or a stream"), std::string::npos) << c.name << ": " << r.err;
+      EXPECT_EQ(snapshot(dir.path(), dir / "none"), before) << c.name << " -o " << out;
+      EXPECT_TRUE(std::filesystem::is_fifo(dir / "fifo")) << c.name;
     }
   }
 }

@@ -236,6 +236,14 @@ TEST(SubjectCli, BadSubjectsAreNamedBySubjectLocationAndFile) {
   expect_subject_refused(subject_with(kSubject, R"("position": ["0 mm", "0 mm", "72 mm"])",
                                       R"("position": ["0 mm", "0 mm", "72 mm"], "rotation": {"axis": [0, 0, 0], "angle": "90 deg"})"),
                          {"body.rotation.axis", "zero axis"});
+  // How its layer is made, as rest reads it.
+  for (const auto& [key, says] : {std::pair{R"("edge": "nan mm")", "body.edge"},
+                                  std::pair{R"("edge": "-16 mm")", "body.edge"},
+                                  std::pair{R"("edge": "15 mm", "density": "16 parsecs")", "body.density"},
+                                  std::pair{R"("edge": "15 mm", "core_offset": "bogus")", "body.core_offset"},
+                                  std::pair{R"("edge": "15 mm", "element": "brick")", "body.element"}}) {
+    expect_subject_refused(subject_with(kSubject, R"("edge": "15 mm")", key), {says});
+  }
   expect_subject_refused(subject_with(kSubject, R"("design": "design.json")", R"("design": "r2.csv")"),
                          {"field 'design'", "its design scene cannot be read", "r2.csv"});
   expect_subject_refused(subject_with(kSubject, R"("design": "design.json")", R"("design": "subject.json")"),

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -58,6 +59,32 @@ TEST(AtomicFile, MissingFolderIsAnInputError) {
   test::ScratchDir dir;
   EXPECT_TRUE(test::throws_error([&] { AtomicFile f(dir / "nope" / "out.csv"); },
                                  ErrorKind::Input, {"out.csv", "does not exist"}));
+}
+
+// A pipe, a device or a link into /proc (/dev/stdout) named as an output is
+// refused and stays what it was: palpa would rename a file over it.
+TEST(AtomicFile, APipeOrADeviceIsRefusedAndKept) {
+  test::ScratchDir dir;
+  const auto fifo = dir / "fifo.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::filesystem::create_symlink("/proc/self/fd/1", dir / "stdout.json");
+  std::filesystem::create_symlink(fifo, dir / "to-fifo.json");
+  for (const auto& target : {fifo, dir / "stdout.json", dir / "to-fifo.json"}) {
+    try {
+      write_file_atomic(target, [](std::ostream& o) { o << "x"; });
+      ADD_FAILURE() << target << " was written";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Input);
+      EXPECT_NE(std::string(e.what()).find("a device, a pipe or a stream"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(target.filename().string()), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "stdout.json"));
+  // A device, where one can be read without harm.
+  EXPECT_THROW(refuse_special_output("/dev/null", in_file("/dev/null")), Error);
+  EXPECT_NO_THROW(refuse_special_output(dir / "new.json", ErrorContext{}));
+  EXPECT_NO_THROW(refuse_special_output(dir.path(), ErrorContext{}));
 }
 
 TEST(OutputBatch, AllOrNothing) {

@@ -2,7 +2,10 @@
 // Dataset files: every test kind read with units converted and paths resolved
 // against the dataset's folder; every bad dataset refused naming the file and
 // field.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <tuple>
 
 #include <filesystem>
 
@@ -95,6 +98,18 @@ TEST(Dataset, DepthRangeAndDepthListAreGuesses) {
       "one.json", fit::test::indentation_dataset(R"([{"file": "a.csv", "radius": "3 mm", "role": "train"}])",
                                                  R"("layer_depth": {"from": "3 mm", "to": "9 mm", "count": 1})"));
   EXPECT_TRUE(throws_error([&] { read_dataset(one); }, ErrorKind::Input, {"one.json", "layer_depth.count"}));
+  // A depth, a punch or a sample over a metre is a slip of the unit (at
+  // 1e308 mm the fit's mesh used to fail inside).
+  for (const auto& [depth, curve, field] :
+       {std::tuple{R"("layer_depth": "1e308 mm")", "3 mm", "layer_depth"},
+        std::tuple{R"("layer_depth": ["5 mm", "2 m"])", "3 mm", "layer_depth"},
+        std::tuple{R"("layer_depth": "5 mm")", "1e20 mm", "curves[0].radius"}}) {
+    const auto huge = dir.write(
+        "huge.json", fit::test::indentation_dataset(
+                         fmt::format(R"([{{"file": "a.csv", "radius": "{}", "role": "train"}}])", curve), depth));
+    EXPECT_TRUE(throws_error([&] { read_dataset(huge); }, ErrorKind::Input, {"huge.json", field, "at most 1 m"}))
+        << depth;
+  }
 }
 
 TEST(Dataset, CompressionUsesTheSampleGeometry) {

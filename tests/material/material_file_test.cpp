@@ -73,6 +73,15 @@ struct BadCase {
   std::vector<std::string> fragments;
 };
 
+// Written inline (a scene's "material"), a material refuses keys it does
+// not know, as its file does.
+TEST(MaterialFile, AnInlineMaterialRefusesUnknownKeys) {
+  const Json j = Json::parse(R"({"material": {"model": "neo-hookean", "parameters": {"E": "10 kPa", "nu": 0.4},
+                                               "zzz": 1}})");
+  EXPECT_TRUE(throws_error([&] { (void)material_from_json(JsonView(j, "scene.json").at("material")); },
+                           ErrorKind::Input, {"scene.json", "material.zzz", "not a known field"}));
+}
+
 TEST(MaterialFile, BadFilesGetClearMessages) {
   const std::vector<BadCase> cases = {
       {"unknown_model", R"({"model": "rubber", "parameters": {}})",

@@ -76,6 +76,10 @@ TEST(Csg, ClippingASphereGivesTheCapClosedFlat) {
   const double analytic = std::numbers::pi * h * h * (3 * kBodyRadius - h) / 3.0;
   EXPECT_NEAR(enclosed_volume(cap), analytic, 0.01 * analytic);
   EXPECT_NEAR(cap.V.col(2).minCoeff(), kBodyRadius - h, 1e-12);
+  // A bound far out means none (once a segfault in the corefinement, from
+  // about 1e154 m): the same cap.
+  const Eigen::AlignedBox3d unbounded(Eigen::Vector3d(-1, -1, kBodyRadius - h), Eigen::Vector3d(1e300, 1, 1));
+  EXPECT_NEAR(enclosed_volume(clip_to_box(s, unbounded, "sphere.obj")), enclosed_volume(cap), 1e-9 * analytic);
   const Eigen::AlignedBox3d away(Eigen::Vector3d(0.2, 0.2, 0.2), Eigen::Vector3d(0.3, 0.3, 0.3));
   EXPECT_TRUE(throws_error([&] { clip_to_box(s, away, "sphere.obj"); }, ErrorKind::Input,
                            {"sphere.obj", "does not overlap the body"}));

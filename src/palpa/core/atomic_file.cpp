@@ -16,6 +16,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <mutex>
 #include <set>
 #include <string>
@@ -193,6 +194,30 @@ void refuse_links_below_output_folders(const std::filesystem::path& dir, const E
   }
 }
 
+}  // namespace
+
+void refuse_special_output(const std::filesystem::path& target, const ErrorContext& ctx) {
+  std::error_code ec;
+  const auto link = std::filesystem::symlink_status(target, ec);
+  if (!std::filesystem::exists(link)) return;
+  const auto st = std::filesystem::status(target, ec);
+  const bool special = std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) &&
+                       !std::filesystem::is_directory(st);
+  bool into_proc = false;
+  if (std::filesystem::is_symlink(link)) {
+    const std::filesystem::path to = std::filesystem::read_symlink(target, ec).lexically_normal();
+    const auto first = to.is_absolute() ? std::next(to.begin()) : to.end();  // past the root
+    into_proc = !ec && first != to.end() && *first == "proc";
+  }
+  if (special || into_proc) {
+    throw_input_error("is a device, a pipe or a stream (or a link to one), not a file palpa may replace", ctx,
+                      "a file or folder path (palpa writes its outputs whole; to print, leave the option out "
+                      "where the command prints without it)");
+  }
+}
+
+namespace {
+
 // The folder an output file goes into, after refusing (Input, naming the
 // file) a path that names no file or a folder, a folder that does not exist,
 // and a target that is one of the run's inputs.
@@ -200,6 +225,7 @@ std::filesystem::path checked_output_folder(const std::filesystem::path& target)
   ErrorContext ctx;
   ctx.file = target.string();
   if (target.filename().empty()) throw_input_error("output path names no file", ctx, "a file name");
+  refuse_special_output(target, ctx);
   const std::filesystem::path dir = target.parent_path().empty() ? "." : target.parent_path();
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) {
@@ -355,7 +381,7 @@ void ensure_directory(const std::filesystem::path& dir) {
   if (ec) throw_input_error(fmt::format("cannot create the folder: {}", ec.message()), ctx);
 }
 
-void require_empty_output(const std::filesystem::path& out, std::string_view resumable) {
+void require_empty_output(const std::filesystem::path& out, std::string_view resumable, std::string_view option) {
   // What a killed run left half-written does not count, nor the lock of a run
   // still writing there (OutputFolder refuses that one by name), nor the
   // journals of the outputs of earlier runs.
@@ -369,7 +395,7 @@ void require_empty_output(const std::filesystem::path& out, std::string_view res
   }
   if (!empty) {
     throw_input_error(fmt::format("output folder '{}' is not empty", out.string()),
-                      ErrorContext{out.string(), 0, 0, "option -o"},
+                      ErrorContext{out.string(), 0, 0, fmt::format("option {}", option)},
                       resumable.empty()
                           ? std::string("a new or empty folder, or --overwrite")
                           : fmt::format("a new or empty folder, --resume to continue an interrupted {} there, or "
@@ -553,8 +579,17 @@ void OutputFolder::remove_created() noexcept {
   if (policy_ == OnFailure::Wipe && !created_.empty()) std::filesystem::remove_all(created_.front(), ec);
   for (const auto& p : created_) {
     if (!std::filesystem::exists(p, ec)) continue;
-    if (!std::filesystem::is_directory(p, ec) || !std::filesystem::is_empty(p, ec)) break;
-    std::filesystem::remove(p, ec);
+    if (!std::filesystem::is_directory(p, ec)) break;
+    // A folder this run made that holds nothing but its journal goes too.
+    bool only_bookkeeping = true;
+    for (const auto& e : std::filesystem::directory_iterator(p, ec)) {
+      if (!is_output_bookkeeping(e.path().filename()) || e.is_symlink(ec) || e.is_directory(ec)) {
+        only_bookkeeping = false;
+      }
+    }
+    if (ec || !only_bookkeeping) break;
+    for (const char* name : {kOutputJournalName, kPreviousJournalName}) std::filesystem::remove(p / name, ec);
+    if (!std::filesystem::remove(p, ec)) break;
   }
 }
 

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "palpa/core/error.hpp"
+
 namespace palpa {
 
 class AtomicFile {
@@ -79,6 +81,12 @@ class OutputBatch {
   std::vector<std::filesystem::path> cleaned_;  // folders whose stale temporaries are gone
 };
 
+// Refuses (palpa::Error, Input, naming `ctx`) an output path that exists as
+// something other than a file or a folder — a device (/dev/null), a pipe or a
+// socket, also through a link (/dev/stdout) — and a link into /proc: palpa
+// replaces its outputs whole, by renaming a file of its own over them.
+void refuse_special_output(const std::filesystem::path& target, const ErrorContext& ctx);
+
 // Creates `dir` (and parents) if needed; throws palpa::Error (Input) naming it if
 // it exists as a file or cannot be created.
 void ensure_directory(const std::filesystem::path& dir);
@@ -102,11 +110,12 @@ bool is_output_bookkeeping(const std::filesystem::path& name);
 // every other file stay.
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 
-// Refuses (palpa::Error, Input, naming option -o) an output folder that
+// Refuses (palpa::Error, Input, naming `option`) an output folder that
 // exists and holds anything but bookkeeping and a killed run's temporaries:
 // `resumable` ("fit", "design run") names the run that --resume would continue
 // there (empty: the command has no --resume).
-void require_empty_output(const std::filesystem::path& out, std::string_view resumable = {});
+void require_empty_output(const std::filesystem::path& out, std::string_view resumable = {},
+                          std::string_view option = "-o");
 
 // An output folder for the length of a run: created (with missing parents) as
 // ensure_directory does; if the run ends without keep() — an exception, bad

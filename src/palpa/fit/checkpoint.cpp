@@ -144,6 +144,7 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,
                        const std::vector<axisym::WarmStart>* warm) {
   if (path_.empty()) return;
   const std::string key = std::to_string(g);
+  const Json before = doc_["guesses"].contains(key) ? doc_["guesses"][key] : Json();
   std::string old_warm;
   if (doc_["guesses"].contains(key) && doc_["guesses"][key].contains("warm_start")) {
     old_warm = doc_["guesses"][key]["warm_start"]["file"].get<std::string>();
@@ -197,7 +198,22 @@ void Checkpoint::store(std::size_t g, const GuessResult& r, const GuessState& s,
     doc_["guesses"][key]["starts"] = starts;
   }
   if (!warm_json.is_null()) doc_["guesses"][key]["warm_start"] = warm_json;
-  write_json_file(path_, doc_);
+  try {
+    write_json_file(path_, doc_);
+  } catch (...) {
+    // The checkpoint on disk is the one before: the warm-start file just
+    // written is named by nothing, and goes.
+    if (!warm_json.is_null()) {
+      std::error_code ec;
+      std::filesystem::remove(path_.parent_path() / warm_json["file"].get<std::string>(), ec);
+    }
+    if (before.is_null()) {
+      doc_["guesses"].erase(key);
+    } else {
+      doc_["guesses"][key] = before;
+    }
+    throw;
+  }
   // Only now is the previous warm-start file no longer named.
   if (!old_warm.empty() && (warm_json.is_null() || warm_json["file"] != old_warm)) {
     std::error_code ec;

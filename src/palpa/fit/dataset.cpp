@@ -39,6 +39,14 @@ TestKind parse_test(const JsonView& v) {
   v.fail(fmt::format("unknown test '{}'", s), "\"indentation\", \"compression\" or \"homogeneous\"");
 }
 
+// A layer, a sample or a punch is at most a metre across: beyond, it is a
+// slip of the unit (and at 1e300 m the mesh's cells round to nothing).
+constexpr double kMaxLength = 1.0;
+
+void refuse_over_a_metre(const JsonView& v, double length, const std::string& what) {
+  if (!(length <= kMaxLength)) v.fail(fmt::format("{} of {:.4g} m is over a metre", what, length), "at most 1 m");
+}
+
 std::vector<double> parse_layer_depths(const JsonView& v) {
   std::vector<double> depths;
   if (v.is_array()) {
@@ -58,6 +66,7 @@ std::vector<double> parse_layer_depths(const JsonView& v) {
   }
   for (std::size_t i = 0; i < depths.size(); ++i) {
     if (!(depths[i] > 0.0)) v.fail(fmt::format("layer depth {} m is not positive", depths[i]), "positive depths");
+    refuse_over_a_metre(v, depths[i], "a layer depth");
     if (i > 0 && !(depths[i] > depths[i - 1]))
       v.fail("the depth guesses are not increasing", "increasing layer depths");
   }
@@ -165,6 +174,7 @@ Dataset read_dataset(const std::filesystem::path& path) {
     if (auto l = root.find("lateral_size")) {
       d.lateral_size = l->as_quantity(Dimension::Length);
       if (!(*d.lateral_size > 0.0)) l->fail("not positive", "the sample's width");
+      refuse_over_a_metre(*l, *d.lateral_size, "a lateral size");
     }
     d.contact = parse_contact(root.at("contact"), d.test);
   } else if (d.test == TestKind::Compression) {
@@ -172,6 +182,8 @@ Dataset read_dataset(const std::filesystem::path& path) {
     d.layer_depths = {root.at("sample_height").as_quantity(Dimension::Length)};
     if (!(d.sample_radius > 0.0)) root.at("sample_radius").fail("not positive", "a positive radius");
     if (!(d.layer_depths[0] > 0.0)) root.at("sample_height").fail("not positive", "a positive height");
+    refuse_over_a_metre(root.at("sample_radius"), d.sample_radius, "a sample radius");
+    refuse_over_a_metre(root.at("sample_height"), d.layer_depths[0], "a sample height");
     d.contact = parse_contact(root.at("contact"), d.test);
   } else {
     d.layer_depths = {0.0};  // one fit, no geometry
@@ -201,6 +213,7 @@ Dataset read_dataset(const std::filesystem::path& path) {
     if (d.test == TestKind::Indentation) {
       c.radius = cv.at("radius").as_quantity(Dimension::Length);
       if (!(c.radius > 0.0)) cv.at("radius").fail("not positive", "a positive punch radius");
+      refuse_over_a_metre(cv.at("radius"), c.radius, "a punch radius");
       if (d.lateral_size && !(c.radius < 0.5 * *d.lateral_size)) {
         cv.at("radius").fail(fmt::format("punch radius {} mm is not below half the sample's lateral size {} mm",
                                          c.radius * 1e3, *d.lateral_size * 1e3),

@@ -85,6 +85,11 @@ class ProgressCallback final : public ceres::IterationCallback {
 
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (cache_->error || interrupt_requested()) return ceres::SOLVER_ABORT;
+    if (s.iteration == 0 || s.step_is_successful) {
+      // ε at the point Ceres now stands on, as evaluated when it got there.
+      accepted_x_ = Eigen::Map<const Eigen::VectorXd>(x_, n_);
+      accepted_objective_ = 2.0 * s.cost;
+    }
     const bool record = s.iteration == 0 ? !o_->start_recorded : s.step_is_successful;
     if (record && cb_->on_iteration) {
       GuessState st;
@@ -104,6 +109,9 @@ class ProgressCallback final : public ceres::IterationCallback {
     return ceres::SOLVER_CONTINUE;
   }
 
+  const Eigen::VectorXd& accepted_x() const noexcept { return accepted_x_; }
+  double accepted_objective() const noexcept { return accepted_objective_; }
+
  private:
   const double* x_;
   Eigen::Index n_;
@@ -111,6 +119,8 @@ class ProgressCallback final : public ceres::IterationCallback {
   const OptimizeOptions* o_;
   const OptimizerCallbacks* cb_;
   int done_;  // the solver's iterations before this run (resuming)
+  Eigen::VectorXd accepted_x_;  // the last point Ceres accepted (the start first)
+  double accepted_objective_ = 0.0;
 };
 
 }  // namespace
@@ -121,6 +131,7 @@ OptimizeOutcome levenberg_marquardt(TrainingProblem& p, const GuessState& start,
   cache.problem = &p;
   // The start must be valid: say why if not.
   if (cache.at(start.x) == nullptr) throw_start_failure(cache.eval.reason);
+  const double start_objective = cache.eval.objective;
 
   Eigen::VectorXd x = start.x;
   ceres::Problem::Options po;
@@ -172,8 +183,17 @@ OptimizeOutcome levenberg_marquardt(TrainingProblem& p, const GuessState& start,
     default: out.stop.detail = "stopped: " + summary.message; break;
   }
   out.stop.termination = termination_of(summary.termination_type);
-  // Ceres returns the best point it accepted; make sure ε is the one of x.
-  if (const Evaluation* e = cache.at(x)) out.objective = e->objective;
+  // Ceres returns the last point it accepted (the start after a failure) and
+  // its final_cost may be a rejected trial's. ε is the one recorded when x was
+  // accepted: simulating x again now would warm-start from the last (rejected)
+  // trial, and where the equilibrium is not unique that lands elsewhere.
+  if (progress.accepted_x().size() == x.size() && x == progress.accepted_x()) {
+    out.objective = progress.accepted_objective();
+  } else if (x == start.x) {
+    out.objective = start_objective;
+  } else if (const Evaluation* e = cache.at(x)) {
+    out.objective = e->objective;
+  }
   return out;
 }
 

@@ -62,6 +62,8 @@ SplineValues spline_from_json(const JsonView& v, const std::string& key) {
 }  // namespace
 
 std::unique_ptr<Material> material_from_json(const JsonView& root) {
+  // (Written inline in a scene, a material may be a material file's whole text.)
+  root.expect_only({"palpa_material", "model", "parameters", "provenance"});
   const JsonView name = root.at("model");
   const ModelSpec& model = model_spec(name.as_string(), name.context());
   const JsonView p = root.at("parameters");

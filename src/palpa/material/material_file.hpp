@@ -41,7 +41,8 @@ struct Provenance {
   Json details = Json::object();     // free-form extra information
 };
 
-// Builds a material from the "model" and "parameters" fields of a view.
+// Builds a material from the "model" and "parameters" fields of a view; any
+// key but those, "palpa_material" and "provenance" is refused (Input).
 std::unique_ptr<Material> material_from_json(const JsonView& root);
 // The "model" and "parameters" (and format tag) of a material, round-trip exact.
 Json material_to_json(const Material& m);

@@ -64,7 +64,14 @@ SurfaceMesh clip_to_box(const SurfaceMesh& mesh, const Eigen::AlignedBox3d& keep
                                   geometry::format_point(bounds.min()), geometry::format_point(bounds.max())),
                       in_file(source), "a box that keeps part of the body (same unit as the scene)");
   }
-  auto out = detail::cgal_clip_to_box(mesh, keep.min(), keep.max());
+  // Only the box near the body matters: faces far out (a bound of "1e300 mm"
+  // meaning none) give the corefinement coordinates whose products overflow a
+  // double, and it fails or crashes. Faces beyond the body are pulled in to
+  // just outside it, which keeps the same part of the body.
+  const Eigen::Vector3d margin = Eigen::Vector3d::Constant(0.01 * bounds.diagonal().norm());
+  const Eigen::Vector3d lo = keep.min().cwiseMax(bounds.min() - margin);
+  const Eigen::Vector3d hi = keep.max().cwiseMin(bounds.max() + margin);
+  auto out = detail::cgal_clip_to_box(mesh, lo, hi);
   if (!out) {
     throw_input_error(fmt::format("clipping to the box {} – {} leaves nothing or a non-manifold piece",
                                   geometry::format_point(keep.min()), geometry::format_point(keep.max())),

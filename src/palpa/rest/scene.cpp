@@ -129,6 +129,26 @@ SurfaceMesh read_body_surface(const JsonView& b, const fs::path& file, std::stri
   return scan;
 }
 
+mesh::LayerOptions read_layer_options(const JsonView& b) {
+  mesh::LayerOptions lo;
+  lo.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
+  if (const auto c = b.find("clamp_depth")) lo.clamp_depth = c->as_bool();
+  if (const auto c = b.find("core_offset")) {
+    try {
+      lo.core_offset = mesh::parse_core_offset(c->as_string());
+    } catch (const Error&) {
+      c->fail(fmt::format("unknown core offset '{}'", c->as_string()), "normals or distance");
+    }
+  }
+  return lo;
+}
+
+double read_body_density(const JsonView& b) {
+  const double density = b.has("density") ? b.at("density").as_quantity(Dimension::Density) : 1000.0;
+  if (!(density >= 0.0)) b.at("density").fail("must be ≥ 0", "a density such as \"1000 kg/m^3\"");
+  return density;
+}
+
 namespace {
 
 void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
@@ -192,8 +212,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     } else {
       depth.uniform = read_positive(dv, Dimension::Length);
     }
-    mesh::LayerOptions lo;
-    lo.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
+    mesh::LayerOptions lo = read_layer_options(b);
     lo.source = s.body_source;
     if (const auto rf = b.find("refine")) {
       // The skin finer toward the support where the body is placed (read
@@ -220,14 +239,6 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
                               "a distance that reaches the support where the body will touch it");
       }
     }
-    if (const auto c = b.find("clamp_depth")) lo.clamp_depth = c->as_bool();
-    if (const auto c = b.find("core_offset")) {
-      try {
-        lo.core_offset = mesh::parse_core_offset(c->as_string());
-      } catch (const Error&) {
-        c->fail(fmt::format("unknown core offset '{}'", c->as_string()), "normals or distance");
-      }
-    }
     std::optional<mesh::Samples> stiffness;
     if (const auto st = b.find("stiffness")) {
       if (!st->is_object()) st->fail("not an object", "{\"samples\": \"moduli.csv\", \"column\": \"youngs_modulus\"}");
@@ -247,8 +258,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
 
   tet::BodyMaterial bm;
   bm.material = read_scene_material(b.at("material"), file);
-  bm.density = b.has("density") ? b.at("density").as_quantity(Dimension::Density) : 1000.0;
-  if (!(bm.density >= 0.0)) b.at("density").fail("must be ≥ 0", "a density such as \"1000 kg/m^3\"");
+  bm.density = read_body_density(b);
   if (young.size() > 0) {
     tet::MaterialField field = tet::scaled_per_element(bm, young);
     s.body.materials = std::move(field.materials);

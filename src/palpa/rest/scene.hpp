@@ -54,6 +54,7 @@
 
 #include "palpa/core/json.hpp"
 #include "palpa/geometry/mesh.hpp"
+#include "palpa/mesh/layer.hpp"
 #include "palpa/report/pressure_template.hpp"
 #include "palpa/rest/rest.hpp"
 
@@ -100,6 +101,13 @@ RestScene read_rest_scene(const Json& doc, const std::filesystem::path& path,
 // pairs removed. Throws palpa::Error (Input) naming the field.
 SurfaceMesh read_body_surface(const JsonView& body, const std::filesystem::path& file, std::string& source,
                               Eigen::Index* repaired_pairs = nullptr);
+
+// The layer's options a "body" object gives ("edge", "clamp_depth",
+// "core_offset"; the grading of "refine" needs the support and is read with
+// it), and its "density" [kg/m³] (default 1000). Throw palpa::Error (Input)
+// naming the field; nothing is built.
+mesh::LayerOptions read_layer_options(const JsonView& body);
+double read_body_density(const JsonView& body);
 
 // Builds s.support (and s.support_source) from a "support" object for the
 // body of s as it stands; a negative image moves s.body into its hollow
