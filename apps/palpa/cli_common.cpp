@@ -102,7 +102,10 @@ void check_command(const CLI::App& cmd) {
         const CLI::Option* opt = cmd.get_option_no_throw(name);
         if (opt == nullptr) continue;
         for (const std::string& value : opt->results()) {
-          if (value.empty()) continue;
+          if (value.empty()) {
+            throw_input_error("an empty path", ErrorContext{"", 0, 0, fmt::format("option {}", opt->get_name())},
+                              output ? "a path to write to (or leave the option out)" : "a path to read");
+          }
           if (output) {
             refuse_special_output(value, ErrorContext{value, 0, 0, fmt::format("option {}", opt->get_name())});
           }

@@ -166,6 +166,22 @@ TEST(OutputContract, AnOutputThatIsAFileOrUnderOneIsRefusedAndNothingChanges) {
   }
 }
 
+// An empty path, or a link to nothing, is refused naming what it is.
+TEST(OutputContract, AnEmptyPathOrALinkToNothingIsRefused) {
+  for (const Command& c : commands()) {
+    for (const auto& [out, says] : {std::pair{"''", "an empty path"}, std::pair{"dangling", "is a link to nothing"}}) {
+      ScratchDir dir;
+      write_inputs(dir, c);
+      std::filesystem::create_symlink(dir / "nowhere", dir / "dangling");
+      const auto before = snapshot(dir.path(), dir / "none");
+      const auto r = test::run_palpa(args_for(c, out), dir.path());
+      EXPECT_EQ(r.exit_code, 2) << c.name << " -o " << out << "\n" << r.err;
+      EXPECT_NE(r.err.find(says), std::string::npos) << c.name << ": " << r.err;
+      EXPECT_EQ(snapshot(dir.path(), dir / "none"), before) << c.name << " -o " << out;
+    }
+  }
+}
+
 // A folder that holds a file of the user's is refused unless --overwrite,
 // and with it the user's file stays.
 TEST(OutputContract, ANonEmptyFolderIsRefusedUnlessOverwriteAndTheUsersFilesStay) {

@@ -130,13 +130,16 @@ void note_written(const std::filesystem::path& file) noexcept {
   }
 }
 
-// The lines of a journal, in order, without repeats.
+// The lines of a journal, in order, without repeats; a line holding a NUL
+// byte names no file palpa wrote (the system would read it only up to the
+// NUL), and is left out.
 std::vector<std::string> journal_lines(const std::filesystem::path& file) {
   std::vector<std::string> lines;
   std::set<std::string> seen;
   std::ifstream in(file);
   for (std::string line; std::getline(in, line);) {
-    if (!line.empty() && seen.insert(line).second) lines.push_back(line);
+    if (line.empty() || line.find('\0') != std::string::npos) continue;
+    if (seen.insert(line).second) lines.push_back(line);
   }
   return lines;
 }
@@ -371,6 +374,10 @@ void ensure_directory(const std::filesystem::path& dir) {
     }
     return;
   }
+  if (dir.empty()) throw_input_error("an empty path", ctx, "a folder for the outputs");
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(dir, ec))) {
+    throw_input_error("is a link to nothing", ctx, "a folder for the outputs (remove the link, or create its target)");
+  }
   for (std::filesystem::path up = dir.parent_path(); !up.empty() && up != up.parent_path(); up = up.parent_path()) {
     if (std::filesystem::exists(up, ec) && !std::filesystem::is_directory(up, ec)) {
       throw_input_error(fmt::format("cannot create the folder: '{}' is a file, not a folder", up.string()), ctx,
@@ -535,12 +542,15 @@ void OutputFolder::remove_previous_outputs() {
   const auto previous = dir_ / kPreviousJournalName;
   std::error_code ec;
   if (!std::filesystem::exists(previous, ec)) return;
-  const std::vector<std::string> now = journal_lines(dir_ / kOutputJournalName);
-  const std::set<std::string> written(now.begin(), now.end());
+  // This run's files, however a hand-edited line spells them ("./a", "b/../a").
+  std::set<std::filesystem::path> written;
+  for (const std::string& line : journal_lines(dir_ / kOutputJournalName)) {
+    written.insert(std::filesystem::path(line).lexically_normal());
+  }
   std::size_t removed = 0;
   for (const std::string& line : journal_lines(previous)) {
-    if (written.count(line) != 0) continue;
     const std::filesystem::path rel = std::filesystem::path(line).lexically_normal();
+    if (written.count(rel) != 0) continue;
     // A hand-edited journal names nothing outside the folder.
     if (rel.is_absolute() || rel.empty() || *rel.begin() == ".." || is_output_bookkeeping(rel)) continue;
     const std::filesystem::path p = dir_ / rel;

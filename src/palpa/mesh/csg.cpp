@@ -66,11 +66,12 @@ SurfaceMesh clip_to_box(const SurfaceMesh& mesh, const Eigen::AlignedBox3d& keep
   }
   // Only the box near the body matters: faces far out (a bound of "1e300 mm"
   // meaning none) give the corefinement coordinates whose products overflow a
-  // double, and it fails or crashes. Faces beyond the body are pulled in to
-  // just outside it, which keeps the same part of the body.
-  const Eigen::Vector3d margin = Eigen::Vector3d::Constant(0.01 * bounds.diagonal().norm());
-  const Eigen::Vector3d lo = keep.min().cwiseMax(bounds.min() - margin);
-  const Eigen::Vector3d hi = keep.max().cwiseMin(bounds.max() + margin);
+  // double, and it fails or crashes. Faces more than a hundred of the body's
+  // diagonals beyond it are pulled in to that distance, which keeps the same
+  // part of the body (and leaves every nearer box as it is, to the bit).
+  const Eigen::Vector3d far = Eigen::Vector3d::Constant(100.0 * bounds.diagonal().norm());
+  const Eigen::Vector3d lo = keep.min().cwiseMax(bounds.min() - far);
+  const Eigen::Vector3d hi = keep.max().cwiseMin(bounds.max() + far);
   auto out = detail::cgal_clip_to_box(mesh, lo, hi);
   if (!out) {
     throw_input_error(fmt::format("clipping to the box {} – {} leaves nothing or a non-manifold piece",
