@@ -74,7 +74,9 @@ void add_acquire_poke(CLI::App& acquire) {
   cmd->add_option("-o,--output", a->output, "Loading curve (CSV indentation_m,force_N)")->required();
   cmd->add_option("--unloading", a->unloading, "Also write the unloading curve here (CSV)");
   cmd->add_option("--plots", a->plots, "Folder for signals.svg (raw vs filtered) and curve.svg");
-  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty --plots folder (the files palpa wrote there before and does not write again are removed)");
+  cmd->add_flag("--overwrite", a->overwrite,
+                "Write into a non-empty --plots folder (the files palpa wrote there before and does not write "
+                "again are removed)");
   cmd->add_option("--summary", a->summary, "Summary JSON (clock shift, windows, rates, maxima)");
   cmd->add_option("--force-columns", a->force_columns,
                   "Time and force columns, NAME or NAME:UNIT each (default time,force: columns time_<unit>, "

@@ -79,7 +79,9 @@ void add_acquire_pressure(CLI::App& acquire) {
   cmd->add_option("--unit", a->mesh_unit, "Length unit of the mesh file's coordinates (default m)");
   cmd->add_option("--locations", a->locations, "Sensor locations (CSV location,x_<unit>,y_<unit>,z_<unit>)")
       ->required();
-  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty output folder (the files palpa wrote there before and does not write again are removed)");
+  cmd->add_flag("--overwrite", a->overwrite,
+                "Write into a non-empty output folder (the files palpa wrote there before and does not write "
+                "again are removed)");
   cmd->add_option("--samples", a->samples, "Samples (CSV location,reading[,reference]; one row per sample)")
       ->required();
   add_quantity_option(*cmd, "--load", a->o.load, Dimension::Force,

@@ -120,7 +120,9 @@ void add_acquire_ultrasound(CLI::App& acquire) {
   cmd->add_option("--depth-interface", a->depth_interface,
                   "The interface whose rest depth goes into the table's depth_m column (default: the last, deepest)");
   cmd->add_option("--plots", a->plots, "Folder for depths.svg");
-  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty --plots folder (the files palpa wrote there before and does not write again are removed)");
+  cmd->add_flag("--overwrite", a->overwrite,
+                "Write into a non-empty --plots folder (the files palpa wrote there before and does not write "
+                "again are removed)");
   cmd->add_option("--summary", a->summary, "Summary JSON (rest depths, clock shift, poke window)");
   cmd->add_option("--force-columns", a->force_columns, "Time and force columns of the force log (default time,force)");
   cmd->add_option("--pick-columns", a->pick_columns, "Time and depth columns of the picks (default time,depth)");

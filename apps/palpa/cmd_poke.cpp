@@ -129,7 +129,9 @@ void add_poke_command(CLI::App& app) {
   add_quantity_option(*cmd, "--outer-radius", a->outer_radius, Dimension::Length,
                       "Radius of the simulated layer (default 8 max(a, D))", Sign::Positive);
   cmd->add_option("--vtu", a->vtu_dir, "Folder for VTU files of the deformed mesh and a PVD series");
-  cmd->add_flag("--overwrite", a->overwrite, "Write into a non-empty --vtu folder (the files palpa wrote there before and does not write again are removed)");
+  cmd->add_flag("--overwrite", a->overwrite,
+                "Write into a non-empty --vtu folder (the files palpa wrote there before and does not write "
+                "again are removed)");
   cmd->add_option("--vtu-every", a->vtu_every, "Write every k-th depth to --vtu (default 1)")
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--sensitivities", a->sensitivities,

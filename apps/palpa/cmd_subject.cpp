@@ -184,7 +184,9 @@ void add_subject_command(CLI::App& app) {
                    "design.json)")
       ->required();
   auto body_overwrite = std::make_shared<bool>(false);
-  body_cmd->add_flag("--overwrite", *body_overwrite, "Write into a non-empty output folder (the files palpa wrote there before and does not write again are removed)");
+  body_cmd->add_flag("--overwrite", *body_overwrite,
+                     "Write into a non-empty output folder (the files palpa wrote there before and does not "
+                     "write again are removed)");
   declare_paths(*body_cmd, {"subject"}, {"-o"});
   body_cmd->callback([ba, body_overwrite] { body((*ba)[0], (*ba)[1], (*ba)[2], *body_overwrite); });
 

@@ -592,10 +592,9 @@ void OutputFolder::remove_created() noexcept {
     if (!std::filesystem::is_directory(p, ec)) break;
     // A folder this run made that holds nothing but its journal goes too.
     bool only_bookkeeping = true;
-    for (const auto& e : std::filesystem::directory_iterator(p, ec)) {
-      if (!is_output_bookkeeping(e.path().filename()) || e.is_symlink(ec) || e.is_directory(ec)) {
-        only_bookkeeping = false;
-      }
+    for (auto it = std::filesystem::directory_iterator(p, ec); !ec && it != std::filesystem::directory_iterator();
+         it.increment(ec)) {
+      if (!is_output_bookkeeping(it->path().filename()) || !it->is_regular_file(ec)) only_bookkeeping = false;
     }
     if (ec || !only_bookkeeping) break;
     for (const char* name : {kOutputJournalName, kPreviousJournalName}) std::filesystem::remove(p / name, ec);
