@@ -214,8 +214,8 @@ void refuse_special_output(const std::filesystem::path& target, const ErrorConte
   }
   if (special || into_proc) {
     throw_input_error("is a device, a pipe or a stream (or a link to one), not a file palpa may replace", ctx,
-                      "a file or folder path (palpa writes its outputs whole; to print, leave the option out "
-                      "where the command prints without it)");
+                      "a path to a file or folder, which palpa writes whole; to print, leave the option out "
+                      "where the command prints without it");
   }
 }
 
