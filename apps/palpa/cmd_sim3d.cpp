@@ -39,6 +39,7 @@ void run_sim3d_command(const Sim3dArgs& a) {
         return;
       }
     }
+    if (!a.overwrite) require_empty_output(out);  // (--resume was given: not offered again)
     spdlog::info("sim3d: no interrupted run in {}: starting afresh", out.string());
     resume = false;
   }

@@ -39,7 +39,7 @@ int report(const palpa::Error& e) {
       say(fmt::format("palpa: solver failure: {}\n", e.what()));
       break;
     case palpa::ErrorKind::Interrupted:
-      say("palpa: interrupted; no partial output was written\n");
+      say("palpa: interrupted; no file was left half-written\n");
       break;
     case palpa::ErrorKind::Internal:
       say(fmt::format("palpa: internal error (please report): {}\n", e.what()));

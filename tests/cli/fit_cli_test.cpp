@@ -223,11 +223,13 @@ TEST(FitCli, ANonEmptyOutputFolderOrAMissingCheckpointIsRefused) {
   EXPECT_EQ(test::read_text(dir / "out" / "notes.txt"), "mine");
 
   // --resume without a checkpoint starts afresh (a workflow can always pass
-  // it), in an empty folder only.
+  // it), in an empty folder only: here it is refused without claiming to
+  // start, and without offering the --resume it was given.
   const auto resume2 = run_palpa("fit dataset.json -o out --resume --mesh-level 0", dir.path());
   EXPECT_EQ(resume2.exit_code, 2) << resume2.err;
-  EXPECT_NE(resume2.err.find("starting afresh"), std::string::npos) << resume2.err;
+  EXPECT_EQ(resume2.err.find("starting afresh"), std::string::npos) << resume2.err;
   EXPECT_NE(resume2.err.find("output folder 'out' is not empty"), std::string::npos) << resume2.err;
+  EXPECT_EQ(resume2.err.find("--resume to continue"), std::string::npos) << resume2.err;
   // A bad option found only when the fit starts leaves no folder behind.
   const auto model = run_palpa("fit dataset.json -o fresh --resume --mesh-level 0 --model nosuch", dir.path());
   EXPECT_EQ(model.exit_code, 2) << model.err;

@@ -75,6 +75,7 @@ std::optional<DesignScene> prepare(const DesignRun& run) {
   // --resume where there is nothing to resume starts afresh, so that a
   // workflow can always pass it.
   if (resume && !std::filesystem::exists(checkpoint)) {
+    if (!run.overwrite) require_empty_output(out);  // (--resume was given: not offered again)
     spdlog::info("design: no checkpoint in {}: starting afresh", out.string());
     resume = false;
   }

@@ -92,6 +92,7 @@ std::optional<FitSummary> run_fit_in_folder(const std::filesystem::path& dataset
   // --resume where there is nothing to resume starts afresh, so that a
   // workflow can always pass it.
   if (resume && !std::filesystem::exists(checkpoint)) {
+    if (!overwrite) require_empty_output(out);  // (--resume was given: not offered again)
     spdlog::info("fit: no checkpoint in {}: starting afresh", out.string());
     resume = false;
   }
