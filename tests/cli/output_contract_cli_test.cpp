@@ -33,6 +33,15 @@ struct Command {
   std::string subfolder;                      // one the command writes into
 };
 
+// A soft sphere resting on a box: the body, core and support of the rest and
+// design scenes.
+const std::string kSphereOnABox = R"(
+    "body": {"generate": {"shape": "sphere", "length": "60 mm"}, "edge": "7 mm", "depth": "8 mm",
+             "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
+             "position": ["0 mm", "0 mm", "31 mm"]},
+    "core": {"mass": "0.5 kg", "free": ["z"]},
+    "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 10}})";
+
 std::string example(const std::string& file) { return test::read_text(test::source_path("examples/" + file)); }
 
 std::vector<Command> commands() {
@@ -52,21 +61,11 @@ std::vector<Command> commands() {
        "sim3d scene.json -o {out}",
        "frames"},
       {"rest",
-       {{"rest.json", R"({"palpa_rest": 1,
-          "body": {"generate": {"shape": "sphere", "length": "60 mm"}, "edge": "7 mm", "depth": "8 mm",
-                   "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
-                   "position": ["0 mm", "0 mm", "31 mm"]},
-          "core": {"mass": "0.5 kg", "free": ["z"]},
-          "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 10}}})"}},
+       {{"rest.json", R"({"palpa_rest": 1, )" + kSphereOnABox + "}"}},
        "rest rest.json -o {out}",
        ""},  // (no folder of its own inside)
       {"design",
-       {{"design.json", R"({"palpa_design": 1,
-          "body": {"generate": {"shape": "sphere", "length": "60 mm"}, "edge": "7 mm", "depth": "8 mm",
-                   "material": {"model": "neo-hookean", "parameters": {"E": "20 kPa", "nu": 0.4}},
-                   "position": ["0 mm", "0 mm", "31 mm"]},
-          "core": {"mass": "0.5 kg", "free": ["z"]},
-          "support": {"box": {"size": ["150 mm", "150 mm", "20 mm"], "divisions": 10}},
+       {{"design.json", R"({"palpa_design": 1, )" + kSphereOnABox + R"(,
           "design": {"method": "cg", "iterations": 1,
                      "region": {"min": ["-60 mm", "-60 mm", "-5 mm"], "max": ["60 mm", "60 mm", "5 mm"]}}})"}},
        "design design.json --no-baselines -o {out}",

@@ -325,13 +325,6 @@ Subject read_subject(const fs::path& file) {
   (void)rest::read_layer_options(body);
   (void)rest::read_body_density(body);
   (void)sim3d::read_element(body);
-  if (const auto rf = body.find("refine")) {
-    rf->expect_only({"edge", "within"});
-    (void)sim3d::read_positive(rf->at("edge"), Dimension::Length);
-    if (!(rf->at("within").as_quantity(Dimension::Length) >= 0.0)) {
-      rf->at("within").fail("a negative distance", "a distance ≥ 0 such as \"15 mm\"");
-    }
-  }
   if (int(body.has("surface")) + int(body.has("generate")) != 1) {
     body.fail(fmt::format("{}: no scan", who), "exactly one of \"surface\" and \"generate\"");
   }

@@ -132,6 +132,19 @@ SurfaceMesh read_body_surface(const JsonView& b, const fs::path& file, std::stri
 mesh::LayerOptions read_layer_options(const JsonView& b) {
   mesh::LayerOptions lo;
   lo.edge_length = b.has("edge") ? read_positive(b.at("edge"), Dimension::Length) : 10e-3;
+  if (const auto rf = b.find("refine")) {
+    rf->expect_only({"edge", "within"});
+    mesh::Grading g;
+    g.edge = read_positive(rf->at("edge"), Dimension::Length);
+    if (!(g.edge < lo.edge_length)) {
+      rf->at("edge").fail(fmt::format("{} is not below the body's edge {}", format_quantity(g.edge, Dimension::Length),
+                                      format_quantity(lo.edge_length, Dimension::Length)),
+                          "a shorter edge than \"edge\" near the support");
+    }
+    g.within = rf->at("within").as_quantity(Dimension::Length);
+    if (!(g.within >= 0.0)) rf->at("within").fail("a negative distance", "a distance ≥ 0 such as \"15 mm\"");
+    lo.grading = g;
+  }
   if (const auto c = b.find("clamp_depth")) lo.clamp_depth = c->as_bool();
   if (const auto c = b.find("core_offset")) {
     try {
@@ -217,17 +230,7 @@ void read_body(const JsonView& b, const fs::path& file, RestScene& s) {
     if (const auto rf = b.find("refine")) {
       // The skin finer toward the support where the body is placed (read
       // before the body: read_rest_scene).
-      rf->expect_only({"edge", "within"});
-      mesh::Grading g;
-      g.edge = read_positive(rf->at("edge"), Dimension::Length);
-      if (!(g.edge < lo.edge_length)) {
-        rf->at("edge").fail(fmt::format("{} is not below the body's edge {}", format_quantity(g.edge, Dimension::Length),
-                                        format_quantity(lo.edge_length, Dimension::Length)),
-                            "a shorter edge than \"edge\" near the support");
-      }
-      g.within = rf->at("within").as_quantity(Dimension::Length);
-      if (!(g.within >= 0.0)) rf->at("within").fail("a negative distance", "a distance ≥ 0 such as \"15 mm\"");
-      lo.grading = g;
+      const mesh::Grading g = *lo.grading;
       lo.contact_distance = [&s, R, t](const Eigen::MatrixX3d& points) {
         const Eigen::MatrixX3d world = ((points * R.transpose()).rowwise() + t.transpose()).eval();
         return mesh::distance_to_surface(s.support, world);

@@ -102,9 +102,9 @@ RestScene read_rest_scene(const Json& doc, const std::filesystem::path& path,
 SurfaceMesh read_body_surface(const JsonView& body, const std::filesystem::path& file, std::string& source,
                               Eigen::Index* repaired_pairs = nullptr);
 
-// The layer's options a "body" object gives ("edge", "clamp_depth",
-// "core_offset"; the grading of "refine" needs the support and is read with
-// it), and its "density" [kg/m³] (default 1000). Throw palpa::Error (Input)
+// The layer's options a "body" object gives ("edge", "refine", "clamp_depth",
+// "core_offset"; the grading's distance to the support is the caller's to
+// set), and its "density" [kg/m³] (default 1000). Throw palpa::Error (Input)
 // naming the field; nothing is built.
 mesh::LayerOptions read_layer_options(const JsonView& body);
 double read_body_density(const JsonView& body);
